@@ -1,0 +1,23 @@
+# evade_add_gtest(NAME SOURCES a.cpp ... LIBS x y LABEL unit|integration [NETNS] [TIMEOUT s])
+#   One GoogleTest binary, each TEST registered with ctest by discovery.
+#   NETNS: every test runs through tools/netns-run, inside a private network
+#   namespace with multicast routed to lo and ttl=0, so no packet leaves.
+set(EVADE_NETNS_RUN ${CMAKE_SOURCE_DIR}/tools/netns-run)
+function(evade_add_gtest name)
+  cmake_parse_arguments(T "NETNS" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  if(NOT T_LABEL)
+    message(FATAL_ERROR "evade_add_gtest(${name}): LABEL unit or integration is required")
+  endif()
+  if(NOT T_TIMEOUT)
+    set(T_TIMEOUT 120)
+  endif()
+  add_executable(${name} ${T_SOURCES})
+  target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main GTest::gmock)
+  if(T_NETNS)
+    set_target_properties(${name} PROPERTIES CROSSCOMPILING_EMULATOR ${EVADE_NETNS_RUN})
+  endif()
+  gtest_discover_tests(${name}
+    WORKING_DIRECTORY ${CMAKE_SOURCE_DIR}
+    PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT}
+    DISCOVERY_TIMEOUT 60)
+endfunction()

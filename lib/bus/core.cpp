@@ -1,0 +1,129 @@
+#include "bus/core.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "evade/health_t.hpp"
+
+namespace evade::bus {
+
+Core::Core(std::string name, int64_t health_period_us) : name_(std::move(name)) {
+  every(health_period_us, [this] { publish_health(); });
+}
+
+std::vector<std::string> Core::channels() const {
+  std::vector<std::string> out;
+  for (const auto& [ch, in] : inputs_) out.push_back(ch);
+  return out;
+}
+
+void Core::run_measured(const std::function<void()>& fn) {
+  if (!measure_latency_) {
+    fn();
+    return;
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  fn();
+  double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  latency_sum_us_ += us;
+  latency_max_us_ = std::max(latency_max_us_, us);
+  ++latency_n_;
+}
+
+bool Core::deliver(const std::string& channel, const uint8_t* data, size_t size, int64_t now) {
+  auto it = inputs_.find(channel);
+  if (it == inputs_.end()) return false;
+  now_ = now;
+  Input& in = it->second;
+  in.received++;
+  in.last_now = now;
+  bool ok = true;
+  run_measured([&] { ok = in.decode_and_handle(data, size); });
+  if (!ok) in.malformed++;
+  return ok;
+}
+
+void Core::input(int64_t now, const std::function<void()>& fn) {
+  now_ = now;
+  run_measured(fn);
+}
+
+void Core::every(int64_t period_us, std::function<void()> fn) {
+  timers_.push_back(Timer{std::max<int64_t>(period_us, 1), -1, std::move(fn)});
+}
+
+int64_t Core::next_deadline() const {
+  int64_t d = kNever;
+  for (const auto& t : timers_) d = std::min(d, t.next < 0 ? kNever : t.next);
+  return d;
+}
+
+void Core::arm_timers(int64_t now) {
+  for (auto& t : timers_)
+    if (t.next < 0) t.next = now;
+}
+
+bool Core::fire_next(int64_t now) {
+  arm_timers(now);
+  Timer* due = nullptr;
+  for (auto& t : timers_)
+    if (t.next <= now && (!due || t.next < due->next)) due = &t;
+  if (!due) return false;
+  if (now - due->next > kMaxCatchUp * due->period_us) due->next = now;  // stalled: no burst
+  now_ = due->next;
+  due->next += due->period_us;
+  run_measured(due->fn);
+  return true;
+}
+
+void Core::advance_to(int64_t now) {
+  while (fire_next(now)) {
+  }
+}
+
+void Core::publish_raw(const std::string& channel, std::vector<uint8_t> data) {
+  ++outputs_since_;
+  if (sink_) sink_->publish(channel, now_, std::move(data));
+}
+
+void Core::count(const std::string& name, int64_t n) { counters_[name] += n; }
+
+int64_t Core::counter(const std::string& name) const {
+  auto it = counters_.find(name);
+  return it == counters_.end() ? 0 : it->second;
+}
+
+void Core::publish_health() {
+  evade::health_t h;
+  h.utime = now_;
+  h.name = name_;
+  h.seq = health_seq_++;
+  double elapsed_s = last_health_now_ < 0 ? 0.0 : (now_ - last_health_now_) * 1e-6;
+  h.output_rate_hz = elapsed_s > 0.0 ? outputs_since_ / elapsed_s : 0.0;
+  h.latency_us_mean = latency_n_ > 0 ? latency_sum_us_ / latency_n_ : 0.0;
+  h.latency_us_max = latency_max_us_;
+  for (const auto& [ch, in] : inputs_) {
+    evade::health_channel_t c;
+    c.channel = ch;
+    c.received = in.received;
+    c.malformed = in.malformed;
+    c.age_us = in.last_now < 0 ? -1 : now_ - in.last_now;
+    h.inputs.push_back(c);
+  }
+  h.num_inputs = static_cast<int32_t>(h.inputs.size());
+  for (const auto& [name, value] : counters_) {
+    evade::health_counter_t c;
+    c.name = name;
+    c.value = value;
+    h.counters.push_back(c);
+  }
+  h.num_counters = static_cast<int32_t>(h.counters.size());
+  last_health_now_ = now_;
+  outputs_since_ = 0;
+  latency_sum_us_ = 0.0;
+  latency_max_us_ = 0.0;
+  latency_n_ = 0;
+  if (sink_) sink_->publish(kHealthChannel, now_, encode(h));
+}
+
+}  // namespace evade::bus

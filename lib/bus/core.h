@@ -1,0 +1,145 @@
+// The one interface every evade process core implements.
+//
+// A Core knows nothing of sockets or clocks. It declares which channels it
+// reads (subscribe) and which periodic work it does (every), gets decoded
+// messages together with the bus time `now()` (the receive time live, the
+// event timestamp in a log), and hands messages to publish back to whichever
+// adapter runs it: LiveBus (LCM udpm), LogReplay (an lcm-logger file, in
+// process, deterministic) or MemoryBus (tests). Same core, same outputs.
+//
+// Every core gets a HEALTH heartbeat for free: its name, a sequence number,
+// the age and count of each input channel, its output rate, handler latency
+// and any counters it keeps with count().
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace evade::bus {
+
+inline constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
+inline constexpr const char* kHealthChannel = "HEALTH";
+
+// Where a core's output goes. `now` is the bus time at which it was published.
+class Sink {
+ public:
+  virtual ~Sink() = default;
+  virtual void publish(const std::string& channel, int64_t now, std::vector<uint8_t> data) = 0;
+};
+
+class Core {
+ public:
+  explicit Core(std::string name, int64_t health_period_us = 1'000'000);
+  virtual ~Core() = default;
+  Core(const Core&) = delete;
+  Core& operator=(const Core&) = delete;
+
+  const std::string& name() const { return name_; }
+
+  // ---- used by adapters ----
+  std::vector<std::string> channels() const;
+  void attach(Sink* sink) { sink_ = sink; }
+  // Decodes one message and calls its handler at bus time `now`. Malformed
+  // messages are counted per channel and reported in HEALTH; returns false.
+  bool deliver(const std::string& channel, const uint8_t* data, size_t size, int64_t now);
+  // Fires every timer due at or before `now`, each at its own deadline (the
+  // callback's now()), in deadline order. A timer more than kMaxCatchUp
+  // periods behind (a stalled process) skips to `now` instead of bursting.
+  void advance_to(int64_t now);
+  // Fires the single earliest timer due at or before `now`; false if none.
+  bool fire_next(int64_t now);
+  static constexpr int64_t kMaxCatchUp = 10;
+  int64_t next_deadline() const;
+  // Timers start at the first bus time the core sees: they fire then.
+  void arm_timers(int64_t now);
+  // Runs external input (a UDP packet, serial bytes) at bus time `now`,
+  // counted in the latency figures like a message handler.
+  void input(int64_t now, const std::function<void()>& fn);
+  // Latency uses a steady clock; off for deterministic log replay.
+  void set_measure_latency(bool on) { measure_latency_ = on; }
+  // Bus time of the callback being run.
+  int64_t now() const { return now_; }
+
+  // Counters by name (also what HEALTH reports).
+  int64_t counter(const std::string& name) const;
+
+ protected:
+  template <class Msg>
+  void subscribe(const std::string& channel, std::function<void(const Msg&)> handler);
+  void every(int64_t period_us, std::function<void()> fn);
+  template <class Msg>
+  void publish(const std::string& channel, const Msg& msg);
+  void publish_raw(const std::string& channel, std::vector<uint8_t> data);
+  void count(const std::string& name, int64_t n = 1);
+
+ private:
+  struct Input {
+    std::function<bool(const uint8_t*, size_t)> decode_and_handle;  // false = malformed
+    int64_t received = 0;
+    int64_t malformed = 0;
+    int64_t last_now = -1;
+  };
+  struct Timer {
+    int64_t period_us;
+    int64_t next;  // -1 = not armed yet (armed at the first bus time seen)
+    std::function<void()> fn;
+  };
+  void publish_health();
+  void run_measured(const std::function<void()>& fn);
+
+  std::string name_;
+  Sink* sink_ = nullptr;
+  std::map<std::string, Input> inputs_;
+  std::vector<Timer> timers_;
+  std::map<std::string, int64_t> counters_;
+  int64_t now_ = 0;
+  bool measure_latency_ = true;
+  // health accounting since the last heartbeat
+  int64_t health_seq_ = 0;
+  int64_t outputs_since_ = 0;
+  int64_t last_health_now_ = -1;
+  double latency_sum_us_ = 0.0;
+  double latency_max_us_ = 0.0;
+  int64_t latency_n_ = 0;
+};
+
+// ---- encoding helpers for lcm-gen types ----
+template <class Msg>
+std::vector<uint8_t> encode(const Msg& msg) {
+  std::vector<uint8_t> buf(static_cast<size_t>(msg.getEncodedSize()));
+  msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  return buf;
+}
+
+// Decodes; false when the bytes are not a valid Msg (wrong fingerprint,
+// truncated, or lengths that cannot be allocated).
+template <class Msg>
+bool decode(const uint8_t* data, size_t size, Msg* out) {
+  try {
+    return out->decode(data, 0, static_cast<int>(size)) == static_cast<int>(size);
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+template <class Msg>
+void Core::subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
+  inputs_[channel].decode_and_handle = [handler](const uint8_t* data, size_t size) {
+    Msg msg;
+    if (!decode(data, size, &msg)) return false;
+    handler(msg);
+    return true;
+  };
+}
+
+template <class Msg>
+void Core::publish(const std::string& channel, const Msg& msg) {
+  publish_raw(channel, encode(msg));
+}
+
+}  // namespace evade::bus

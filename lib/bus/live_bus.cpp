@@ -1,0 +1,106 @@
+#include "bus/live_bus.h"
+
+#include <poll.h>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace evade::bus {
+
+std::string default_lcm_url() {
+  const char* env = std::getenv("LCM_DEFAULT_URL");
+  return (env && *env) ? std::string(env) : std::string(kDefaultLcmUrl);
+}
+
+int64_t wall_utime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+LiveBus::LiveBus(const std::string& url) : lcm_(std::make_unique<lcm::LCM>(url)) {
+  if (!lcm_->good()) throw std::runtime_error("cannot start LCM on " + url);
+}
+
+LiveBus::~LiveBus() = default;
+
+void LiveBus::add(Core& core) {
+  core.attach(this);
+  cores_.push_back(&core);
+  for (const auto& ch : core.channels()) {
+    // One LCM subscription per channel, shared by every core that reads it.
+    bool already = false;
+    for (Core* c : cores_)
+      if (c != &core)
+        for (const auto& other : c->channels()) already |= (other == ch);
+    if (!already) lcm_->subscribe(ch, &LiveBus::on_message, this);
+  }
+}
+
+void LiveBus::on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  int64_t now = wall_utime();
+  for (Core* c : cores_) c->deliver(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size, now);
+}
+
+void LiveBus::publish(const std::string& channel, int64_t, std::vector<uint8_t> data) {
+  lcm_->publish(channel, data.data(), static_cast<unsigned int>(data.size()));
+}
+
+void LiveBus::add_fd(int fd, std::function<void(int64_t now)> fn) { fds_[fd] = std::move(fn); }
+
+void LiveBus::remove_fd(int fd) { fds_.erase(fd); }
+
+void LiveBus::wake_at(int64_t utime) { wake_at_ = std::min(wake_at_, utime); }
+
+void LiveBus::spin_once(int timeout_ms) {
+  int64_t now = wall_utime();
+  for (Core* c : cores_) c->advance_to(now);
+  int64_t deadline = wake_at_;
+  for (Core* c : cores_) deadline = std::min(deadline, c->next_deadline());
+  if (deadline != kNever) {
+    int64_t wait_ms = (deadline - now + 999) / 1000;
+    timeout_ms = static_cast<int>(std::clamp<int64_t>(wait_ms, 0, timeout_ms));
+  }
+  std::vector<pollfd> pfds;
+  pfds.push_back(pollfd{lcm_->getFileno(), POLLIN, 0});
+  for (const auto& [fd, fn] : fds_) pfds.push_back(pollfd{fd, POLLIN, 0});
+  int r = ::poll(pfds.data(), pfds.size(), timeout_ms);
+  now = wall_utime();
+  if (wake_at_ <= now) wake_at_ = kNever;
+  if (r > 0) {
+    if (pfds[0].revents & POLLIN) lcm_->handle();
+    for (size_t i = 1; i < pfds.size(); ++i) {
+      if (!(pfds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+      auto it = fds_.find(pfds[i].fd);  // a handler may have removed it
+      if (it != fds_.end()) {
+        auto fn = it->second;
+        fn(wall_utime());
+      }
+    }
+  }
+  now = wall_utime();
+  for (Core* c : cores_) c->advance_to(now);
+}
+
+void LiveBus::run(const std::atomic<bool>& stop) {
+  while (!stop.load()) spin_once(50);
+}
+
+namespace {
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop.store(true); }
+}  // namespace
+
+const std::atomic<bool>& stop_on_signals() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::signal(SIGPIPE, SIG_IGN);
+  return g_stop;
+}
+
+}  // namespace evade::bus

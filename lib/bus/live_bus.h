@@ -1,0 +1,61 @@
+// Runs cores live on LCM (udpm multicast). The bus time is the host's
+// clock in microseconds since the epoch; this is the only place where a
+// process core's time comes from a clock. Extra file descriptors (a UDP
+// socket, a serial port) are polled in the same loop, so a process stays
+// single-threaded and its core never sees concurrency.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bus/core.h"
+
+namespace lcm {
+class LCM;
+class ReceiveBuffer;
+}  // namespace lcm
+
+namespace evade::bus {
+
+// The URL every process uses unless told otherwise: $LCM_DEFAULT_URL, else
+// host-local multicast (ttl=0) with a receive buffer large enough for
+// point clouds.
+std::string default_lcm_url();
+inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608";
+
+int64_t wall_utime();
+
+class LiveBus : public Sink {
+ public:
+  explicit LiveBus(const std::string& url);  // throws std::runtime_error if LCM cannot start
+  ~LiveBus() override;
+
+  void add(Core& core);
+  // Calls fn(now) whenever fd is readable.
+  void add_fd(int fd, std::function<void(int64_t now)> fn);
+  void remove_fd(int fd);
+  // Wakes the loop at `utime` even when nothing arrives (e.g. a pacing sender).
+  void wake_at(int64_t utime);
+  // Runs until `stop` becomes true (checked at least every 50 ms).
+  void run(const std::atomic<bool>& stop);
+  // Handles what is ready now and returns after at most timeout_ms.
+  void spin_once(int timeout_ms);
+
+  void publish(const std::string& channel, int64_t now, std::vector<uint8_t> data) override;
+
+ private:
+  void on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  std::unique_ptr<lcm::LCM> lcm_;
+  std::vector<Core*> cores_;
+  std::map<int, std::function<void(int64_t)>> fds_;
+  int64_t wake_at_ = kNever;
+};
+
+// Installs SIGINT/SIGTERM handlers that set the returned flag.
+const std::atomic<bool>& stop_on_signals();
+
+}  // namespace evade::bus

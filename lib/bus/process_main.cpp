@@ -1,0 +1,77 @@
+#include "bus/process_main.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+
+#include "bus/live_bus.h"
+#include "bus/log_replay.h"
+
+namespace evade::bus {
+
+void add_common_options(CLI::App& app, CommonOptions& opts) {
+  app.add_option("--config", opts.config_path, "robot configuration (default config/robot.yaml)");
+  app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
+  app.add_option("--replay", opts.replay_in, "run over this lcm-logger log instead of live LCM");
+  app.add_option("--replay-out", opts.replay_out, "with --replay: write the outputs to this log");
+}
+
+config::Node load_config_or_exit(const std::string& process, const CommonOptions& opts) {
+  try {
+    return config::load_file(opts.config_path.empty() ? config::default_config_path() : opts.config_path);
+  } catch (const config::ConfigError& e) {
+    std::fprintf(stderr, "%s: %s\n", process.c_str(), e.what());
+    std::exit(2);
+  }
+}
+
+int process_main(int argc, char** argv, const std::string& name,
+                 const std::function<void(CLI::App&)>& add_flags, const CoreFactory& make) {
+  CLI::App app{"evade " + name};
+  CommonOptions opts;
+  add_common_options(app, opts);
+  if (add_flags) add_flags(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  config::Node root = load_config_or_exit(name, opts);
+  std::unique_ptr<Core> core;
+  try {
+    core = make(root);
+  } catch (const config::ConfigError& e) {
+    std::fprintf(stderr, "%s: %s\n", name.c_str(), e.what());
+    return 2;
+  }
+
+  if (!opts.replay_in.empty()) {
+    if (opts.replay_out.empty()) {
+      std::fprintf(stderr, "%s: --replay needs --replay-out\n", name.c_str());
+      return 2;
+    }
+    try {
+      int64_t n = replay_file({core.get()}, opts.replay_in, opts.replay_out);
+      std::fprintf(stderr, "%s: replayed %s -> %s (%lld events out)\n", name.c_str(), opts.replay_in.c_str(),
+                   opts.replay_out.c_str(), static_cast<long long>(n));
+      return 0;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s: %s\n", name.c_str(), e.what());
+      return 1;
+    }
+  }
+
+  std::string url = opts.lcm_url.empty() ? default_lcm_url() : opts.lcm_url;
+  try {
+    LiveBus bus(url);
+    bus.add(*core);
+    std::fprintf(stderr, "%s: running on %s\n", name.c_str(), url.c_str());
+    bus.run(stop_on_signals());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", name.c_str(), e.what());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace evade::bus

@@ -1,0 +1,39 @@
+// The thin main every process shares: --config, --lcm-url, and
+// --replay IN.lcmlog --replay-out OUT.lcmlog (run the same core over a log,
+// in process, as fast as the CPU allows). Bad configuration exits with
+// status 2 and one line naming file, line and key.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "bus/core.h"
+#include "config/config.h"
+
+namespace evade::bus {
+
+struct CommonOptions {
+  std::string config_path;
+  std::string lcm_url;
+  std::string replay_in;
+  std::string replay_out;
+};
+
+void add_common_options(CLI::App& app, CommonOptions& opts);
+
+// Loads the configuration named by opts (or the default one); on error prints
+// "<process>: <file>:<line>: key '...': reason" and exits with status 2.
+config::Node load_config_or_exit(const std::string& process, const CommonOptions& opts);
+
+using CoreFactory = std::function<std::unique_ptr<Core>(const config::Node& root)>;
+
+// Parses the command line (flags added by `add_flags` too), builds the core
+// from the configuration and runs it live on LCM, or over a log with
+// --replay. Returns the process exit status.
+int process_main(int argc, char** argv, const std::string& name,
+                 const std::function<void(CLI::App&)>& add_flags, const CoreFactory& make);
+
+}  // namespace evade::bus

@@ -1,0 +1,77 @@
+// Typed, strict access to the YAML configuration.
+//
+// Every value is read through a Node, which knows the file and the dotted
+// key path it came from, so that a missing key, a wrong type or an unknown
+// key produces one line naming file, line and key. A section is "closed"
+// after its owner has read it: any key it holds that nobody asked for is
+// an error (a typo must not silently fall back to a default).
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <array>
+#include <memory>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace evade::config {
+
+// The one error type for bad configuration: "file:line: key 'a.b': reason".
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Node {
+ public:
+  Node(YAML::Node node, std::string file, std::string path);
+
+  // Sub-section; error if missing or not a map.
+  Node section(const std::string& key) const;
+  bool has(const std::string& key) const;
+
+  template <class T>
+  T get(const std::string& key) const;  // bool, int, int64_t, double, std::string
+
+  // Numbers with a range check, the most common case in robot parameters.
+  double get_double(const std::string& key, double min, double max) const;
+  int get_int(const std::string& key, int min, int max) const;
+  double get_positive(const std::string& key) const;  // > 0
+  std::vector<double> get_doubles(const std::string& key, size_t count) const;
+  std::vector<std::vector<double>> get_points(const std::string& key) const;  // [[x, y], ...]
+  std::string get_choice(const std::string& key, const std::vector<std::string>& choices) const;
+
+  // Error if this map holds keys that were never read through get/section.
+  void close() const;
+
+  // Throws ConfigError naming this node (or its key) and the reason.
+  [[noreturn]] void fail(const std::string& key, const std::string& reason) const;
+
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+  const YAML::Node& yaml() const { return node_; }
+  std::vector<std::string> keys() const;
+
+ private:
+  YAML::Node child(const std::string& key) const;  // marks used, errors if missing
+  std::string key_path(const std::string& key) const;
+  int line_of(const YAML::Node& n) const;
+
+  YAML::Node node_;
+  std::string file_;
+  std::string path_;
+  std::shared_ptr<std::set<std::string>> used_;
+};
+
+// Loads a YAML file; parse errors become ConfigError with file and line.
+Node load_file(const std::string& path);
+// Loads YAML text (tests, fuzzers); `name` stands in for the file name.
+Node load_string(const std::string& text, const std::string& name);
+
+// The default robot configuration: $EVADE_CONFIG, else config/robot.yaml
+// relative to the current directory, else the source tree's copy.
+std::string default_config_path();
+
+}  // namespace evade::config

@@ -1,0 +1,67 @@
+#include <gtest/gtest.h>
+
+#include "config/config.h"
+
+namespace evade::config {
+namespace {
+
+std::string error_of(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, TypedGetters) {
+  Node root = load_string("a:\n  x_m: 1.5\n  n: 3\n  on: true\n  name: hi\n  p: [1, 2]\n", "t.yaml");
+  Node a = root.section("a");
+  EXPECT_DOUBLE_EQ(a.get<double>("x_m"), 1.5);
+  EXPECT_EQ(a.get<int>("n"), 3);
+  EXPECT_TRUE(a.get<bool>("on"));
+  EXPECT_EQ(a.get<std::string>("name"), "hi");
+  EXPECT_EQ(a.get_doubles("p", 2), (std::vector<double>{1, 2}));
+  EXPECT_NO_THROW(a.close());
+}
+
+TEST(Config, MissingKeyNamesFileLineAndKey) {
+  Node root = load_string("a:\n  x_m: 1.5\n", "robot.yaml");
+  EXPECT_EQ(error_of([&] { root.section("a").get<double>("y_m"); }), "robot.yaml:2: key 'a.y_m': missing");
+}
+
+TEST(Config, WrongTypeNamesFileLineAndKey) {
+  Node root = load_string("a:\n  b: 1\n  x_m: fast\n", "robot.yaml");
+  EXPECT_EQ(error_of([&] { root.section("a").get<double>("x_m"); }),
+            "robot.yaml:3: key 'a.x_m': expected a number, found 'fast'");
+  EXPECT_EQ(error_of([&] { root.section("a").get<int>("x_m"); }),
+            "robot.yaml:3: key 'a.x_m': expected an integer, found 'fast'");
+}
+
+TEST(Config, UnknownKeyIsAnError) {
+  Node root = load_string("a:\n  x_m: 1.5\n  x_mm: 2\n", "robot.yaml");
+  Node a = root.section("a");
+  a.get<double>("x_m");
+  EXPECT_EQ(error_of([&] { a.close(); }), "robot.yaml:3: key 'a.x_mm': unknown key");
+}
+
+TEST(Config, RangeAndChoice) {
+  Node root = load_string("v: -1\nmode: fast\n", "r.yaml");
+  EXPECT_EQ(error_of([&] { root.get_double("v", 0, 2); }), "r.yaml:1: key 'v': value -1 outside [0, 2]");
+  EXPECT_EQ(error_of([&] { root.get_choice("mode", {"dcbf", "mpc"}); }),
+            "r.yaml:2: key 'mode': 'fast' is not one of: dcbf, mpc");
+}
+
+TEST(Config, SyntaxErrorHasLine) {
+  std::string e = error_of([] { load_string("a: 1\nb: [1, 2\n", "bad.yaml"); });
+  EXPECT_EQ(e.rfind("bad.yaml:", 0), 0u) << e;
+  EXPECT_NE(e.find("YAML syntax error"), std::string::npos) << e;
+}
+
+TEST(Config, MissingFile) {
+  EXPECT_EQ(error_of([] { load_file("/nonexistent/robot.yaml"); }),
+            "/nonexistent/robot.yaml:0: key '': cannot open file");
+}
+
+}  // namespace
+}  // namespace evade::config
