@@ -1,0 +1,220 @@
+#include "sensing/vlp16.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace evade::sensing::vlp16 {
+
+namespace {
+constexpr double kDegToRad = M_PI / 180.0;
+
+// Azimuth gaps beyond this between consecutive blocks are not rotation
+// (20 Hz, the fastest VLP-16 setting, turns 0.8 deg per block): the
+// interpolation falls back to the previous gap.
+constexpr double kMaxBlockGapDeg = 5.0;
+
+inline uint16_t read_u16le(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
+inline uint32_t read_u32le(const uint8_t* p) {
+  return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16) |
+         (static_cast<uint32_t>(p[3]) << 24);
+}
+inline void write_u16le(uint8_t* p, uint16_t v) {
+  p[0] = static_cast<uint8_t>(v & 0xFF);
+  p[1] = static_cast<uint8_t>(v >> 8);
+}
+inline void write_u32le(uint8_t* p, uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>((v >> (8 * i)) & 0xFF);
+}
+
+// Elevation and vertical offset per laser id, from the VLP-16 user manual's
+// laser table; ring = rank by elevation.
+constexpr double kElevationDeg[kLasers] = {-15, 1, -13, 3, -11, 5, -9, 7, -7, 9, -5, 11, -3, 13, -1, 15};
+constexpr double kVerticalOffsetMm[kLasers] = {11.2, -0.7, 9.7,  -2.2, 8.1, -3.7, 6.6,  -5.1,
+                                               5.1,  -6.6, 3.7, -8.1, 2.2, -9.7, 0.7, -11.2};
+
+std::array<Laser, kLasers> make_laser_table() {
+  std::array<Laser, kLasers> t{};
+  for (int i = 0; i < kLasers; ++i) {
+    int rank = 0;
+    for (int j = 0; j < kLasers; ++j) rank += kElevationDeg[j] < kElevationDeg[i];
+    t[i] = Laser{kElevationDeg[i], kVerticalOffsetMm[i] * 1e-3, rank};
+  }
+  return t;
+}
+
+struct Trig {
+  float cos_el[kLasers], sin_el[kLasers], dz[kLasers];
+  // cos/sin of every 0.01 deg azimuth count would be 36000 entries; the
+  // interpolated azimuth is fractional, so std::cos/sin is used per firing
+  // (one pair per 16 points).
+};
+const Trig& trig() {
+  static const Trig t = [] {
+    Trig r{};
+    for (int i = 0; i < kLasers; ++i) {
+      r.cos_el[i] = static_cast<float>(std::cos(kElevationDeg[i] * kDegToRad));
+      r.sin_el[i] = static_cast<float>(std::sin(kElevationDeg[i] * kDegToRad));
+      r.dz[i] = static_cast<float>(kVerticalOffsetMm[i] * 1e-3);
+    }
+    return r;
+  }();
+  return t;
+}
+
+// Signed smallest difference b - a in 0.01 deg counts, in (-18000, 18000].
+inline int azimuth_diff(int a, int b) {
+  int d = (b - a) % kAzimuthCount;
+  if (d > kAzimuthCount / 2) d -= kAzimuthCount;
+  if (d <= -kAzimuthCount / 2) d += kAzimuthCount;
+  return d;
+}
+}  // namespace
+
+const std::array<Laser, kLasers> kLaserTable = make_laser_table();
+const std::array<int, kLasers> kLaserOfRing = [] {
+  std::array<int, kLasers> r{};
+  for (int i = 0; i < kLasers; ++i) r[static_cast<size_t>(kLaserTable[i].ring)] = i;
+  return r;
+}();
+
+uint16_t distance_to_count(double distance_m) {
+  if (!(distance_m > 0.0)) return 0;
+  double c = std::round(distance_m / kDistanceUnitM);
+  return static_cast<uint16_t>(std::min(c, 65535.0));
+}
+
+uint16_t azimuth_to_count(double azimuth_deg) {
+  if (!std::isfinite(azimuth_deg)) return 0;
+  long c = std::lround(azimuth_deg / kAzimuthUnitDeg) % kAzimuthCount;
+  if (c < 0) c += kAzimuthCount;
+  return static_cast<uint16_t>(c);
+}
+
+void PacketEncoder::encode_into(uint8_t* out) const {
+  for (int b = 0; b < kBlocksPerPacket; ++b) {
+    uint8_t* p = out + b * kBlockSize;
+    write_u16le(p, kBlockFlag);
+    write_u16le(p + 2, azimuth_to_count(blocks[b].azimuth_deg));
+    for (int s = 0; s < kSequencesPerBlock; ++s)
+      for (int l = 0; l < kLasers; ++l) {
+        uint8_t* r = p + 4 + 3 * (s * kLasers + l);
+        write_u16le(r, distance_to_count(blocks[b].distance_m[s][l]));
+        r[2] = blocks[b].reflectivity[s][l];
+      }
+  }
+  write_u32le(out + kTimestampOffset, timestamp_us_past_hour % kMicrosPerHour);
+  out[kReturnModeOffset] = return_mode;
+  out[kFactoryOffset] = factory;
+}
+
+std::array<uint8_t, kPacketSize> PacketEncoder::encode() const {
+  std::array<uint8_t, kPacketSize> out{};
+  encode_into(out.data());
+  return out;
+}
+
+const char* to_string(PacketStatus s) {
+  switch (s) {
+    case PacketStatus::kOk: return "ok";
+    case PacketStatus::kWrongSize: return "wrong_size";
+    case PacketStatus::kBadFlag: return "bad_flag";
+    case PacketStatus::kBadAzimuth: return "bad_azimuth";
+    case PacketStatus::kBadReturnMode: return "bad_return_mode";
+  }
+  return "unknown";
+}
+
+PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions& options,
+                           std::vector<Return>* out, PacketInfo* info) {
+  if (size != kPacketSize || data == nullptr) return PacketStatus::kWrongSize;
+  int azimuth[kBlocksPerPacket];
+  for (int b = 0; b < kBlocksPerPacket; ++b) {
+    const uint8_t* p = data + b * kBlockSize;
+    if (read_u16le(p) != kBlockFlag) return PacketStatus::kBadFlag;
+    azimuth[b] = read_u16le(p + 2);
+    if (azimuth[b] >= kAzimuthCount) return PacketStatus::kBadAzimuth;
+  }
+  const uint8_t mode = data[kReturnModeOffset];
+  if (mode != kStrongest && mode != kLast && mode != kDual) return PacketStatus::kBadReturnMode;
+  const bool dual = mode == kDual;
+
+  PacketInfo local;
+  PacketInfo& pi = info ? *info : local;
+  pi = PacketInfo{};
+  pi.timestamp_us_past_hour = read_u32le(data + kTimestampOffset);
+  pi.return_mode = mode;
+  pi.factory = data[kFactoryOffset];
+
+  // Distinct firing times: every block (single) or every block pair (dual).
+  const int step = dual ? 2 : 1;
+  const int columns = kBlocksPerPacket / step;
+  pi.firings = columns * kSequencesPerBlock;
+  // Azimuth change over one block time, per column; the last column reuses
+  // the previous gap (the manual's rule), an implausible gap counts as none.
+  double gap_deg[kBlocksPerPacket] = {};
+  for (int c = 0; c + 1 < columns; ++c) {
+    int d = azimuth_diff(azimuth[c * step], azimuth[(c + 1) * step]);
+    double g = d * kAzimuthUnitDeg;
+    gap_deg[c] = (g >= 0.0 && g <= kMaxBlockGapDeg) ? g : (c > 0 ? gap_deg[c - 1] : 0.0);
+  }
+  if (columns > 1) gap_deg[columns - 1] = gap_deg[columns - 2];
+  if (columns > 1 && gap_deg[0] == 0.0) {
+    // The first gap was implausible: borrow the next plausible one.
+    for (int c = 1; c < columns; ++c)
+      if (gap_deg[c] > 0.0) {
+        gap_deg[0] = gap_deg[c];
+        break;
+      }
+  }
+
+  const Trig& t = trig();
+  const float min_r = static_cast<float>(options.min_range_m);
+  const float max_r = static_cast<float>(options.max_range_m);
+  for (int b = 0; b < kBlocksPerPacket; ++b) {
+    const int column = b / step;
+    const uint8_t* p = data + b * kBlockSize;
+    const uint8_t* other = nullptr;  // dual: the paired block of the same firing
+    if (dual && (b % 2 == 1)) other = data + (b - 1) * kBlockSize;
+    for (int s = 0; s < kSequencesPerBlock; ++s) {
+      const double seq_offset_us = column * kBlockPeriodUs + s * kSequencePeriodUs;
+      for (int l = 0; l < kLasers; ++l) {
+        const uint8_t* r = p + 4 + 3 * (s * kLasers + l);
+        const uint16_t count = read_u16le(r);
+        if (count == 0) continue;
+        if (other) {
+          const uint8_t* o = other + 4 + 3 * (s * kLasers + l);
+          if (read_u16le(o) == count && o[2] == r[2]) {
+            ++pi.dual_duplicates;
+            continue;
+          }
+        }
+        const float range = static_cast<float>(count * kDistanceUnitM);
+        if (range < min_r || range > max_r) {
+          ++pi.out_of_range;
+          continue;
+        }
+        const double within_block_us = s * kSequencePeriodUs + l * kFiringIntervalUs;
+        double az = azimuth[column * step] * kAzimuthUnitDeg + gap_deg[column] * within_block_us / kBlockPeriodUs;
+        if (az >= 360.0) az -= 360.0;
+        const double az_rad = az * kDegToRad;
+        const float ca = static_cast<float>(std::cos(az_rad));
+        const float sa = static_cast<float>(std::sin(az_rad));
+        const float horizontal = range * t.cos_el[l];
+        Return ret;
+        ret.x = horizontal * ca;
+        ret.y = -horizontal * sa;
+        ret.z = range * t.sin_el[l] + (options.vertical_offset_correction ? t.dz[l] : 0.0f);
+        ret.intensity = r[2];
+        ret.azimuth_deg = static_cast<float>(az);
+        ret.time_offset_us = static_cast<float>(seq_offset_us + l * kFiringIntervalUs);
+        ret.ring = static_cast<uint8_t>(kLaserTable[static_cast<size_t>(l)].ring);
+        ret.laser = static_cast<uint8_t>(l);
+        out->push_back(ret);
+      }
+    }
+  }
+  return PacketStatus::kOk;
+}
+
+}  // namespace evade::sensing::vlp16
