@@ -1,0 +1,261 @@
+#include "mapping/elevation_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace evade::mapping {
+
+namespace {
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+}
+
+int ElevationMapParams::width() const { return int(std::lround(size_x_m / resolution_m)); }
+int ElevationMapParams::height() const { return int(std::lround(size_y_m / resolution_m)); }
+
+ElevationMapParams ElevationMapParams::from_config(const config::Node& s) {
+  ElevationMapParams p;
+  p.size_x_m = s.get_double("size_x_m", 1.0, 200.0);
+  p.size_y_m = s.get_double("size_y_m", 1.0, 200.0);
+  p.resolution_m = s.get_double("resolution_m", 0.01, 2.0);
+  if (p.width() < 3 || p.height() < 3) s.fail("resolution_m", "the grid needs at least 3 x 3 cells");
+  if (p.width() > 4000 || p.height() > 4000) s.fail("resolution_m", "more than 4000 cells along a side");
+  p.min_z_m = s.get<double>("min_z_m");
+  p.max_z_m = s.get<double>("max_z_m");
+  if (p.max_z_m <= p.min_z_m) s.fail("max_z_m", "must be above min_z_m");
+  p.min_range_m = s.get_double("min_range_m", 0.0, 1000.0);
+  p.max_range_m = s.get_double("max_range_m", 0.0, 1000.0);
+  if (p.max_range_m <= p.min_range_m) s.fail("max_range_m", "must be above min_range_m");
+  p.sweep_slice_us = int64_t(s.get_double("sweep_slice_s", 1e-5, 0.1) * 1e6);
+  p.max_sweep_us = int64_t(s.get_double("max_sweep_s", 0.01, 1.0) * 1e6);
+  p.odometry_history_us = int64_t(s.get_double("odometry_history_s", 0.1, 60.0) * 1e6);
+  p.max_extrapolation_us = int64_t(s.get_double("max_extrapolation_s", 0.0, 1.0) * 1e6);
+  p.hole_fill_min_neighbors = s.get_int("hole_fill_min_neighbors", 1, 9);
+  p.sobel_max = s.get_positive("sobel_max");
+  p.laplace_max_per_m = s.get_positive("laplace_max_per_m");
+  p.step_max_m = s.get_positive("step_max_m");
+  p.step_includes_cell_extent = s.get<bool>("step_includes_cell_extent");
+  s.close();
+  return p;
+}
+
+void ElevationLayers::reset(double ox, double oy, double res, int w, int h) {
+  origin_x = ox;
+  origin_y = oy;
+  resolution = res;
+  width = w;
+  height = h;
+  const size_t n = size_t(w) * size_t(h);
+  z_max.assign(n, kNaN);
+  z_min.assign(n, kNaN);
+  filled.assign(n, 0);
+  obstacle.assign(n, 0);
+}
+
+bool ElevationLayers::known(int r, int c) const {
+  return r >= 0 && c >= 0 && r < height && c < width && !std::isnan(z_max[index(r, c)]);
+}
+
+namespace {
+
+// world = R * p_sensor + t for one slice of the sweep (mount, then robot pose)
+struct SliceTransform {
+  double r[9];
+  double t[3];
+};
+
+SliceTransform compose(const double mount_r[9], const double mount_t[3], const Pose2& robot) {
+  const double cy = std::cos(robot.yaw), sy = std::sin(robot.yaw);
+  SliceTransform out;
+  for (int col = 0; col < 3; ++col) {
+    out.r[0 * 3 + col] = cy * mount_r[0 * 3 + col] - sy * mount_r[1 * 3 + col];
+    out.r[1 * 3 + col] = sy * mount_r[0 * 3 + col] + cy * mount_r[1 * 3 + col];
+    out.r[2 * 3 + col] = mount_r[2 * 3 + col];
+  }
+  out.t[0] = cy * mount_t[0] - sy * mount_t[1] + robot.x;
+  out.t[1] = sy * mount_t[0] + cy * mount_t[1] + robot.y;
+  out.t[2] = mount_t[2];  // the base sits on the ground plane z = 0 of the 2D odometry
+  return out;
+}
+
+}  // namespace
+
+bool ElevationMapBuilder::build(const CloudView& cloud, const PoseBuffer& poses, ElevationLayers* out,
+                                Pose2* robot_at_utime, CloudStats* stats) const {
+  const auto pose0 = poses.at(cloud.utime, p_.max_extrapolation_us);
+  if (!pose0) return false;
+  *robot_at_utime = *pose0;
+
+  const double res = p_.resolution_m;
+  const int w = p_.width(), h = p_.height();
+  // Snap the grid to the odometry frame's lattice so a static obstacle falls
+  // into the same cells from frame to frame (no re-sampling jitter).
+  const double ox = std::floor(pose0->x / res) * res - (w / 2) * res;
+  const double oy = std::floor(pose0->y / res) * res - (h / 2) * res;
+  out->reset(ox, oy, res, w, h);
+
+  // mount rotation R = Rz(yaw) Ry(pitch) Rx(roll)
+  const double cr = std::cos(cloud.mount_roll), sr = std::sin(cloud.mount_roll);
+  const double cp = std::cos(cloud.mount_pitch), sp = std::sin(cloud.mount_pitch);
+  const double cyw = std::cos(cloud.mount_yaw), syw = std::sin(cloud.mount_yaw);
+  const double mount_r[9] = {cyw * cp, cyw * sp * sr - syw * cr, cyw * sp * cr + syw * sr,
+                             syw * cp, syw * sp * sr + cyw * cr, syw * sp * cr - cyw * sr,
+                             -sp,      cp * sr,                  cp * cr};
+  const double mount_t[3] = {cloud.mount_x, cloud.mount_y, cloud.mount_z};
+
+  // One pose per slice of the sweep, computed on first use.
+  const int64_t slice_us = std::max<int64_t>(1, p_.sweep_slice_us);
+  const size_t num_slices = size_t(p_.max_sweep_us / slice_us) + 1;
+  std::vector<SliceTransform> slices(num_slices);
+  std::vector<uint8_t> slice_ready(num_slices, 0);
+  const SliceTransform at_utime = compose(mount_r, mount_t, *pose0);
+  Pose2 last_good = *pose0;
+
+  const double min_r2 = p_.min_range_m * p_.min_range_m;
+  const double max_r2 = p_.max_range_m * p_.max_range_m;
+  const double inv_res = 1.0 / res;
+  CloudStats st;
+  st.points_in = int64_t(cloud.n);
+  float* zmax = out->z_max.data();
+  float* zmin = out->z_min.data();
+
+  // The crop is the exact box test PCL's PassThrough/CropBox would do
+  // (range band in the sensor frame, z band and the grid's x/y extent in the
+  // odometry frame), fused with the transform and binning pass: one read of
+  // each point, no copy into a pcl::PointCloud. A VoxelGrid would not pay:
+  // keeping the maximum per cell already is a 2D voxel reduction.
+  for (size_t i = 0; i < cloud.n; ++i) {
+    const double px = cloud.x[i], py = cloud.y[i], pz = cloud.z[i];
+    if (!std::isfinite(px) || !std::isfinite(py) || !std::isfinite(pz)) {
+      ++st.points_invalid;
+      continue;
+    }
+    const double r2 = px * px + py * py + pz * pz;
+    if (r2 < min_r2 || r2 > max_r2) {
+      ++st.points_cropped;
+      continue;
+    }
+    const SliceTransform* tf = &at_utime;
+    if (cloud.time_offset) {
+      const int64_t off = cloud.time_offset[i];
+      if (off < 0 || off > p_.max_sweep_us) {
+        ++st.points_invalid;
+        continue;
+      }
+      const size_t k = size_t(off / slice_us);
+      if (!slice_ready[k]) {
+        const int64_t t = cloud.utime + int64_t(k) * slice_us + slice_us / 2;
+        const auto pose = poses.at(t, p_.max_extrapolation_us);
+        if (pose) {
+          last_good = *pose;
+        } else {
+          ++st.slices_pose_held;
+        }
+        slices[k] = compose(mount_r, mount_t, last_good);
+        slice_ready[k] = 1;
+      }
+      tf = &slices[k];
+    }
+    const double wz = tf->r[6] * px + tf->r[7] * py + tf->r[8] * pz + tf->t[2];
+    if (wz < p_.min_z_m || wz > p_.max_z_m) {
+      ++st.points_cropped;
+      continue;
+    }
+    const double wx = tf->r[0] * px + tf->r[1] * py + tf->r[2] * pz + tf->t[0];
+    const double wy = tf->r[3] * px + tf->r[4] * py + tf->r[5] * pz + tf->t[1];
+    const double fc = (wx - ox) * inv_res, fr = (wy - oy) * inv_res;
+    if (!(fc >= 0.0 && fr >= 0.0 && fc < w && fr < h)) {
+      ++st.points_cropped;
+      continue;
+    }
+    const size_t idx = size_t(int(fr)) * size_t(w) + size_t(int(fc));
+    const float z = float(wz);
+    // NaN compares false: the first return in a cell takes both slots
+    if (!(zmax[idx] >= z)) zmax[idx] = z;
+    if (!(zmin[idx] <= z)) zmin[idx] = z;
+    ++st.points_binned;
+  }
+  st.cells_filled = fill_holes(out, p_.hole_fill_min_neighbors);
+  compute_obstacle_layer(p_, out);
+  if (stats) *stats = st;
+  return true;
+}
+
+int64_t fill_holes(ElevationLayers* L, int min_neighbors) {
+  const int w = L->width, h = L->height;
+  std::vector<std::pair<size_t, float>> fills;
+  for (int r = 0; r < h; ++r) {
+    for (int c = 0; c < w; ++c) {
+      if (L->known(r, c)) continue;
+      int n = 0;
+      double sum = 0.0;
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc) {
+          if ((dr || dc) && L->known(r + dr, c + dc)) {
+            ++n;
+            sum += L->z_max[L->index(r + dr, c + dc)];
+          }
+        }
+      if (n >= min_neighbors) fills.emplace_back(L->index(r, c), float(sum / n));
+    }
+  }
+  // written after the scan, so a fill never feeds another fill
+  for (const auto& [idx, z] : fills) {
+    L->z_max[idx] = z;
+    L->z_min[idx] = z;
+    L->filled[idx] = 1;
+  }
+  return int64_t(fills.size());
+}
+
+void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* L, ObstacleTerms* terms) {
+  const int w = L->width, h = L->height;
+  const size_t n = size_t(w) * size_t(h);
+  if (terms) {
+    terms->sobel.assign(n, 0.0f);
+    terms->laplace.assign(n, 0.0f);
+    terms->step.assign(n, 0.0f);
+  }
+  L->obstacle.assign(n, 0);
+  const float* z = L->z_max.data();
+  // Sobel kernels sum 8 * (one-cell difference) over a plane: dividing by
+  // 8 * resolution gives the slope in m/m, independent of the cell size.
+  const double sobel_scale = 1.0 / (8.0 * L->resolution);
+  const double laplace_scale = 1.0 / (L->resolution * L->resolution);
+  for (int r = 0; r < h; ++r) {
+    for (int c = 0; c < w; ++c) {
+      const size_t i = L->index(r, c);
+      const float zc = z[i];
+      if (std::isnan(zc)) continue;
+      // 3x3 window M; an empty or off-grid neighbour takes the centre value
+      double m[3][3];
+      double step = 0.0;
+      for (int dr = -1; dr <= 1; ++dr) {
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int rr = r + dr, cc = c + dc;
+          double v = zc;
+          if (rr >= 0 && cc >= 0 && rr < h && cc < w) {
+            const float zn = z[L->index(rr, cc)];
+            if (!std::isnan(zn)) v = zn;
+          }
+          m[dr + 1][dc + 1] = v;
+          step = std::max(step, std::abs(v - zc));
+        }
+      }
+      if (p.step_includes_cell_extent) step = std::max(step, double(zc - L->z_min[i]));
+      // rows are y, columns are x
+      const double gx = (m[0][2] + 2.0 * m[1][2] + m[2][2]) - (m[0][0] + 2.0 * m[1][0] + m[2][0]);
+      const double gy = (m[2][0] + 2.0 * m[2][1] + m[2][2]) - (m[0][0] + 2.0 * m[0][1] + m[0][2]);
+      const double g_s = std::sqrt(gx * gx + gy * gy) * sobel_scale;
+      const double g_l = std::abs(m[0][1] + m[2][1] + m[1][0] + m[1][2] - 4.0 * m[1][1]) * laplace_scale;
+      if (terms) {
+        terms->sobel[i] = float(g_s);
+        terms->laplace[i] = float(g_l);
+        terms->step[i] = float(step);
+      }
+      L->obstacle[i] = (g_s > p.sobel_max || g_l > p.laplace_max_per_m || step > p.step_max_m) ? 1 : 0;
+    }
+  }
+}
+
+}  // namespace evade::mapping

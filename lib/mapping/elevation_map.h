@@ -1,0 +1,117 @@
+// The paper's local map (section III-B "Local map"): a robot-centred 2.5D
+// elevation grid built from one LiDAR revolution, and its obstacle layer
+//   G_S = sqrt((S_x*M)^2 + (S_y*M)^2),  G_L = |L*M|,
+//   obs = G_S > S_max  or  G_L > L_max  or  h_step > h_max.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "config/config.h"
+#include "mapping/pose_buffer.h"
+
+namespace evade::mapping {
+
+struct ElevationMapParams {
+  // grid (robot-centred, axis-aligned with the odometry frame)
+  double size_x_m = 10.0;
+  double size_y_m = 10.0;
+  double resolution_m = 0.1;
+  // crop (exact box test fused with the binning pass, see elevation_map.cpp)
+  double min_z_m = -1.0;             // elevation band kept, above the ground plane of the base
+  double max_z_m = 2.0;
+  double min_range_m = 0.4;          // sensor-frame range below which a return is the robot itself
+  double max_range_m = 100.0;
+  // motion compensation and odometry
+  int64_t sweep_slice_us = 1000;     // points fired within one slice share one interpolated pose
+  int64_t max_sweep_us = 200000;     // time offsets beyond this are malformed
+  int64_t odometry_history_us = 2000000;
+  int64_t max_extrapolation_us = 150000;
+  // hole filling: an empty cell with at least this many of its 8 neighbours
+  // holding data takes their mean (one pass, so only small holes close)
+  int hole_fill_min_neighbors = 5;
+  // obstacle layer limits (the robot's operating limits)
+  double sobel_max = 0.6;            // S_max, m/m (slope; Sobel normalised by 8 * resolution)
+  double laplace_max_per_m = 15.0;   // L_max, 1/m (Laplacian normalised by resolution^2)
+  double step_max_m = 0.15;          // h_max
+  bool step_includes_cell_extent = true;  // h_step also counts max - min z inside the cell
+
+  int width() const;
+  int height() const;
+  static ElevationMapParams from_config(const config::Node& section);
+};
+
+// Cells row-major, row r = y index, column c = x index; NaN = no data.
+struct ElevationLayers {
+  double origin_x = 0.0;  // odometry-frame corner of cell (0, 0)
+  double origin_y = 0.0;
+  double resolution = 0.1;
+  int width = 0;
+  int height = 0;
+  std::vector<float> z_max;     // the elevation layer (max elevation per cell)
+  std::vector<float> z_min;     // lowest return per cell (for the in-cell step)
+  std::vector<uint8_t> filled;  // 1 = value came from hole filling
+  std::vector<int8_t> obstacle;
+
+  void reset(double ox, double oy, double res, int w, int h);
+  size_t index(int r, int c) const { return size_t(r) * size_t(width) + size_t(c); }
+  bool known(int r, int c) const;
+};
+
+// Per-cell intermediate values of the obstacle test (tests and debugging).
+struct ObstacleTerms {
+  std::vector<float> sobel;    // G_S, m/m
+  std::vector<float> laplace;  // G_L, 1/m
+  std::vector<float> step;     // h_step, m
+};
+
+struct CloudStats {
+  int64_t points_in = 0;
+  int64_t points_binned = 0;
+  int64_t points_cropped = 0;
+  int64_t points_invalid = 0;      // NaN / inf coordinates, bad time offsets
+  int64_t slices_pose_held = 0;    // sweep slices with no odometry (previous pose reused)
+  int64_t cells_filled = 0;
+};
+
+// A point cloud as plain arrays (the LCM message or synthetic data).
+struct CloudView {
+  int64_t utime = 0;
+  size_t n = 0;
+  const float* x = nullptr;
+  const float* y = nullptr;
+  const float* z = nullptr;
+  const int32_t* time_offset = nullptr;  // may be null: all points at utime
+  // sensor mount on the base
+  double mount_x = 0, mount_y = 0, mount_z = 0, mount_roll = 0, mount_pitch = 0, mount_yaw = 0;
+};
+
+class ElevationMapBuilder {
+ public:
+  explicit ElevationMapBuilder(const ElevationMapParams& p) : p_(p) {}
+
+  // Builds the grid centred on `robot_at_utime` (cells snapped to the
+  // odometry frame's lattice), transforming each point with the robot pose
+  // at its own firing time from `poses`. False when the pose at cloud.utime
+  // is unknown (no odometry near that time).
+  bool build(const CloudView& cloud, const PoseBuffer& poses, ElevationLayers* out, Pose2* robot_at_utime,
+             CloudStats* stats) const;
+
+  const ElevationMapParams& params() const { return p_; }
+
+ private:
+  ElevationMapParams p_;
+};
+
+// Fills small holes in place (see ElevationMapParams::hole_fill_min_neighbors);
+// returns the number of cells filled.
+int64_t fill_holes(ElevationLayers* layers, int min_neighbors);
+
+// The paper's obstacle layer, written into layers->obstacle. Cells without
+// data are never obstacles; inside the 3x3 window an empty neighbour takes
+// the centre cell's value, so it adds neither slope nor curvature nor step
+// (the edge of the data is not an edge of the terrain).
+void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* layers, ObstacleTerms* terms = nullptr);
+
+}  // namespace evade::mapping

@@ -1,0 +1,85 @@
+#include "mapping/elevation_map_core.h"
+
+#include <cmath>
+
+namespace evade::mapping {
+
+ElevationMapCore::ElevationMapCore(const ElevationMapParams& params)
+    : bus::Core("elevation_map"), builder_(params), poses_(params.odometry_history_us) {
+  subscribe<evade::odometry_t>("ODOMETRY", [this](const evade::odometry_t& m) { on_odometry(m); });
+  subscribe<evade::pointcloud_t>("LIDAR_POINTS", [this](const evade::pointcloud_t& m) { on_cloud(m); });
+}
+
+std::unique_ptr<bus::Core> ElevationMapCore::from_config(const config::Node& root) {
+  return std::make_unique<ElevationMapCore>(ElevationMapParams::from_config(root.section("elevation_map")));
+}
+
+void ElevationMapCore::on_odometry(const evade::odometry_t& m) {
+  if (!std::isfinite(m.x) || !std::isfinite(m.y) || !std::isfinite(m.yaw) || !std::isfinite(m.v) ||
+      !std::isfinite(m.omega)) {
+    count("odometry_invalid");
+    return;
+  }
+  OdometrySample s;
+  s.utime = m.utime;
+  s.pose = {m.x, m.y, m.yaw};
+  s.v = m.v;
+  s.omega = m.omega;
+  switch (poses_.add(s)) {
+    case PoseBuffer::AddResult::kAdded: break;
+    case PoseBuffer::AddResult::kOutOfOrder: count("odometry_out_of_order"); break;
+    case PoseBuffer::AddResult::kReset: count("odometry_reset"); break;
+  }
+}
+
+void ElevationMapCore::on_cloud(const evade::pointcloud_t& m) {
+  const auto& mp = m.mount;
+  if (m.n < 0 || !std::isfinite(mp.x) || !std::isfinite(mp.y) || !std::isfinite(mp.z) || !std::isfinite(mp.roll) ||
+      !std::isfinite(mp.pitch) || !std::isfinite(mp.yaw)) {
+    count("cloud_invalid");
+    return;
+  }
+  CloudView view;
+  view.utime = m.utime;
+  view.n = size_t(m.n);
+  view.x = m.x.data();
+  view.y = m.y.data();
+  view.z = m.z.data();
+  view.time_offset = m.time_offset.data();
+  view.mount_x = mp.x;
+  view.mount_y = mp.y;
+  view.mount_z = mp.z;
+  view.mount_roll = mp.roll;
+  view.mount_pitch = mp.pitch;
+  view.mount_yaw = mp.yaw;
+  Pose2 robot;
+  CloudStats st;
+  if (!builder_.build(view, poses_, &layers_, &robot, &st)) {
+    count(poses_.empty() ? "cloud_skipped_no_odometry" : "cloud_skipped_outside_odometry");
+    return;
+  }
+  count("points_in", st.points_in);
+  count("points_binned", st.points_binned);
+  if (st.points_invalid) count("points_invalid", st.points_invalid);
+  if (st.slices_pose_held) count("sweep_slices_pose_held", st.slices_pose_held);
+
+  msg_.utime = m.utime;
+  msg_.origin[0] = layers_.origin_x;
+  msg_.origin[1] = layers_.origin_y;
+  msg_.resolution = layers_.resolution;
+  msg_.width = layers_.width;
+  msg_.height = layers_.height;
+  msg_.robot_x = robot.x;
+  msg_.robot_y = robot.y;
+  msg_.robot_yaw = robot.yaw;
+  msg_.elevation.resize(size_t(layers_.height));
+  msg_.obstacle.resize(size_t(layers_.height));
+  for (int r = 0; r < layers_.height; ++r) {
+    const size_t row = layers_.index(r, 0);
+    msg_.elevation[r].assign(layers_.z_max.begin() + row, layers_.z_max.begin() + row + layers_.width);
+    msg_.obstacle[r].assign(layers_.obstacle.begin() + row, layers_.obstacle.begin() + row + layers_.width);
+  }
+  publish("ELEVATION_MAP", msg_);
+}
+
+}  // namespace evade::mapping

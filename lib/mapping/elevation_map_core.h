@@ -1,0 +1,28 @@
+// The elevation_map process core: LIDAR_POINTS + ODOMETRY -> ELEVATION_MAP.
+#pragma once
+
+#include "bus/core.h"
+#include "config/config.h"
+#include "evade/grid_map_t.hpp"
+#include "evade/odometry_t.hpp"
+#include "evade/pointcloud_t.hpp"
+#include "mapping/elevation_map.h"
+
+namespace evade::mapping {
+
+class ElevationMapCore : public bus::Core {
+ public:
+  explicit ElevationMapCore(const ElevationMapParams& params);
+  static std::unique_ptr<bus::Core> from_config(const config::Node& root);
+
+ private:
+  void on_odometry(const evade::odometry_t& m);
+  void on_cloud(const evade::pointcloud_t& m);
+
+  ElevationMapBuilder builder_;
+  PoseBuffer poses_;
+  ElevationLayers layers_;
+  evade::grid_map_t msg_;
+};
+
+}  // namespace evade::mapping

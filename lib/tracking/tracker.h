@@ -1,0 +1,122 @@
+// Obstacle parameterization and tracking (paper III-B): DBSCAN clusters of
+// obstacle cells -> minimum bounding ellipses over the cells' corners ->
+// Kuhn-Munkres association on centre distance with gate d_max -> stable ids
+// and the shape-variation indicator Xi_eta.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "config/config.h"
+#include "tracking/dbscan.h"
+#include "tracking/geometry.h"
+
+namespace evade::tracking {
+
+enum class LargeClusterPolicy { kKeep, kDrop, kSplit };
+enum class ThetaVariation { kRaw, kBoundary };
+
+struct TrackerParams {
+  double eps_m = 0.25;         // DBSCAN neighbourhood radius
+  int min_points = 4;          // DBSCAN minPts (the cell itself included)
+  double gate_m = 0.8;         // d_max: farthest centre distance accepted as the same obstacle
+  int max_missed_frames = 5;   // K: a track unseen for more frames is dropped
+  int shape_history = 10;      // m: frames in the shape-variation window
+  int max_tracks = 256;        // hard bound on the track table
+  double max_cluster_extent_m = 3.0;  // a cluster whose bounding box side exceeds this is "large"
+  LargeClusterPolicy large_cluster = LargeClusterPolicy::kSplit;
+  double split_tile_m = 1.5;   // kSplit: tile size on the odometry-frame lattice
+  MbeOptions mbe;              // tolerance, iterations, min semi-axis
+  bool predict_with_velocity = true;  // gate and cost use the track's constant-velocity prediction
+  double velocity_smoothing = 0.5;    // weight of the newest centre difference in the velocity estimate
+  double max_prediction_gap_s = 1.0;  // beyond this gap the last centre is used as is
+  ThetaVariation theta_variation = ThetaVariation::kBoundary;
+
+  static TrackerParams from_config(const config::Node& section);
+};
+
+// One grid's obstacle layer, as the tracker needs it.
+struct GridView {
+  int64_t utime = 0;
+  double origin_x = 0.0, origin_y = 0.0, resolution = 0.1;
+  int width = 0, height = 0;
+  const int8_t* obstacle = nullptr;  // width * height, row-major
+};
+
+struct Detection {
+  Ellipse ellipse;
+  int num_cells = 0;
+};
+
+struct TrackedObstacle {
+  int64_t id = 0;
+  Ellipse ellipse;
+  double shape_variation = 0.0;  // Xi_eta
+  int num_cells = 0;
+  int age = 0;                   // frames since birth
+};
+
+struct TrackerStats {
+  int64_t clusters = 0;
+  int64_t noise_cells = 0;
+  int64_t large_clusters = 0;
+  int64_t large_dropped = 0;
+  int64_t tiles = 0;
+  int64_t tracks_born = 0;
+  int64_t tracks_dropped = 0;
+  int64_t over_track_limit = 0;
+  int64_t time_reset = 0;
+};
+
+// Shape-variation indicator (paper Xi_eta): sum over the window of
+// ||eta_i - mean(eta)||^2 / (m - 1), eta = (a, b, theta). theta is an axis
+// (period pi): its mean is the doubled-angle circular mean and deviations are
+// wrapped. With kBoundary the angle deviation enters as (a - b) * dtheta, the
+// displacement it causes on the ellipse, so the ill-defined axis of a
+// near-circle does not read as a shape change (m^2 throughout).
+double shape_variation(const std::deque<Ellipse>& history, ThetaVariation mode);
+
+class Tracker {
+ public:
+  explicit Tracker(const TrackerParams& p);
+
+  // Clusters, fits and associates one grid; returns the obstacles seen in it.
+  const std::vector<TrackedObstacle>& update(const GridView& grid);
+
+  const std::vector<Detection>& detections() const { return detections_; }
+  size_t num_tracks() const { return tracks_.size(); }
+  int64_t next_id() const { return next_id_; }
+  const TrackerStats& stats() const { return stats_; }
+  const TrackerParams& params() const { return p_; }
+
+ private:
+  struct Track {
+    int64_t id;
+    double cx, cy;        // last observed centre
+    double vx = 0, vy = 0;
+    bool has_velocity = false;
+    int64_t last_seen_utime;
+    int missed = 0;
+    int age = 0;
+    std::deque<Ellipse> history;  // last m ellipses
+  };
+  void detect(const GridView& grid);
+  void add_detection(const GridView& grid, const std::vector<int32_t>& cells);
+
+  TrackerParams p_;
+  GridDbscan dbscan_;
+  double dbscan_resolution_;
+  std::vector<Detection> detections_;
+  std::vector<Track> tracks_;
+  std::vector<TrackedObstacle> out_;
+  int64_t next_id_ = 1;
+  int64_t last_utime_ = -1;
+  TrackerStats stats_;
+  // scratch
+  std::vector<int32_t> row_min_, row_max_;
+  std::vector<Vec2> corners_;
+};
+
+}  // namespace evade::tracking
