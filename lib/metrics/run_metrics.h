@@ -1,0 +1,77 @@
+// The metrics of one run (SPEC "Metrics"), computed from a run log:
+// SIM_TRUTH gives the true geometry, PLAN the planner's side.
+//
+// The exact rules are in metrics_rules() (printed by `metrics --help`).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bus/log.h"
+#include "config/config.h"
+#include "metrics/geometry.h"
+
+namespace evade::metrics {
+
+struct MetricsParams {
+  double local_map_size_m = 10.0;
+  double motion_threshold_mps = 0.02;
+  double dynamic_speed_threshold_mps = 0.05;
+  double react_match_radius_m = 1.0;
+  double react_active_tol_m = 0.02;
+  static MetricsParams from_config(const config::Node& section);
+};
+
+struct ObstacleTrack {
+  int id = 0;
+  std::string shape;
+  double radius = 0, length = 0, width = 0;
+  bool dynamic = false;
+  std::vector<Vec2> path;        // centre per SIM_TRUTH sample
+  std::vector<double> yaw;
+  std::optional<double> t_enter_s;  // since first motion
+  std::optional<double> t_react_s;
+};
+
+struct RunMetrics {
+  std::string scenario;
+  std::string mode;
+  bool reached_goal = false;
+  bool collided = false;
+  double min_dist_m = 0.0;
+  std::optional<double> time_to_goal_s;
+  std::optional<double> reaction_time_s;
+  int reaction_missed = 0;
+  std::optional<double> speed_var;
+  double path_length_m = 0.0;
+  std::optional<double> planner_solve_ms_p50;
+  std::optional<double> planner_solve_ms_p99;
+  int solver_failures = 0;
+  int plans = 0;
+  double duration_s = 0.0;  // SIM_TRUTH span
+  double final_goal_distance_m = 0.0;
+
+  // For the picture.
+  std::vector<Vec2> robot_path;
+  std::vector<double> robot_yaw;
+  std::vector<double> robot_speed;
+  std::vector<double> robot_t_s;  // since first SIM_TRUTH
+  std::vector<ObstacleTrack> obstacles;
+  std::vector<Vec2> route;
+  Vec2 goal;
+  double goal_tolerance = 0.0;
+  double footprint_length = 0.0, footprint_width = 0.0;
+  int closest_sample = -1;
+  int closest_obstacle = -1;
+  Vec2 closest_on_robot, closest_on_obstacle;
+};
+
+// Throws std::runtime_error when the log has no SIM_TRUTH.
+RunMetrics compute_metrics(const std::vector<bus::LogEvent>& events, const MetricsParams& params);
+std::string metrics_json(const RunMetrics& m);
+// How every metric is computed, in words.
+const char* metrics_rules();
+
+}  // namespace evade::metrics
