@@ -197,6 +197,8 @@ PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions
         const double within_block_us = s * kSequencePeriodUs + l * kFiringIntervalUs;
         double az = azimuth[column * step] * kAzimuthUnitDeg + gap_deg[column] * within_block_us / kBlockPeriodUs;
         if (az >= 360.0) az -= 360.0;
+        double firing_az = azimuth[column * step] * kAzimuthUnitDeg + gap_deg[column] * s * kSequencePeriodUs / kBlockPeriodUs;
+        if (firing_az >= 360.0) firing_az -= 360.0;
         const double az_rad = az * kDegToRad;
         const float ca = static_cast<float>(std::cos(az_rad));
         const float sa = static_cast<float>(std::sin(az_rad));
@@ -207,6 +209,7 @@ PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions
         ret.z = range * t.sin_el[l] + (options.vertical_offset_correction ? t.dz[l] : 0.0f);
         ret.intensity = r[2];
         ret.azimuth_deg = static_cast<float>(az);
+        ret.firing_azimuth_deg = static_cast<float>(firing_az);
         ret.time_offset_us = static_cast<float>(seq_offset_us + l * kFiringIntervalUs);
         ret.ring = static_cast<uint8_t>(kLaserTable[static_cast<size_t>(l)].ring);
         ret.laser = static_cast<uint8_t>(l);

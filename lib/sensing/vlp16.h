@@ -35,6 +35,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "sensing/lidar_return.h"
+
 namespace evade::sensing::vlp16 {
 
 inline constexpr size_t kPacketSize = 1206;       // UDP payload of a data packet
@@ -115,15 +117,7 @@ uint16_t distance_to_count(double distance_m);
 uint16_t azimuth_to_count(double azimuth_deg);
 
 // ---------------------------------------------------------------- decoder
-// One return of a decoded packet, before revolution assembly.
-struct Return {
-  float x, y, z;           // m, evade sensor frame
-  float intensity;         // reflectivity 0..255
-  float azimuth_deg;       // interpolated azimuth of this firing, [0, 360)
-  float time_offset_us;    // after the packet's first firing
-  uint8_t ring;
-  uint8_t laser;
-};
+using Return = LidarReturn;
 
 enum class PacketStatus {
   kOk,
@@ -150,7 +144,7 @@ struct PacketInfo {
 };
 
 // Decodes one data packet and appends its returns (zero distance dropped)
-// to `out`, in firing order. Validates the whole packet before appending
+// to `out`, in firing order (dual mode: block 2k's returns, then 2k+1's). Validates the whole packet before appending
 // anything, so a bad packet leaves `out` untouched.
 PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions& options,
                            std::vector<Return>* out, PacketInfo* info);

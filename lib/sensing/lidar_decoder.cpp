@@ -1,0 +1,246 @@
+#include "sensing/lidar_decoder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "sensing/vlp16.h"
+
+namespace evade::sensing {
+
+namespace {
+// A sensor clock step larger than this between two packets of one
+// revolution is a clock jump (sync, reset), not rotation: the receive
+// times place that packet instead.
+constexpr int64_t kMaxSensorStepUs = 1'000'000;
+constexpr int64_t kHourUs = vlp16::kMicrosPerHour;
+// VLP-16 position packets (GPS/PPS status) are 512-byte payloads on port 8308.
+constexpr size_t kVlp16PositionPacketSize = 512;
+constexpr size_t kExpectedPointsPerRevolution = 32768;
+
+// Last firing of a packet after its first, us: a packet leaves the sensor
+// after its last firing, so this is how far its receive time lags the
+// first firing (network latency aside).
+double packet_span_us(LidarModel model, bool dual) {
+  if (model == LidarModel::kVlp16) {
+    const int last_column = (vlp16::kBlocksPerPacket / (dual ? 2 : 1)) - 1;
+    return vlp16::firing_offset_us(last_column, 1, vlp16::kLasers - 1);
+  }
+  const int last_column = (rs_helios::kBlocksPerPacket / (dual ? 2 : 1)) - 1;
+  return rs_helios::firing_offset_us(last_column, rs_helios::kChannels - 1);
+}
+
+int64_t resolve_past_hour(int64_t us_past_hour, int64_t receive_utime) {
+  int64_t hour_start = (receive_utime / kHourUs) * kHourUs;
+  int64_t t = hour_start + (us_past_hour % kHourUs);
+  if (t - receive_utime > kHourUs / 2) t -= kHourUs;
+  if (receive_utime - t > kHourUs / 2) t += kHourUs;
+  return t;
+}
+
+int32_t clamp_int32(double v) {
+  if (!(v > std::numeric_limits<int32_t>::min())) return std::numeric_limits<int32_t>::min();
+  if (!(v < std::numeric_limits<int32_t>::max())) return std::numeric_limits<int32_t>::max();
+  return static_cast<int32_t>(std::llround(v));
+}
+}  // namespace
+
+const char* model_name(LidarModel m) { return m == LidarModel::kVlp16 ? "vlp16" : "rs_helios"; }
+
+LidarDecoder::LidarDecoder(const LidarDecoderParams& params, CountFn count)
+    : params_(params), model_(params.model), count_(std::move(count)) {
+  if (!count_) count_ = [](const std::string&, int64_t) {};
+  returns_.reserve(static_cast<size_t>(vlp16::kBlocksPerPacket * vlp16::kReturnsPerBlock));
+  start_revolution();
+}
+
+void LidarDecoder::start_revolution() {
+  rev_ = Revolution{};
+  rev_.cloud.x.reserve(kExpectedPointsPerRevolution);
+  rev_.cloud.y.reserve(kExpectedPointsPerRevolution);
+  rev_.cloud.z.reserve(kExpectedPointsPerRevolution);
+  rev_.cloud.intensity.reserve(kExpectedPointsPerRevolution);
+  rev_.cloud.ring.reserve(kExpectedPointsPerRevolution);
+  rel_us_.clear();
+  rel_us_.reserve(kExpectedPointsPerRevolution);
+  anchored_ = false;
+}
+
+int64_t LidarDecoder::sensor_delta_us(int64_t from, int64_t to) const {
+  if (model_ == LidarModel::kVlp16) {
+    int64_t d = (to - from) % kHourUs;
+    if (d > kHourUs / 2) d -= kHourUs;
+    if (d <= -kHourUs / 2) d += kHourUs;
+    return d;
+  }
+  return to - from;
+}
+
+void LidarDecoder::record_packet(const uint8_t* data, size_t size, int64_t receive_utime) {
+  evade::lidar_packet_t p;
+  p.utime = receive_utime;
+  p.size = static_cast<int32_t>(size);
+  p.data.assign(data, data + size);
+  rev_.scan.packets.push_back(std::move(p));
+}
+
+void LidarDecoder::feed(const uint8_t* data, size_t size, int64_t receive_utime, std::vector<Revolution>* out) {
+  returns_.clear();
+  PacketTimes times{};
+  if (model_ == LidarModel::kVlp16) {
+    if (size == kVlp16PositionPacketSize) {
+      count_("position_packets", 1);
+      return;
+    }
+    vlp16::DecodeOptions opt;
+    opt.min_range_m = params_.min_range_m;
+    opt.max_range_m = params_.max_range_m;
+    opt.vertical_offset_correction = params_.vertical_offset_correction;
+    vlp16::PacketInfo info;
+    vlp16::PacketStatus st = vlp16::decode_packet(data, size, opt, &returns_, &info);
+    if (st != vlp16::PacketStatus::kOk) {
+      count_(std::string("malformed_") + vlp16::to_string(st), 1);
+      return;
+    }
+    count_("data_packets", 1);
+    if (info.factory != vlp16::kFactoryVlp16) {
+      // Reported, not trusted: the configured model decides the decoding.
+      char name[32];
+      std::snprintf(name, sizeof(name), "factory_byte_0x%02x", info.factory);
+      count_(name, 1);
+    }
+    if (info.dual_duplicates) count_("dual_duplicates", info.dual_duplicates);
+    if (info.out_of_range) count_("out_of_range", info.out_of_range);
+    if (info.timestamp_us_past_hour >= vlp16::kMicrosPerHour) count_("timestamp_past_hour_invalid", 1);
+    times.sensor_us = info.timestamp_us_past_hour % kHourUs;
+    times.receive_us = receive_utime - std::llround(packet_span_us(model_, info.return_mode == vlp16::kDual));
+    times.absolute_us = resolve_past_hour(times.sensor_us, receive_utime);
+  } else {
+    switch (rs_helios::classify(data, size)) {
+      case rs_helios::PacketKind::kDifop: {
+        rs_helios::Calibration cal;
+        rs_helios::PacketStatus st = rs_helios::parse_difop(data, size, &cal);
+        if (st != rs_helios::PacketStatus::kOk) {
+          count_(std::string("malformed_difop_") + rs_helios::to_string(st), 1);
+          return;
+        }
+        count_("difop_packets", 1);
+        calibration_ = cal;
+        have_calibration_ = true;
+        record_packet(data, size, receive_utime);
+        return;
+      }
+      case rs_helios::PacketKind::kMsop: {
+        if (!have_calibration_) {
+          count_("msop_before_difop", 1);
+          return;
+        }
+        rs_helios::DecodeOptions opt;
+        opt.min_range_m = params_.min_range_m;
+        opt.max_range_m = params_.max_range_m;
+        rs_helios::PacketInfo info;
+        rs_helios::PacketStatus st = rs_helios::decode_msop(data, size, calibration_, opt, &returns_, &info);
+        if (st != rs_helios::PacketStatus::kOk) {
+          count_(std::string("malformed_") + rs_helios::to_string(st), 1);
+          return;
+        }
+        count_("data_packets", 1);
+        if (info.dual_duplicates) count_("dual_duplicates", info.dual_duplicates);
+        if (info.out_of_range) count_("out_of_range", info.out_of_range);
+        times.sensor_us = info.utc_us;
+        times.receive_us =
+            receive_utime - std::llround(packet_span_us(model_, calibration_.return_mode == rs_helios::kDual));
+        times.absolute_us = info.utc_us;
+        break;
+      }
+      case rs_helios::PacketKind::kUnknown:
+        count_(size != rs_helios::kPacketSize ? "malformed_wrong_size" : "malformed_bad_header", 1);
+        return;
+    }
+  }
+  add_packet_returns(times, data, size, receive_utime, out);
+}
+
+void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* data, size_t size,
+                                      int64_t receive_utime, std::vector<Revolution>* out) {
+  if (rev_.cloud.packets >= params_.max_packets_per_revolution && !rel_us_.empty()) {
+    count_("forced_cuts", 1);
+    emit(out);
+  }
+  record_packet(data, size, receive_utime);
+  bool cut_done = false;
+  bool packet_counted = false;
+  bool jump_counted = false;
+  for (const LidarReturn& r : returns_) {
+    double rel_az = std::fmod(r.firing_azimuth_deg - params_.cut_azimuth_deg + 720.0, 360.0);
+    // The firing azimuth passed the cut angle when it wraps from near 360 to near 0.
+    if (have_prev_azimuth_ && !cut_done && rel_az + 180.0 < prev_rel_azimuth_) {
+      cut_done = true;
+      if (!rel_us_.empty()) {
+        emit(out);  // this packet stays in the emitted revolution's scan
+        packet_counted = false;
+      }
+    }
+    prev_rel_azimuth_ = rel_az;
+    have_prev_azimuth_ = true;
+    if (!anchored_) {
+      anchor_ = times;
+      anchor_time_us_ = params_.time_source == TimeSource::kSensor ? times.absolute_us : times.receive_us;
+      anchored_ = true;
+    }
+    if (!packet_counted) {
+      ++rev_.cloud.packets;
+      packet_counted = true;
+    }
+    int64_t d = sensor_delta_us(anchor_.sensor_us, times.sensor_us);
+    if (d > kMaxSensorStepUs || d < -kMaxSensorStepUs) {
+      if (!jump_counted) count_("sensor_time_jumps", 1);
+      jump_counted = true;
+      d = params_.time_source == TimeSource::kSensor ? times.absolute_us - anchor_.absolute_us
+                                                     : times.receive_us - anchor_.receive_us;
+    }
+    evade::pointcloud_t& c = rev_.cloud;
+    c.x.push_back(r.x);
+    c.y.push_back(r.y);
+    c.z.push_back(r.z);
+    c.intensity.push_back(r.intensity);
+    c.ring.push_back(static_cast<int8_t>(r.ring));
+    rel_us_.push_back(static_cast<double>(d) + r.time_offset_us);
+  }
+}
+
+void LidarDecoder::emit(std::vector<Revolution>* out) {
+  evade::pointcloud_t& c = rev_.cloud;
+  c.n = static_cast<int32_t>(c.x.size());
+  const double first = rel_us_.empty() ? 0.0 : rel_us_.front();
+  c.utime = anchor_time_us_ + std::llround(first);
+  c.time_offset.resize(rel_us_.size());
+  for (size_t i = 0; i < rel_us_.size(); ++i) c.time_offset[i] = clamp_int32(rel_us_[i] - first);
+  c.sensor_model = model_name(model_);
+  c.mount = params_.mount;
+  rev_.scan.utime = c.utime;
+  rev_.scan.sensor_model = c.sensor_model;
+  rev_.scan.num_packets = static_cast<int32_t>(rev_.scan.packets.size());
+  count_("revolutions", 1);
+  out->push_back(std::move(rev_));
+  start_revolution();
+}
+
+void LidarDecoder::flush(std::vector<Revolution>* out) {
+  if (!rel_us_.empty()) emit(out);
+}
+
+void LidarDecoder::feed_scan(const evade::lidar_scan_t& scan, std::vector<Revolution>* out) {
+  const size_t before = out->size();
+  for (const auto& p : scan.packets) {
+    if (p.size != static_cast<int32_t>(p.data.size())) {
+      count_("malformed_scan_packet", 1);
+      continue;
+    }
+    feed(p.data.data(), p.data.size(), p.utime, out);
+  }
+  if (out->size() == before) flush(out);
+}
+
+}  // namespace evade::sensing

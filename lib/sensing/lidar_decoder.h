@@ -1,0 +1,114 @@
+// From raw UDP payloads to one point cloud per revolution, for either
+// sensor model. Stateful (calibration, the revolution being assembled) but
+// clock-free: every time comes from the packets and their receive times,
+// so feeding the same packets with the same receive times gives the same
+// clouds, live or in a log replay.
+//
+// Revolutions are cut between firings, where the firing azimuth passes
+// `cut_azimuth_deg` (at most one cut per packet; a revolution is also cut
+// when it reaches `max_packets_per_revolution`, e.g. a stopped motor).
+//
+// Time. Each packet carries the sensor's time of its first firing (VLP-16:
+// microseconds past the hour; RS-Helios: UTC). A revolution is anchored at
+// its first packet: anchor time = that packet's receive time minus the
+// packet's span (it is sent after its last firing), or, with
+// time_source = sensor, the sensor time (a VLP-16's us-past-hour resolved
+// to the hour nearest the receive time). Points are then placed with the
+// sensor clock relative to the anchor plus the firing timing, so the
+// offsets within a revolution are exact whatever the network jitter. The
+// cloud's utime is the time of its first point; time_offset[i] is relative
+// to it.
+//
+// The raw packets that made a revolution (every accepted packet, including
+// RS-Helios DIFOPs; the packet in which the cut falls belongs to the
+// revolution it completes) come back with it as a lidar_scan_t, and
+// feed_scan() re-runs them: replaying a LIDAR_SCAN stream reproduces the
+// LIDAR_POINTS stream exactly (a scan whose packets complete no
+// revolution is the flushed last one, and is flushed again).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "evade/lidar_scan_t.hpp"
+#include "evade/pointcloud_t.hpp"
+#include "sensing/lidar_return.h"
+#include "sensing/rs_helios.h"
+
+namespace evade::sensing {
+
+enum class LidarModel { kVlp16, kRsHelios };
+enum class TimeSource { kReceive, kSensor };
+
+const char* model_name(LidarModel m);  // "vlp16", "rs_helios" (as in config and messages)
+
+struct LidarDecoderParams {
+  LidarModel model = LidarModel::kVlp16;
+  double cut_azimuth_deg = 0.0;      // revolutions start when the firing azimuth passes this
+  double min_range_m = 0.0;          // returns outside [min, max] are dropped (counted)
+  double max_range_m = 200.0;
+  bool vertical_offset_correction = true;  // VLP-16 per-laser beam origin height (vlp16.h)
+  TimeSource time_source = TimeSource::kReceive;
+  int max_packets_per_revolution = 1000;
+  evade::pose3d_t mount{};
+};
+
+struct Revolution {
+  evade::pointcloud_t cloud;
+  evade::lidar_scan_t scan;
+};
+
+class LidarDecoder {
+ public:
+  // count(name, n): every packet and problem is counted by name
+  // ("data_packets", "malformed_wrong_size", ...) for HEALTH.
+  using CountFn = std::function<void(const std::string& name, int64_t n)>;
+
+  LidarDecoder(const LidarDecoderParams& params, CountFn count);
+
+  // One UDP payload as received, at host time `receive_utime` (us).
+  // Completed revolutions are appended to `out`.
+  void feed(const uint8_t* data, size_t size, int64_t receive_utime, std::vector<Revolution>* out);
+  // Emits the revolution being assembled, if it holds any point.
+  void flush(std::vector<Revolution>* out);
+  // Replays a recorded LIDAR_SCAN (see above).
+  void feed_scan(const evade::lidar_scan_t& scan, std::vector<Revolution>* out);
+
+  const LidarDecoderParams& params() const { return params_; }
+  bool calibrated() const { return model_ == LidarModel::kVlp16 || have_calibration_; }
+
+ private:
+  struct PacketTimes {
+    int64_t sensor_us;     // sensor clock (VLP-16: us past the hour; RS-Helios: UTC us)
+    int64_t receive_us;    // receive time minus the packet's span: first-firing estimate
+    int64_t absolute_us;   // sensor clock as an absolute time
+  };
+  void add_packet_returns(const PacketTimes& times, const uint8_t* data, size_t size, int64_t receive_utime,
+                          std::vector<Revolution>* out);
+  void emit(std::vector<Revolution>* out);
+  void start_revolution();
+  void record_packet(const uint8_t* data, size_t size, int64_t receive_utime);
+  int64_t sensor_delta_us(int64_t from, int64_t to) const;
+
+  LidarDecoderParams params_;
+  LidarModel model_;
+  CountFn count_;
+  std::vector<LidarReturn> returns_;  // scratch, one packet
+
+  // RS-Helios calibration from the last DIFOP
+  bool have_calibration_ = false;
+  rs_helios::Calibration calibration_;
+
+  // the revolution being assembled
+  Revolution rev_;
+  std::vector<double> rel_us_;   // point times relative to the anchor
+  bool anchored_ = false;
+  PacketTimes anchor_{};
+  int64_t anchor_time_us_ = 0;
+  bool have_prev_azimuth_ = false;
+  double prev_rel_azimuth_ = 0.0;
+};
+
+}  // namespace evade::sensing

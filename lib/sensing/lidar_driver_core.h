@@ -1,0 +1,64 @@
+// The lidar_driver process core: raw LiDAR packets in (live UDP or a pcap
+// file, fed by the process main through Core::input), or recorded
+// LIDAR_SCAN messages in (log replay); LIDAR_POINTS (one per revolution),
+// LIDAR_SCAN (its raw packets) and HEALTH out. Packets and scans go through
+// the same LidarDecoder, so both paths give identical LIDAR_POINTS.
+//
+// Every output is stamped with the revolution's utime (see
+// lidar_decoder.h), derived from the packets and their receive times only.
+#pragma once
+
+#include <string>
+
+#include "bus/core.h"
+#include "config/config.h"
+#include "sensing/lidar_decoder.h"
+
+namespace evade::sensing {
+
+inline constexpr const char* kLidarPointsChannel = "LIDAR_POINTS";
+inline constexpr const char* kLidarScanChannel = "LIDAR_SCAN";
+
+struct LidarDriverParams {
+  LidarDecoderParams decoder;
+  std::string bind_address = "0.0.0.0";
+  int vlp16_data_port = 2368;
+  int rs_helios_msop_port = 6699;
+  int rs_helios_difop_port = 7788;
+  int socket_receive_buffer_bytes = 4 << 20;
+  bool publish_scan = true;
+  // Reads the shared `lidar:` section (model, mount; not closed: other
+  // processes own keys there too) and the `lidar_driver:` section (closed).
+  static LidarDriverParams from_config(const config::Node& root);
+  // UDP ports this model listens on.
+  std::vector<int> ports() const;
+};
+
+class LidarDriverCore : public bus::Core {
+ public:
+  enum class Source {
+    kPackets,  // live socket or pcap: call on_packet() inside Core::input()
+    kScans,    // log replay: LIDAR_SCAN messages are decoded again (and not re-published)
+  };
+  LidarDriverCore(const LidarDriverParams& params, Source source);
+
+  // One UDP payload at the current bus time now() (call inside input()).
+  void on_packet(const uint8_t* data, size_t size);
+  // Publishes the revolution being assembled (end of a capture).
+  void flush();
+  // Counts an input problem found before decoding (pcap: datagram on
+  // another port, truncated capture) in HEALTH.
+  void count_external(const std::string& counter) { count(counter); }
+
+  const LidarDriverParams& params() const { return params_; }
+
+ private:
+  void publish_revolutions();
+
+  LidarDriverParams params_;
+  Source source_;
+  LidarDecoder decoder_;
+  std::vector<Revolution> done_;
+};
+
+}  // namespace evade::sensing

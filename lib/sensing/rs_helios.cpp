@@ -1,0 +1,223 @@
+#include "sensing/rs_helios.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+
+namespace evade::sensing::rs_helios {
+
+namespace {
+constexpr double kDegToRad = M_PI / 180.0;
+constexpr int kAzimuthCount = 36000;
+constexpr double kMaxBlockGapDeg = 5.0;  // see vlp16.cpp: larger is not rotation
+constexpr double kMaxCalibrationDeg = 90.0;
+constexpr size_t kMsopIndexOffset = kHeaderSize + kBlocksPerPacket * kBlockSize;
+
+inline uint16_t read_u16be(const uint8_t* p) { return static_cast<uint16_t>((p[0] << 8) | p[1]); }
+inline void write_u16be(uint8_t* p, uint16_t v) {
+  p[0] = static_cast<uint8_t>(v >> 8);
+  p[1] = static_cast<uint8_t>(v & 0xFF);
+}
+inline uint64_t read_be(const uint8_t* p, int n) {
+  uint64_t v = 0;
+  for (int i = 0; i < n; ++i) v = (v << 8) | p[i];
+  return v;
+}
+inline void write_be(uint8_t* p, uint64_t v, int n) {
+  for (int i = n - 1; i >= 0; --i) {
+    p[i] = static_cast<uint8_t>(v & 0xFF);
+    v >>= 8;
+  }
+}
+inline int azimuth_diff(int a, int b) {
+  int d = (b - a) % kAzimuthCount;
+  if (d > kAzimuthCount / 2) d -= kAzimuthCount;
+  if (d <= -kAzimuthCount / 2) d += kAzimuthCount;
+  return d;
+}
+uint16_t distance_count(double m) {
+  if (!(m > 0.0)) return 0;
+  return static_cast<uint16_t>(std::min(std::round(m / kDistanceUnitM), 65535.0));
+}
+uint16_t azimuth_count(double deg) {
+  if (!std::isfinite(deg)) return 0;
+  long c = std::lround(deg / kAzimuthUnitDeg) % kAzimuthCount;
+  if (c < 0) c += kAzimuthCount;
+  return static_cast<uint16_t>(c);
+}
+// {sign, uint16 0.01 deg}: sign byte 0 = positive.
+double read_angle(const uint8_t* p) {
+  double v = read_u16be(p + 1) * kAzimuthUnitDeg;
+  return p[0] == 0 ? v : -v;
+}
+void write_angle(uint8_t* p, double deg) {
+  p[0] = deg < 0.0 ? 1 : 0;
+  write_u16be(p + 1, static_cast<uint16_t>(std::min(std::lround(std::fabs(deg) / kAzimuthUnitDeg), 65535L)));
+}
+}  // namespace
+
+const char* to_string(PacketStatus s) {
+  switch (s) {
+    case PacketStatus::kOk: return "ok";
+    case PacketStatus::kWrongSize: return "wrong_size";
+    case PacketStatus::kBadHeader: return "bad_header";
+    case PacketStatus::kBadFlag: return "bad_flag";
+    case PacketStatus::kBadAzimuth: return "bad_azimuth";
+    case PacketStatus::kNoCalibration: return "no_calibration";
+  }
+  return "unknown";
+}
+
+PacketKind classify(const uint8_t* data, size_t size) {
+  if (data == nullptr || size != kPacketSize) return PacketKind::kUnknown;
+  if (std::equal(kMsopId.begin(), kMsopId.end(), data)) return PacketKind::kMsop;
+  if (std::equal(kDifopId.begin(), kDifopId.end(), data)) return PacketKind::kDifop;
+  return PacketKind::kUnknown;
+}
+
+PacketStatus parse_difop(const uint8_t* data, size_t size, Calibration* out) {
+  if (data == nullptr || size != kPacketSize) return PacketStatus::kWrongSize;
+  if (classify(data, size) != PacketKind::kDifop) return PacketStatus::kBadHeader;
+  const uint8_t* vert = data + kDifopVerticalOffset;
+  // An unprogrammed calibration area reads 00 or FF.
+  bool blank = true;
+  for (size_t i = 0; i < 3 * kChannels && blank; ++i) blank = (vert[i] == 0x00 || vert[i] == 0xFF);
+  if (blank) return PacketStatus::kNoCalibration;
+  Calibration cal;
+  for (int c = 0; c < kChannels; ++c) {
+    cal.vertical_deg[c] = read_angle(vert + 3 * c);
+    cal.horizontal_deg[c] = read_angle(data + kDifopHorizontalOffset + 3 * c);
+    if (std::fabs(cal.vertical_deg[c]) > kMaxCalibrationDeg || std::fabs(cal.horizontal_deg[c]) > kMaxCalibrationDeg)
+      return PacketStatus::kNoCalibration;
+  }
+  std::array<int, kChannels> order;
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return cal.vertical_deg[a] < cal.vertical_deg[b]; });
+  for (int r = 0; r < kChannels; ++r) cal.ring[order[r]] = r;
+  cal.return_mode = data[kDifopReturnModeOffset];
+  cal.rpm = read_u16be(data + kDifopRpmOffset);
+  *out = cal;
+  return PacketStatus::kOk;
+}
+
+PacketStatus decode_msop(const uint8_t* data, size_t size, const Calibration& cal, const DecodeOptions& options,
+                         std::vector<LidarReturn>* out, PacketInfo* info) {
+  if (data == nullptr || size != kPacketSize) return PacketStatus::kWrongSize;
+  if (classify(data, size) != PacketKind::kMsop) return PacketStatus::kBadHeader;
+  int azimuth[kBlocksPerPacket];
+  for (int b = 0; b < kBlocksPerPacket; ++b) {
+    const uint8_t* p = data + kHeaderSize + b * kBlockSize;
+    if (p[0] != 0xFF || p[1] != 0xEE) return PacketStatus::kBadFlag;
+    azimuth[b] = read_u16be(p + 2);
+    if (azimuth[b] >= kAzimuthCount) return PacketStatus::kBadAzimuth;
+  }
+  PacketInfo local;
+  PacketInfo& pi = info ? *info : local;
+  pi = PacketInfo{};
+  const uint8_t* ts = data + kMsopTimestampOffset;
+  pi.utc_us = static_cast<int64_t>(read_be(ts, 6) * 1'000'000ull + read_be(ts + 6, 4));
+
+  const bool dual = cal.return_mode == kDual;
+  const int step = dual ? 2 : 1;
+  const int columns = kBlocksPerPacket / step;
+  pi.firings = columns;
+  double gap_deg[kBlocksPerPacket] = {};
+  for (int c = 0; c + 1 < columns; ++c) {
+    double g = azimuth_diff(azimuth[c * step], azimuth[(c + 1) * step]) * kAzimuthUnitDeg;
+    gap_deg[c] = (g >= 0.0 && g <= kMaxBlockGapDeg) ? g : (c > 0 ? gap_deg[c - 1] : 0.0);
+  }
+  if (columns > 1) gap_deg[columns - 1] = gap_deg[columns - 2];
+  if (columns > 1 && gap_deg[0] == 0.0)
+    for (int c = 1; c < columns; ++c)
+      if (gap_deg[c] > 0.0) {
+        gap_deg[0] = gap_deg[c];
+        break;
+      }
+
+  const float min_r = static_cast<float>(options.min_range_m);
+  const float max_r = static_cast<float>(options.max_range_m);
+  for (int b = 0; b < kBlocksPerPacket; ++b) {
+    const int column = b / step;
+    const uint8_t* p = data + kHeaderSize + b * kBlockSize;
+    const uint8_t* other = (dual && b % 2 == 1) ? data + kHeaderSize + (b - 1) * kBlockSize : nullptr;
+    const double block_az = azimuth[column * step] * kAzimuthUnitDeg;
+    for (int c = 0; c < kChannels; ++c) {
+      const uint8_t* r = p + 4 + 3 * c;
+      const uint16_t count = read_u16be(r);
+      if (count == 0) continue;
+      if (other) {
+        const uint8_t* o = other + 4 + 3 * c;
+        if (read_u16be(o) == count && o[2] == r[2]) {
+          ++pi.dual_duplicates;
+          continue;
+        }
+      }
+      const float range = static_cast<float>(count * kDistanceUnitM);
+      if (range < min_r || range > max_r) {
+        ++pi.out_of_range;
+        continue;
+      }
+      const double t_us = c * kChannelIntervalUs;
+      const double az0 = block_az + gap_deg[column] * t_us / kBlockPeriodUs;
+      const double az = az0 + cal.horizontal_deg[c];
+      const double el = cal.vertical_deg[c] * kDegToRad;
+      const double horizontal = range * std::cos(el);
+      LidarReturn ret;
+      ret.x = static_cast<float>(horizontal * std::cos(az * kDegToRad) +
+                                 kOpticalCentreOffsetM * std::cos(az0 * kDegToRad));
+      ret.y = static_cast<float>(-horizontal * std::sin(az * kDegToRad) -
+                                 kOpticalCentreOffsetM * std::sin(az0 * kDegToRad));
+      ret.z = static_cast<float>(range * std::sin(el));
+      ret.intensity = r[2];
+      double az_wrapped = std::fmod(az, 360.0);
+      if (az_wrapped < 0.0) az_wrapped += 360.0;
+      ret.azimuth_deg = static_cast<float>(az_wrapped);
+      ret.firing_azimuth_deg = static_cast<float>(block_az);
+      ret.time_offset_us = static_cast<float>(column * kBlockPeriodUs + t_us);
+      ret.ring = static_cast<uint8_t>(cal.ring[c]);
+      ret.laser = static_cast<uint8_t>(c);
+      out->push_back(ret);
+    }
+  }
+  return PacketStatus::kOk;
+}
+
+std::array<uint8_t, kPacketSize> MsopEncoder::encode() const {
+  std::array<uint8_t, kPacketSize> out{};
+  std::copy(kMsopId.begin(), kMsopId.end(), out.begin());
+  const int64_t t = std::max<int64_t>(utc_us, 0);
+  write_be(out.data() + kMsopTimestampOffset, static_cast<uint64_t>(t / 1'000'000), 6);
+  write_be(out.data() + kMsopTimestampOffset + 6, static_cast<uint64_t>(t % 1'000'000), 4);
+  for (int b = 0; b < kBlocksPerPacket; ++b) {
+    uint8_t* p = out.data() + kHeaderSize + b * kBlockSize;
+    p[0] = 0xFF;
+    p[1] = 0xEE;
+    write_u16be(p + 2, azimuth_count(blocks[b].azimuth_deg));
+    for (int c = 0; c < kChannels; ++c) {
+      write_u16be(p + 4 + 3 * c, distance_count(blocks[b].distance_m[c]));
+      p[4 + 3 * c + 2] = blocks[b].intensity[c];
+    }
+  }
+  write_be(out.data() + kMsopIndexOffset, index, 4);
+  out[kPacketSize - 2] = 0x00;
+  out[kPacketSize - 1] = 0xFF;
+  return out;
+}
+
+std::array<uint8_t, kPacketSize> DifopEncoder::encode() const {
+  std::array<uint8_t, kPacketSize> out{};
+  std::copy(kDifopId.begin(), kDifopId.end(), out.begin());
+  write_u16be(out.data() + kDifopRpmOffset, rpm);
+  out[kDifopReturnModeOffset] = return_mode;
+  for (int c = 0; c < kChannels; ++c) {
+    write_angle(out.data() + kDifopVerticalOffset + 3 * c, vertical_deg[c]);
+    write_angle(out.data() + kDifopHorizontalOffset + 3 * c, horizontal_deg[c]);
+  }
+  out[kPacketSize - 2] = 0x0F;
+  out[kPacketSize - 1] = 0xF0;
+  return out;
+}
+
+}  // namespace evade::sensing::rs_helios
