@@ -1,0 +1,260 @@
+#include "base/base_driver_core.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "evade/base_status_t.hpp"
+#include "evade/cmd_vel_t.hpp"
+#include "evade/odometry_t.hpp"
+
+namespace evade::base {
+
+namespace {
+constexpr double kUsPerS = 1e6;
+int64_t to_us(double seconds) { return static_cast<int64_t>(std::llround(seconds * kUsPerS)); }
+}  // namespace
+
+BaseDriverParams BaseDriverParams::from_config(const config::Node& root) {
+  BaseDriverParams p;
+  const config::Node robot = root.section("robot");
+  p.limits.max_v_mps = robot.get_double("max_v_mps", 0.0, kMaxLinearMps);
+  p.limits.min_v_mps = robot.get_double("min_v_mps", -kMaxLinearMps, p.limits.max_v_mps);
+  p.limits.max_omega_radps = robot.get_double("max_omega_radps", 0.0, kMaxAngularRadps);
+  p.limits.max_accel_mps2 = robot.get_positive("max_accel_mps2");
+  p.limits.max_decel_mps2 = robot.get_positive("max_decel_mps2");
+  p.limits.max_alpha_radps2 = robot.get_positive("max_alpha_radps2");
+
+  const config::Node s = root.section("base_driver");
+  p.device = s.get<std::string>("device");
+  if (p.device.empty()) s.fail("device", "must not be empty");
+  p.baud_rate = std::stoi(s.get_choice("baud_rate", {"9600", "19200", "38400", "57600", "115200", "230400", "460800"}));
+  p.command_rate_hz = s.get_double("command_rate_hz", 1.0, 1000.0);
+  p.watchdog_timeout_s = s.get_double("watchdog_timeout_s", 0.001, 10.0);
+  p.link_timeout_s = s.get_double("link_timeout_s", 0.001, 10.0);
+  p.status_rate_hz = s.get_double("status_rate_hz", 0.1, 1000.0);
+  p.max_odometry_gap_s = s.get_double("max_odometry_gap_s", 0.001, 10.0);
+  p.reopen_backoff_min_s = s.get_double("reopen_backoff_min_s", 0.001, 60.0);
+  p.reopen_backoff_max_s = s.get_double("reopen_backoff_max_s", p.reopen_backoff_min_s, 600.0);
+  std::vector<double> pose = s.get_doubles("initial_pose", 3);
+  p.initial_pose = Pose2{pose[0], pose[1], wrap_angle(pose[2])};
+  s.close();
+  return p;
+}
+
+Pose2 parse_pose(const std::string& text) {
+  std::stringstream ss(text);
+  std::string item;
+  double v[3];
+  int n = 0;
+  while (std::getline(ss, item, ',')) {
+    if (n == 3) throw std::invalid_argument("expected X,Y,YAW, got '" + text + "'");
+    size_t used = 0;
+    try {
+      v[n] = std::stod(item, &used);
+    } catch (const std::exception&) {
+      throw std::invalid_argument("not a number: '" + item + "' in '" + text + "'");
+    }
+    if (used != item.size() || !std::isfinite(v[n]))
+      throw std::invalid_argument("not a finite number: '" + item + "' in '" + text + "'");
+    ++n;
+  }
+  if (n != 3) throw std::invalid_argument("expected X,Y,YAW, got '" + text + "'");
+  return Pose2{v[0], v[1], wrap_angle(v[2])};
+}
+
+BaseDriverCore::BaseDriverCore(const BaseDriverParams& params)
+    : bus::Core("base_driver"),
+      params_(params),
+      command_period_us_(std::max<int64_t>(1, to_us(1.0 / params.command_rate_hz))),
+      pose_(params.initial_pose) {
+  subscribe<evade::cmd_vel_t>(kCmdVelChannel, [this](const evade::cmd_vel_t& m) { on_cmd_vel(m.v, m.omega); });
+  every(command_period_us_, [this] { command_tick(); });
+  every(std::max<int64_t>(1, to_us(1.0 / params.status_rate_hz)), [this] { publish_status(); });
+}
+
+// ------------------------------------------------------------- commands ----
+
+void BaseDriverCore::on_cmd_vel(double v, double omega) {
+  if (!std::isfinite(v) || !std::isfinite(omega)) {
+    count("cmd_vel_not_finite");
+    return;
+  }
+  target_ = Twist{v, omega};
+  last_cmd_now_ = now();
+  have_cmd_ = true;
+  if (watchdog_tripped_) {
+    watchdog_tripped_ = false;
+    publish_status();
+  }
+}
+
+void BaseDriverCore::command_tick() {
+  // Link supervision shares the command clock: a port that is open but has
+  // been silent for link_timeout_s is a lost link.
+  if (link_ok_ && now() - last_status_now_ > to_us(params_.link_timeout_s))
+    set_link_ok(false, "no status frame for " + std::to_string(params_.link_timeout_s) + " s");
+
+  const bool stale = !have_cmd_ || now() - last_cmd_now_ > to_us(params_.watchdog_timeout_s);
+  if (stale && !watchdog_tripped_) {
+    watchdog_tripped_ = true;
+    count("watchdog_trips");
+    publish_status();
+  }
+  if (watchdog_tripped_) {
+    commanded_ = Twist{};
+  } else {
+    commanded_ = limit_step(commanded_, target_, params_.limits, command_period_us_ / kUsPerS);
+  }
+  if (!port_open_) return;  // nothing to send to; the ramp restarts when it opens
+
+  MotionCommand cmd;
+  cmd.control_mode = kControlModeSerial;
+  cmd.linear_percent = linear_percent(commanded_.v);
+  cmd.angular_percent = angular_percent(commanded_.omega);
+  FrameBytes bytes = encode(cmd, tx_count_++);
+  tx_.insert(tx_.end(), bytes.begin(), bytes.end());
+  count("commands_sent");
+}
+
+std::vector<uint8_t> BaseDriverCore::take_tx() {
+  std::vector<uint8_t> out;
+  out.swap(tx_);
+  return out;
+}
+
+// --------------------------------------------------------------- status ----
+
+void BaseDriverCore::on_serial_bytes(const uint8_t* data, size_t size) {
+  parser_.feed(data, size, [this](const Frame& f) { on_frame(f); });
+  sync_parser_counters();
+}
+
+void BaseDriverCore::sync_parser_counters() {
+  const ParserStats& s = parser_.stats();
+  auto delta = [this](const char* name, uint64_t now_value, uint64_t& reported) {
+    if (now_value != reported) count(name, static_cast<int64_t>(now_value - reported));
+    reported = now_value;
+  };
+  delta("serial_frames", s.frames, reported_.frames);
+  delta("serial_noise_bytes", s.noise_bytes, reported_.noise_bytes);
+  delta("serial_bad_length", s.bad_length, reported_.bad_length);
+  delta("serial_bad_checksum", s.bad_checksum, reported_.bad_checksum);
+  delta("serial_bad_type", s.bad_type, reported_.bad_type);
+}
+
+void BaseDriverCore::on_frame(const Frame& frame) {
+  if (frame.type != kTypeStatus) {
+    count("serial_unexpected_command_frame");  // our own commands echoed back?
+    return;
+  }
+  last_status_now_ = now();
+  if (!link_ok_ && port_open_) set_link_ok(true, "status frames arriving");
+
+  SystemStatus sys;
+  MotionStatus motion;
+  MotorStatus motor;
+  LightState light;
+  if (from_frame(frame, &motion)) {
+    on_motion_status(motion);
+  } else if (from_frame(frame, &sys)) {
+    const bool changed = !have_system_ || sys.base_state != system_.base_state ||
+                         sys.fault_code != system_.fault_code || sys.control_mode != system_.control_mode;
+    system_ = sys;
+    have_system_ = true;
+    count("system_status_frames");
+    if (changed) publish_status();
+  } else if (from_frame(frame, &motor)) {
+    count("motor_status_frames");
+  } else if (light_status_from_frame(frame, &light)) {
+    count("light_status_frames");
+  } else {
+    count("serial_unknown_status_id");
+  }
+}
+
+void BaseDriverCore::on_motion_status(const MotionStatus& status) {
+  count("motion_status_frames");
+  const int64_t t = now();
+  if (have_motion_) {
+    const int64_t dt_us = t - last_motion_now_;
+    if (dt_us > 0 && dt_us <= to_us(params_.max_odometry_gap_s)) {
+      // Zero-order hold of the previous measurement over [t_prev, t].
+      pose_ = integrate_arc(pose_, measured_.v, measured_.omega, dt_us / kUsPerS);
+    } else if (dt_us > 0) {
+      count("odometry_gaps");
+    } else {
+      count("odometry_time_not_increasing");
+    }
+  }
+  measured_ = Twist{linear_mps(status), angular_radps(status)};
+  last_motion_now_ = t;
+  have_motion_ = true;
+  publish_odometry(measured_.v, measured_.omega);
+}
+
+void BaseDriverCore::publish_odometry(double v, double omega) {
+  evade::odometry_t m;
+  m.utime = now();
+  m.x = pose_.x;
+  m.y = pose_.y;
+  m.yaw = pose_.yaw;
+  m.v = v;
+  m.omega = omega;
+  publish(kOdometryChannel, m);
+}
+
+void BaseDriverCore::publish_status() {
+  evade::base_status_t m;
+  m.utime = now();
+  m.state = static_cast<int8_t>(system_.base_state);
+  m.control_mode = static_cast<int8_t>(system_.control_mode);
+  m.battery_voltage = have_system_ ? battery_volts(system_) : 0.0;
+  m.fault_code = system_.fault_code;
+  m.watchdog_tripped = watchdog_tripped_;
+  m.link_ok = link_ok_;
+  m.commanded_v = commanded_.v;
+  m.commanded_omega = commanded_.omega;
+  m.measured_v = link_ok_ ? measured_.v : 0.0;
+  m.measured_omega = link_ok_ ? measured_.omega : 0.0;
+  publish(kBaseStatusChannel, m);
+}
+
+// ----------------------------------------------------------------- link ----
+
+void BaseDriverCore::on_link_opened() {
+  port_open_ = true;
+  parser_.reset();  // bytes of the previous connection mean nothing now
+  commanded_ = Twist{};
+  count("link_opened");
+  publish_status();
+}
+
+void BaseDriverCore::on_link_lost(const std::string& reason) {
+  port_open_ = false;
+  parser_.reset();
+  tx_.clear();
+  set_link_ok(false, reason);
+}
+
+void BaseDriverCore::set_link_ok(bool ok, const std::string& why) {
+  if (ok == link_ok_) {
+    if (!ok) publish_status();  // e.g. the port closed while already silent
+    return;
+  }
+  link_ok_ = ok;
+  std::fprintf(stderr, "base_driver: link %s (%s)\n", ok ? "up" : "lost", why.c_str());
+  if (!ok) {
+    count("link_lost");
+    // The robot is considered stopped: say so once, at the current pose, and
+    // do not integrate across the outage.
+    measured_ = Twist{};
+    have_motion_ = false;
+    commanded_ = Twist{};
+    publish_odometry(0.0, 0.0);
+  }
+  publish_status();
+}
+
+}  // namespace evade::base

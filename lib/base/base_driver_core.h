@@ -1,0 +1,124 @@
+// The base_driver process core: CMD_VEL in, Scout UART v1 bytes out;
+// Scout status bytes in, ODOMETRY and BASE_STATUS out. Socket- and
+// clock-free: the main (or a test) owns the serial port, feeds received
+// bytes through on_serial_bytes() inside Core::input(), reports the port
+// opening/closing, and writes whatever take_tx() returns.
+//
+// Behaviour:
+// - Every command period (config command_rate_hz, 50 Hz) one motion command
+//   frame is queued while the port is open: the latest CMD_VEL clamped to
+//   the robot's velocity limits and rate-limited by its acceleration limits
+//   (see limit_step in kinematics.h).
+// - Watchdog: when no CMD_VEL has arrived for watchdog_timeout_s (or none
+//   ever), zero velocity is commanded at once (the upstream planner is gone;
+//   stopping is the safe state and the base's own controller brakes) and
+//   BASE_STATUS.watchdog_tripped is true. The next CMD_VEL clears it and the
+//   command ramps up again from zero under the acceleration limits.
+// - Odometry: every motion-status frame publishes ODOMETRY stamped with its
+//   receive time. The pose is integrated with the exact arc over the time
+//   since the previous motion-status frame, holding the previous frame's
+//   velocity (the one in force during that interval). Intervals longer than
+//   max_odometry_gap_s are not integrated (the base's motion in a gap is
+//   unknown) and counted.
+// - Link: link_ok = port open and a valid status frame within
+//   link_timeout_s. When the link is lost the robot is considered stopped:
+//   one ODOMETRY with v = omega = 0 is published at the current pose,
+//   integration restarts at the next motion status, and the command ramp
+//   restarts from zero.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "base/kinematics.h"
+#include "base/scout_protocol.h"
+#include "bus/core.h"
+#include "config/config.h"
+
+namespace evade::base {
+
+inline constexpr const char* kCmdVelChannel = "CMD_VEL";
+inline constexpr const char* kOdometryChannel = "ODOMETRY";
+inline constexpr const char* kBaseStatusChannel = "BASE_STATUS";
+
+struct BaseDriverParams {
+  std::string device = "/tmp/evade_scout";  // serial device (a pty symlink for the simulator)
+  int baud_rate = 115200;
+  double command_rate_hz = 50.0;
+  double watchdog_timeout_s = 0.25;
+  double link_timeout_s = 0.5;
+  double status_rate_hz = 10.0;  // BASE_STATUS heartbeat (also sent on every change)
+  double max_odometry_gap_s = 0.5;
+  double reopen_backoff_min_s = 0.1;
+  double reopen_backoff_max_s = 2.0;
+  Pose2 initial_pose;
+  VelocityLimits limits;
+
+  // Reads the `base_driver:` section (closed) and the velocity and
+  // acceleration limits of the shared `robot:` section (not closed: other
+  // processes own its other keys).
+  static BaseDriverParams from_config(const config::Node& root);
+};
+
+// Parses "X,Y,YAW" (metres, metres, radians); throws std::invalid_argument.
+Pose2 parse_pose(const std::string& text);
+
+class BaseDriverCore : public bus::Core {
+ public:
+  explicit BaseDriverCore(const BaseDriverParams& params);
+
+  // ---- called by the I/O owner, inside Core::input(now, ...) ----
+  void on_serial_bytes(const uint8_t* data, size_t size);
+  void on_link_opened();
+  void on_link_lost(const std::string& reason);
+  // Bytes queued for the port since the last call.
+  std::vector<uint8_t> take_tx();
+
+  // ---- state, for tests and logs ----
+  const Pose2& pose() const { return pose_; }
+  const Twist& commanded() const { return commanded_; }
+  const Twist& measured() const { return measured_; }
+  bool watchdog_tripped() const { return watchdog_tripped_; }
+  bool link_ok() const { return link_ok_; }
+  bool port_open() const { return port_open_; }
+  const ParserStats& parser_stats() const { return parser_.stats(); }
+  const BaseDriverParams& params() const { return params_; }
+
+ private:
+  void on_cmd_vel(double v, double omega);
+  void command_tick();
+  void on_frame(const Frame& frame);
+  void on_motion_status(const MotionStatus& status);
+  void set_link_ok(bool ok, const std::string& why);
+  void publish_status();
+  void publish_odometry(double v, double omega);
+  void sync_parser_counters();
+
+  BaseDriverParams params_;
+  int64_t command_period_us_;
+  StreamParser parser_;
+  ParserStats reported_;  // parser figures already passed to count()
+
+  // command side
+  bool have_cmd_ = false;
+  int64_t last_cmd_now_ = 0;
+  Twist target_;
+  Twist commanded_;
+  bool watchdog_tripped_ = true;  // until the first CMD_VEL
+  uint8_t tx_count_ = 0;
+  std::vector<uint8_t> tx_;
+
+  // status side
+  bool port_open_ = false;
+  bool link_ok_ = false;
+  int64_t last_status_now_ = -1;  // receive time of the last valid status frame
+  SystemStatus system_;
+  bool have_system_ = false;
+  Twist measured_;
+  Pose2 pose_;
+  bool have_motion_ = false;      // integration anchor valid
+  int64_t last_motion_now_ = 0;
+};
+
+}  // namespace evade::base
