@@ -1,0 +1,117 @@
+#include "sim/lidar_sim.h"
+
+#include <cmath>
+
+namespace evade::sim {
+namespace v = sensing::vlp16;
+namespace {
+constexpr double kDegToRad = M_PI / 180.0;
+constexpr int64_t kMicrosPerHour = v::kMicrosPerHour;
+
+// Signed smallest difference b - a of two azimuth counts, as the decoder takes it.
+int azimuth_gap(int a, int b) {
+  int d = b - a;
+  if (d > v::kAzimuthCount / 2) d -= v::kAzimuthCount;
+  if (d <= -v::kAzimuthCount / 2) d += v::kAzimuthCount;
+  return d;
+}
+}  // namespace
+
+Vlp16Simulator::Vlp16Simulator(const LidarSimParams& params, int64_t start_us)
+    : p_(params), start_us_(start_us), rng_(params.noise_seed) {
+  double cr = std::cos(p_.mount_roll_rad), sr = std::sin(p_.mount_roll_rad);
+  double cp = std::cos(p_.mount_pitch_rad), sp = std::sin(p_.mount_pitch_rad);
+  double cy = std::cos(p_.mount_yaw_rad), sy = std::sin(p_.mount_yaw_rad);
+  // R = Rz(yaw) Ry(pitch) Rx(roll)
+  double r[3][3] = {{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
+                    {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
+                    {-sp, cp * sr, cp * cr}};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) mount_rot_[i][j] = r[i][j];
+}
+
+int64_t Vlp16Simulator::next_packet_ready_us() const {
+  return start_us_ + static_cast<int64_t>(std::ceil(packet_offset_us(next_packet_ + 1)));
+}
+
+double Vlp16Simulator::azimuth_at_offset(double offset_us) const {
+  double turns = p_.rate_hz * offset_us * 1e-6;
+  double az = 360.0 * (turns - std::floor(turns));
+  return az >= 360.0 ? 0.0 : az;
+}
+
+Ray Vlp16Simulator::laser_ray(const Pose2& robot, int laser, double azimuth_deg) const {
+  const v::Laser& l = v::kLaserTable[static_cast<size_t>(laser)];
+  double el = l.elevation_deg * kDegToRad, az = azimuth_deg * kDegToRad;
+  // Direction and beam origin in the sensor frame (x forward, y left, z up;
+  // Velodyne's azimuth turns clockwise, hence -sin): see sensing/vlp16.h.
+  double ds[3] = {std::cos(el) * std::cos(az), -std::cos(el) * std::sin(az), std::sin(el)};
+  double os[3] = {0.0, 0.0, l.vertical_offset_m};
+  double db[3], ob[3];  // in the base frame
+  for (int i = 0; i < 3; ++i) {
+    db[i] = mount_rot_[i][0] * ds[0] + mount_rot_[i][1] * ds[1] + mount_rot_[i][2] * ds[2];
+    ob[i] = mount_rot_[i][0] * os[0] + mount_rot_[i][1] * os[1] + mount_rot_[i][2] * os[2];
+  }
+  ob[0] += p_.mount_x_m;
+  ob[1] += p_.mount_y_m;
+  ob[2] += p_.mount_height_m;  // base frame origin on the ground
+  double c = std::cos(robot.yaw), s = std::sin(robot.yaw);
+  Ray r;
+  r.origin = Vec3{robot.x + c * ob[0] - s * ob[1], robot.y + s * ob[0] + c * ob[1], ob[2]};
+  r.dir = Vec3{c * db[0] - s * db[1], s * db[0] + c * db[1], db[2]};
+  return r;
+}
+
+Packet Vlp16Simulator::make_packet(const WorldAt& world) {
+  const double t0 = packet_offset_us(next_packet_);  // us after start_us_
+  v::PacketEncoder enc;
+  int64_t first_firing_us = start_us_ + std::llround(t0);
+  enc.timestamp_us_past_hour = static_cast<uint32_t>(((first_firing_us % kMicrosPerHour) + kMicrosPerHour) % kMicrosPerHour);
+  enc.return_mode = v::kStrongest;
+  enc.factory = v::kFactoryVlp16;
+
+  // Quantised block azimuths and the gaps the decoder will interpolate with.
+  int count[v::kBlocksPerPacket];
+  for (int b = 0; b < v::kBlocksPerPacket; ++b)
+    count[b] = v::azimuth_to_count(azimuth_at_offset(t0 + b * v::kBlockPeriodUs));
+  double gap_deg[v::kBlocksPerPacket];
+  for (int b = 0; b + 1 < v::kBlocksPerPacket; ++b) gap_deg[b] = azimuth_gap(count[b], count[b + 1]) * v::kAzimuthUnitDeg;
+  gap_deg[v::kBlocksPerPacket - 1] = gap_deg[v::kBlocksPerPacket - 2];
+
+  WorldSnapshot snap;
+  for (int b = 0; b < v::kBlocksPerPacket; ++b) {
+    auto& block = enc.blocks[static_cast<size_t>(b)];
+    block.azimuth_deg = count[b] * v::kAzimuthUnitDeg;
+    for (int s = 0; s < v::kSequencesPerBlock; ++s) {
+      // One snapshot per firing sequence: within its 55 us the robot moves
+      // at most a few hundredths of a millimetre.
+      world(start_us_ + std::llround(t0 + v::firing_offset_us(b, s, 0)), &snap);
+      for (int l = 0; l < v::kLasers; ++l) {
+        double within_block_us = s * v::kSequencePeriodUs + l * v::kFiringIntervalUs;
+        double az = block.azimuth_deg + gap_deg[b] * within_block_us / v::kBlockPeriodUs;
+        Ray ray = laser_ray(snap.robot, l, az);
+        double range = kNoHit;
+        bool ground = true;
+        range = hit_ground(ray);
+        for (const Solid& solid : snap.solids) {
+          double t = hit_solid(ray, solid);
+          if (t < range) {
+            range = t;
+            ground = false;
+          }
+        }
+        double distance = 0.0;  // no return
+        if (range <= p_.max_range_m) {
+          distance = range + (p_.range_noise_std_m > 0.0 ? p_.range_noise_std_m * noise_(rng_) : 0.0);
+          if (distance < v::kDistanceUnitM) distance = 0.0;  // noise cannot make a negative range
+        }
+        block.distance_m[s][l] = distance;
+        block.reflectivity[s][l] = ground ? p_.ground_reflectivity : p_.obstacle_reflectivity;
+      }
+    }
+  }
+  ++next_packet_;
+  return enc.encode();
+}
+
+}  // namespace evade::sim

@@ -1,0 +1,131 @@
+#include "sim/scenario.h"
+
+#include <cmath>
+#include <set>
+
+namespace evade::sim {
+namespace {
+
+// Top-level keys of a scenario file (SPEC.md, "Scenario file").
+const std::set<std::string> kTopLevelKeys = {"name",  "duration_s", "robot",     "route",
+                                             "lidar", "obstacles",  "obstacles_start"};
+
+Vec2 point(const std::vector<double>& xy) { return Vec2{xy[0], xy[1]}; }
+
+ObstacleSpec parse_obstacle(const config::Node& o, int id) {
+  ObstacleSpec s;
+  s.id = id;
+  std::string shape = o.get_choice("shape", {"cylinder", "box"});
+  if (shape == "cylinder") {
+    s.shape = Shape::kCylinder;
+    s.radius = o.get_positive("radius");
+    s.height = o.get_positive("height");
+  } else {
+    s.shape = Shape::kBox;
+    std::vector<double> size = o.get_doubles("size", 3);
+    for (double d : size)
+      if (!(d > 0.0)) o.fail("size", "every size [length, width, height] must be greater than 0");
+    s.length = size[0];
+    s.width = size[1];
+    s.height = size[2];
+  }
+  s.x = o.get<double>("x");
+  s.y = o.get<double>("y");
+  if (o.has("yaw")) s.yaw = o.get<double>("yaw");
+
+  bool velocity = o.has("vx") || o.has("vy");
+  bool waypoints = o.has("waypoints");
+  if (velocity && waypoints) o.fail("waypoints", "give either vx/vy or waypoints, not both");
+  if (!waypoints) {
+    for (const char* k : {"speed", "mode"})
+      if (o.has(k)) o.fail(k, "only meaningful with waypoints");
+  }
+  if (velocity) {
+    s.motion = MotionKind::kConstantVelocity;
+    if (o.has("vx")) s.vx = o.get<double>("vx");
+    if (o.has("vy")) s.vy = o.get<double>("vy");
+  } else if (waypoints) {
+    s.motion = MotionKind::kWaypoints;
+    for (const auto& p : o.get_points("waypoints")) s.waypoints.push_back(point(p));
+    if (s.waypoints.empty()) o.fail("waypoints", "needs at least one [x, y] point");
+    s.speed = o.get_positive("speed");
+    std::string mode = o.get_choice("mode", {"pingpong", "loop", "once"});
+    s.mode = mode == "pingpong" ? WaypointMode::kPingpong
+             : mode == "loop"   ? WaypointMode::kLoop
+                                : WaypointMode::kOnce;
+  }
+  o.close();
+  return s;
+}
+
+}  // namespace
+
+Scenario scenario_from_node(const config::Node& root) {
+  for (const auto& k : root.keys())
+    if (!kTopLevelKeys.count(k)) root.fail(k, "unknown key");
+
+  Scenario sc;
+  sc.file = root.file();
+  sc.name = root.get<std::string>("name");
+  sc.duration_s = root.get_positive("duration_s");
+
+  config::Node robot = root.section("robot");
+  config::Node start = robot.section("start");
+  sc.start = Pose2{start.get<double>("x"), start.get<double>("y"), start.get<double>("yaw")};
+  start.close();
+  config::Node goal = robot.section("goal");
+  sc.goal = Vec2{goal.get<double>("x"), goal.get<double>("y")};
+  sc.goal_tolerance = goal.get_positive("tolerance");
+  goal.close();
+  config::Node footprint = robot.section("footprint");
+  sc.footprint_length = footprint.get_positive("length");
+  sc.footprint_width = footprint.get_positive("width");
+  footprint.close();
+  robot.close();
+
+  if (root.has("route")) {
+    for (const auto& p : root.get_points("route")) sc.route.push_back(point(p));
+    if (sc.route.size() < 2) root.fail("route", "needs at least two [x, y] points");
+  } else {
+    sc.route = {Vec2{sc.start.x, sc.start.y}, sc.goal};
+  }
+
+  config::Node lidar = root.section("lidar");
+  sc.lidar.model = lidar.get_choice("model", {"vlp16"});
+  sc.lidar.rate_hz = lidar.get_double("rate_hz", 5.0, 20.0);  // VLP-16 motor range (300-1200 rpm)
+  sc.lidar.height = lidar.get_double("height", 0.0, 10.0);
+  sc.lidar.range_noise_std = lidar.get_double("range_noise_std", 0.0, 1.0);
+  lidar.close();
+
+  if (root.has("obstacles_start")) {
+    sc.obstacles_start = root.get_choice("obstacles_start", {"at_start", "on_robot_motion"}) == "at_start"
+                             ? ObstaclesStart::kAtStart
+                             : ObstaclesStart::kOnRobotMotion;
+  }
+
+  if (root.has("obstacles")) {
+    const YAML::Node& list = root.yaml()["obstacles"];
+    if (list.IsNull()) {
+      // "obstacles:" with nothing after it: an empty world.
+    } else if (!list.IsSequence()) {
+      root.fail("obstacles", "expected a list of obstacles");
+    } else {
+      int id = 0;
+      for (const auto& e : list) {
+        config::Node o(e, root.file(), "obstacles[" + std::to_string(id) + "]");
+        if (!e.IsMap()) o.fail("", "expected a map {shape: ..., ...}");
+        sc.obstacles.push_back(parse_obstacle(o, id));
+        ++id;
+      }
+    }
+  }
+  return sc;
+}
+
+Scenario load_scenario(const std::string& path) { return scenario_from_node(config::load_file(path)); }
+
+Scenario parse_scenario(const std::string& yaml_text, const std::string& name) {
+  return scenario_from_node(config::load_string(yaml_text, name));
+}
+
+}  // namespace evade::sim

@@ -1,0 +1,220 @@
+#include "sim/sim_core.h"
+
+#include <cmath>
+
+namespace evade::sim {
+namespace {
+int64_t period_us_from_hz(const config::Node& n, const std::string& key) {
+  return std::llround(1e6 / n.get_double(key, 1.0, 10000.0));
+}
+int64_t us_from_s(double s) { return std::llround(s * 1e6); }
+}  // namespace
+
+SimParams SimParams::from_config(const config::Node& root) {
+  SimParams p;
+  config::Node s = root.section("sim");
+  p.device_path = s.get<std::string>("device_path");
+  p.lidar_dest_host = s.get<std::string>("lidar_dest_host");
+  p.lidar_dest_port = s.get_int("lidar_dest_port", 1, 65535);
+  p.truth_period_us = period_us_from_hz(s, "truth_rate_hz");
+  p.status_period_us = period_us_from_hz(s, "status_rate_hz");
+  p.lidar_period_us = us_from_s(s.get_double("lidar_send_period_s", 1e-4, 0.01));
+  p.lidar_max_lag_us = us_from_s(s.get_double("lidar_max_lag_s", 0.01, 1.0));
+  p.robot.step_us = us_from_s(s.get_double("physics_step_s", 1e-5, 0.01));
+  p.robot.command_timeout_us = us_from_s(s.get_positive("command_timeout_s"));
+  p.lidar.max_range_m = s.get_positive("lidar_max_range_m");
+  p.lidar.noise_seed = static_cast<uint64_t>(s.get<int64_t>("noise_seed"));
+  p.lidar.ground_reflectivity = static_cast<uint8_t>(s.get_int("ground_reflectivity", 0, 255));
+  p.lidar.obstacle_reflectivity = static_cast<uint8_t>(s.get_int("obstacle_reflectivity", 0, 255));
+  p.battery_voltage_v = s.get_double("battery_voltage_v", 0.0, 6553.5);
+  p.pty_backlog_bytes = s.get_int("pty_backlog_bytes", static_cast<int>(2 * base::kFrameSize), 1 << 20);
+  p.stop_at_duration = s.get<bool>("stop_at_duration");
+  s.close();
+
+  config::Node robot = root.section("robot");
+  p.robot.max_accel_mps2 = robot.get_positive("max_accel_mps2");
+  p.robot.max_decel_mps2 = robot.get_positive("max_decel_mps2");
+  p.robot.max_alpha_radps2 = robot.get_positive("max_alpha_radps2");
+
+  config::Node mount = root.section("lidar").section("mount");
+  p.lidar.mount_x_m = mount.get<double>("x_m");
+  p.lidar.mount_y_m = mount.get<double>("y_m");
+  p.lidar.mount_roll_rad = mount.get<double>("roll_rad");
+  p.lidar.mount_pitch_rad = mount.get<double>("pitch_rad");
+  p.lidar.mount_yaw_rad = mount.get<double>("yaw_rad");
+  return p;
+}
+
+SimCore::SimCore(const Scenario& scenario, const SimParams& params)
+    : bus::Core("sim"), scenario_(scenario), params_(params) {
+  params_.lidar.rate_hz = scenario_.lidar.rate_hz;
+  params_.lidar.range_noise_std_m = scenario_.lidar.range_noise_std;
+  params_.lidar.mount_height_m = scenario_.lidar.height;
+
+  every(params_.lidar_period_us, [this] {
+    start(now());
+    send_due_packets();
+  });
+  every(params_.status_period_us, [this] {
+    start(now());
+    send_status();
+  });
+  every(params_.truth_period_us, [this] {
+    start(now());
+    publish_truth();
+  });
+}
+
+void SimCore::start(int64_t now) {
+  if (robot_) return;
+  start_us_ = now;
+  robot_ = std::make_unique<UnicycleRobot>(scenario_.start, params_.robot, now);
+  lidar_ = std::make_unique<Vlp16Simulator>(params_.lidar, now);
+}
+
+bool SimCore::finished() const {
+  return robot_ && params_.stop_at_duration && now() - start_us_ >= us_from_s(scenario_.duration_s);
+}
+
+std::optional<int64_t> SimCore::motion_start_us() const {
+  if (!robot_) return std::nullopt;
+  if (scenario_.obstacles_start == ObstaclesStart::kAtStart) return start_us_;
+  if (robot_->first_motion_us() >= 0) return robot_->first_motion_us();
+  return std::nullopt;
+}
+
+void SimCore::world_at(int64_t utime, WorldSnapshot* out) const {
+  out->robot = robot_->pose_at(utime);
+  out->solids.resize(scenario_.obstacles.size());
+  std::optional<int64_t> t0 = motion_start_us();
+  double t_s = t0 ? (utime - *t0) * 1e-6 : 0.0;
+  for (size_t i = 0; i < scenario_.obstacles.size(); ++i) {
+    const ObstacleSpec& o = scenario_.obstacles[i];
+    ObstacleState st = obstacle_state(o, t_s);
+    Solid& s = out->solids[i];
+    s.shape = o.shape;
+    s.x = st.x;
+    s.y = st.y;
+    s.yaw = o.yaw;
+    s.radius = o.radius;
+    s.length = o.length;
+    s.width = o.width;
+    s.height = o.height;
+  }
+}
+
+void SimCore::send_due_packets() {
+  robot_->advance_to(now());
+  WorldAt world = [this](int64_t t, WorldSnapshot* out) { world_at(t, out); };
+  while (lidar_->next_packet_ready_us() <= now()) {
+    if (now() - lidar_->next_packet_ready_us() > params_.lidar_max_lag_us) {
+      lidar_->skip_packet();
+      count("lidar_packets_skipped");
+      continue;
+    }
+    Packet packet = lidar_->make_packet(world);
+    count("lidar_packets");
+    if (packet_sink_) packet_sink_(packet);
+  }
+}
+
+void SimCore::send_status() {
+  robot_->advance_to(now());
+  base::SystemStatus sys;
+  sys.base_state = 0;  // normal
+  sys.control_mode = robot_->commanded_recently(now()) ? base::kControlModeSerial : base::kControlModeStandby;
+  sys.battery_decivolts = base::battery_decivolts(params_.battery_voltage_v);
+  sys.fault_code = 0;
+  base::MotionStatus motion;
+  motion.linear_mm_s = base::linear_mm_s(robot_->v());
+  motion.angular_mrad_s = base::angular_mrad_s(robot_->omega());
+  base::FrameBytes a = base::encode(sys, tx_count_++);
+  base::FrameBytes b = base::encode(motion, tx_count_++);
+  uint8_t bytes[2 * base::kFrameSize];
+  std::copy(a.begin(), a.end(), bytes);
+  std::copy(b.begin(), b.end(), bytes + base::kFrameSize);
+  count("scout_status_frames", 2);
+  if (serial_sink_) serial_sink_(bytes, sizeof(bytes));
+}
+
+void SimCore::on_serial_bytes(const uint8_t* data, size_t size) {
+  start(now());
+  robot_->advance_to(now());
+  parser_.feed(data, size, [this](const base::Frame& f) {
+    if (f.type != base::kTypeCommand) {
+      count("scout_unexpected_status_frames");
+      return;
+    }
+    base::MotionCommand cmd;
+    base::LightState light;
+    if (base::from_frame(f, &cmd)) {
+      if (cmd.control_mode != base::kControlModeSerial) {
+        // The real base ignores motion commands unless serial control is selected.
+        count("scout_commands_not_serial_mode");
+        return;
+      }
+      robot_->command(base::linear_from_percent(cmd.linear_percent), base::angular_from_percent(cmd.angular_percent),
+                      now());
+      count("scout_motion_commands");
+    } else if (base::light_command_from_frame(f, &light)) {
+      count("scout_light_commands");  // the simulated base has no lights to show
+    } else {
+      count("scout_unknown_frames");
+    }
+  });
+  count_parser_errors();
+}
+
+void SimCore::count_parser_errors() {
+  const base::ParserStats& s = parser_.stats();
+  if (s.noise_bytes != reported_.noise_bytes) count("scout_noise_bytes", static_cast<int64_t>(s.noise_bytes - reported_.noise_bytes));
+  if (s.bad_length != reported_.bad_length) count("scout_bad_length", static_cast<int64_t>(s.bad_length - reported_.bad_length));
+  if (s.bad_checksum != reported_.bad_checksum)
+    count("scout_bad_checksum", static_cast<int64_t>(s.bad_checksum - reported_.bad_checksum));
+  if (s.bad_type != reported_.bad_type) count("scout_bad_type", static_cast<int64_t>(s.bad_type - reported_.bad_type));
+  reported_ = s;
+}
+
+evade::sim_truth_t SimCore::truth_at(int64_t utime) {
+  robot_->advance_to(utime);
+  evade::sim_truth_t t;
+  t.utime = utime;
+  Pose2 p = robot_->pose_at(utime);
+  t.x = p.x;
+  t.y = p.y;
+  t.yaw = p.yaw;
+  t.v = robot_->v();
+  t.omega = robot_->omega();
+  t.footprint_length = scenario_.footprint_length;
+  t.footprint_width = scenario_.footprint_width;
+  t.scenario = scenario_.name;
+  t.goal_x = scenario_.goal.x;
+  t.goal_y = scenario_.goal.y;
+  t.goal_tolerance = scenario_.goal_tolerance;
+  t.duration_s = scenario_.duration_s;
+  std::optional<int64_t> t0 = motion_start_us();
+  t.obstacles_moving = t0.has_value();
+  double t_s = t0 ? (utime - *t0) * 1e-6 : 0.0;
+  for (const ObstacleSpec& o : scenario_.obstacles) {
+    ObstacleState st = obstacle_state(o, t_s);
+    evade::sim_obstacle_t m;
+    m.id = o.id;
+    m.shape = o.shape == Shape::kCylinder ? "cylinder" : "box";
+    m.x = st.x;
+    m.y = st.y;
+    m.yaw = o.yaw;
+    m.radius = o.radius;
+    m.length = o.length;
+    m.width = o.width;
+    m.height = o.height;
+    m.vx = st.vx;
+    m.vy = st.vy;
+    t.obstacles.push_back(m);
+  }
+  t.num_obstacles = static_cast<int32_t>(t.obstacles.size());
+  return t;
+}
+
+void SimCore::publish_truth() { publish("SIM_TRUTH", truth_at(now())); }
+
+}  // namespace evade::sim

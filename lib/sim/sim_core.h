@@ -1,0 +1,101 @@
+// The simulator's process core: the world (robot + obstacles), the VLP-16
+// and the emulated Scout base, driven only by bus time. It never touches a
+// socket or a clock: the main (procs/sim) hands it the bytes read from the
+// pseudo-terminal (on_serial_bytes, inside Core::input) and gives it two
+// sinks, one for the LiDAR packets it produces (sent over UDP) and one for
+// the Scout status bytes (written to the pty). Tests run it on a MemoryBus.
+//
+// Timers: LiDAR packets are produced as soon as their last firing is past
+// (checked every lidar_period_us); Scout system + motion status every
+// status_period_us; SIM_TRUTH every truth_period_us; HEALTH every second.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "base/scout_protocol.h"
+#include "bus/core.h"
+#include "config/config.h"
+#include "evade/sim_truth_t.hpp"
+#include "sim/lidar_sim.h"
+#include "sim/motion.h"
+#include "sim/robot.h"
+#include "sim/scenario.h"
+
+namespace evade::sim {
+
+struct SimParams {
+  // Pseudo-terminal link and LiDAR destination (overridable by flags).
+  std::string device_path = "/tmp/evade_scout";
+  std::string lidar_dest_host = "127.0.0.1";
+  int lidar_dest_port = 2368;
+
+  int64_t truth_period_us = 20'000;
+  int64_t status_period_us = 20'000;
+  int64_t lidar_period_us = 1'000;
+  // A LiDAR more than this behind (a stalled process) drops the packets it
+  // missed instead of sending them in a burst.
+  int64_t lidar_max_lag_us = 100'000;
+  double battery_voltage_v = 25.5;
+  // Unread status bytes in the pty beyond which nobody is reading: the
+  // queue is flushed so that a driver that (re)connects gets fresh frames.
+  int pty_backlog_bytes = 130;
+  bool stop_at_duration = true;
+
+  RobotLimits robot;
+  LidarSimParams lidar;  // scenario-dependent fields filled by SimCore
+
+  // Reads the `sim` section (closed), the accelerations of `robot` and
+  // `lidar.mount` (those sections are shared: not closed here).
+  static SimParams from_config(const config::Node& root);
+};
+
+class SimCore : public bus::Core {
+ public:
+  using PacketSink = std::function<void(const Packet&)>;
+  using SerialSink = std::function<void(const uint8_t* data, size_t size)>;
+
+  SimCore(const Scenario& scenario, const SimParams& params);
+
+  void set_packet_sink(PacketSink sink) { packet_sink_ = std::move(sink); }
+  void set_serial_sink(SerialSink sink) { serial_sink_ = std::move(sink); }
+
+  // Bytes from the host side of the serial link (call inside Core::input).
+  void on_serial_bytes(const uint8_t* data, size_t size);
+
+  // True once the scenario's duration_s has passed (and stop_at_duration).
+  bool finished() const;
+  bool started() const { return robot_ != nullptr; }
+
+  // The world at `utime` (robot pose from the robot's history, obstacles
+  // from their motion models). Valid once started.
+  void world_at(int64_t utime, WorldSnapshot* out) const;
+  evade::sim_truth_t truth_at(int64_t utime);
+  const UnicycleRobot* robot() const { return robot_.get(); }
+  const Scenario& scenario() const { return scenario_; }
+  // Bus time at which obstacles started moving; nullopt while they wait.
+  std::optional<int64_t> motion_start_us() const;
+
+ private:
+  void start(int64_t now);
+  void send_due_packets();
+  void send_status();
+  void publish_truth();
+  void count_parser_errors();
+
+  Scenario scenario_;
+  SimParams params_;
+  std::unique_ptr<UnicycleRobot> robot_;
+  std::unique_ptr<Vlp16Simulator> lidar_;
+  int64_t start_us_ = 0;
+  base::StreamParser parser_;
+  base::ParserStats reported_{};
+  uint8_t tx_count_ = 0;
+  PacketSink packet_sink_;
+  SerialSink serial_sink_;
+};
+
+}  // namespace evade::sim

@@ -1,0 +1,204 @@
+// The simulated VLP-16: packets decoded by lib/sensing's decoder (the one
+// lidar_driver runs) give points on the true surfaces, from a standing and
+// from a moving robot; timing, azimuth and noise are the sensor's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sensing/vlp16.h"
+#include "sim/lidar_sim.h"
+
+namespace evade::sim {
+namespace {
+namespace v = sensing::vlp16;
+
+constexpr int64_t kStartUs = 1'700'000'000'123'456;  // an arbitrary epoch time
+constexpr double kCylX = 5.0, kCylY = 1.0, kCylR = 0.25, kCylH = 1.7;
+constexpr double kBoxX = -4.0, kBoxY = -3.0, kBoxYaw = 0.4, kBoxL = 2.0, kBoxW = 1.0, kBoxH = 1.0;
+
+std::vector<Solid> world_solids() {
+  return {Solid{Shape::kCylinder, kCylX, kCylY, 0.0, kCylR, 0, 0, kCylH},
+          Solid{Shape::kBox, kBoxX, kBoxY, kBoxYaw, 0, kBoxL, kBoxW, kBoxH}};
+}
+
+// Distance of a world point from the nearest true surface, and which.
+enum class Surface { kGround, kCylinder, kBox };
+double surface_error(double x, double y, double z, Surface* which) {
+  double ground = std::abs(z);
+  // Cylinder: side (within height) or top.
+  double radial = std::hypot(x - kCylX, y - kCylY);
+  double cyl = kNoHit;
+  if (z >= -0.01 && z <= kCylH + 0.01) cyl = std::abs(radial - kCylR);
+  if (radial <= kCylR + 0.01) cyl = std::min(cyl, std::abs(z - kCylH));
+  // Box: distance to the surface of the solid (outside points; on-surface 0).
+  double c = std::cos(kBoxYaw), s = std::sin(kBoxYaw);
+  double bx = c * (x - kBoxX) + s * (y - kBoxY), by = -s * (x - kBoxX) + c * (y - kBoxY);
+  double ex = std::abs(bx) - kBoxL / 2, ey = std::abs(by) - kBoxW / 2, ez = std::abs(z - kBoxH / 2) - kBoxH / 2;
+  double box = std::hypot(std::hypot(std::max(ex, 0.0), std::max(ey, 0.0)), std::max(ez, 0.0)) +
+               std::min(std::max(ex, std::max(ey, ez)), 0.0);
+  box = std::abs(box);
+  *which = Surface::kGround;
+  double best = ground;
+  if (cyl < best) best = cyl, *which = Surface::kCylinder;
+  if (box < best) best = box, *which = Surface::kBox;
+  return best;
+}
+
+struct Decoded {
+  v::Return ret;
+  double fire_us;  // absolute firing time, from the packet timestamp
+};
+
+// Makes `n` packets and decodes them with the driver's decoder.
+std::vector<Decoded> run(Vlp16Simulator& sim, int n, const WorldAt& world, std::vector<v::PacketInfo>* infos = nullptr) {
+  std::vector<Decoded> out;
+  for (int i = 0; i < n; ++i) {
+    double start = kStartUs + Vlp16Simulator::packet_offset_us(sim.packets_made());
+    Packet p = sim.make_packet(world);
+    std::vector<v::Return> rets;
+    v::PacketInfo info;
+    EXPECT_EQ(v::decode_packet(p.data(), p.size(), v::DecodeOptions{}, &rets, &info), v::PacketStatus::kOk);
+    if (infos) infos->push_back(info);
+    for (const auto& r : rets) out.push_back(Decoded{r, start + r.time_offset_us});
+  }
+  return out;
+}
+
+LidarSimParams params(double noise) {
+  LidarSimParams p;
+  p.rate_hz = 10.0;
+  p.range_noise_std_m = noise;
+  p.mount_height_m = 0.5;
+  p.max_range_m = 100.0;
+  return p;
+}
+
+// Sensor-frame point -> world, for a robot at `pose` (mount: height 0.5 on the base centre).
+void to_world(const v::Return& r, const Pose2& pose, double* x, double* y, double* z) {
+  double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+  *x = pose.x + c * r.x - s * r.y;
+  *y = pose.y + s * r.x + c * r.y;
+  *z = 0.5 + r.z;
+}
+
+TEST(LidarSim, TimingAndAzimuthAreTheSensors) {
+  Vlp16Simulator sim(params(0.0), kStartUs);
+  EXPECT_NEAR(Vlp16Simulator::kPacketPeriodUs, 1327.104, 1e-9);
+  EXPECT_NEAR(1e6 / Vlp16Simulator::kPacketPeriodUs, 753.5, 0.1);  // packets per second
+  WorldAt world = [](int64_t, WorldSnapshot* w) {
+    w->robot = Pose2{};
+    w->solids = world_solids();
+  };
+  std::vector<v::PacketInfo> infos;
+  run(sim, 3, world, &infos);
+  for (int i = 0; i < 3; ++i) {
+    int64_t first = kStartUs + std::llround(i * 1327.104);
+    EXPECT_EQ(infos[static_cast<size_t>(i)].timestamp_us_past_hour, static_cast<uint32_t>(first % 3'600'000'000LL));
+    EXPECT_EQ(infos[static_cast<size_t>(i)].return_mode, v::kStrongest);
+    EXPECT_EQ(infos[static_cast<size_t>(i)].factory, v::kFactoryVlp16);
+  }
+  // 10 Hz: 0.199 deg per firing sequence ("0.2 deg azimuth step").
+  EXPECT_NEAR(sim.azimuth_at_offset(v::kSequencePeriodUs) - sim.azimuth_at_offset(0.0), 0.1990656, 1e-9);
+  // One revolution takes 100 ms.
+  EXPECT_NEAR(sim.azimuth_at_offset(50'000.0), 180.0, 1e-9);
+  EXPECT_NEAR(sim.azimuth_at_offset(100'000.0 + 27.0), 360.0 * 27e-6 * 10.0, 1e-9);
+  EXPECT_EQ(sim.next_packet_ready_us(), kStartUs + 5309);  // 4 * 1327.104 rounded up
+}
+
+TEST(LidarSim, StandingRobotPointsLieOnTheTrueSurfaces) {
+  Vlp16Simulator sim(params(0.0), kStartUs);
+  WorldAt world = [](int64_t, WorldSnapshot* w) {
+    w->robot = Pose2{};
+    w->solids = world_solids();
+  };
+  // One full revolution (76 packets > 100 ms / 1.327 ms).
+  std::vector<Decoded> pts = run(sim, 76, world);
+  int on[3] = {0, 0, 0};
+  double worst = 0.0;
+  for (const auto& d : pts) {
+    double x, y, z;
+    to_world(d.ret, Pose2{}, &x, &y, &z);
+    Surface which;
+    double e = surface_error(x, y, z, &which);
+    worst = std::max(worst, e);
+    on[static_cast<int>(which)]++;
+  }
+  // Ranges travel in 2 mm units (1 mm rounding); points are floats.
+  EXPECT_LT(worst, 0.0015);
+  // The 8 downward lasers see the ground all around (some blocked by the solids).
+  EXPECT_GT(on[0], 8 * 1700);
+  EXPECT_GT(on[1], 20);  // a 0.5 m wide cylinder at 5.1 m: ~5.6 deg of azimuth, 28 columns
+  EXPECT_GT(on[2], 50);
+  // Upward lasers see sky: no return. A full revolution is 16 * 1808 firings.
+  EXPECT_LT(pts.size(), 16u * 1824u / 2u + 2000u);
+}
+
+TEST(LidarSim, MovingRobotEachFiringFromItsOwnPose) {
+  // 1 m/s along x, turning at 0.5 rad/s: 10 cm and 3 degrees per revolution.
+  auto pose_at = [](double t_us) {
+    double t = (t_us - kStartUs) * 1e-6;
+    double w = 0.5, vel = 1.0;
+    return Pose2{vel / w * std::sin(w * t), vel / w * (1 - std::cos(w * t)), w * t};
+  };
+  Vlp16Simulator sim(params(0.0), kStartUs);
+  WorldAt world = [&](int64_t t, WorldSnapshot* w) {
+    w->robot = pose_at(static_cast<double>(t));
+    w->solids = world_solids();
+  };
+  std::vector<Decoded> pts = run(sim, 76, world);
+  double worst = 0.0, worst_if_static = 0.0;
+  int cyl = 0;
+  for (const auto& d : pts) {
+    double x, y, z;
+    Surface which;
+    to_world(d.ret, pose_at(d.fire_us), &x, &y, &z);
+    worst = std::max(worst, surface_error(x, y, z, &which));
+    cyl += which == Surface::kCylinder;
+    // The same point placed with the revolution's first pose is off the surface.
+    to_world(d.ret, pose_at(kStartUs), &x, &y, &z);
+    worst_if_static = std::max(worst_if_static, surface_error(x, y, z, &which));
+  }
+  // Firing times are rounded to the microsecond (1 um of motion); ranges to 1 mm.
+  EXPECT_LT(worst, 0.0016);
+  EXPECT_GT(worst_if_static, 0.05);
+  EXPECT_GT(cyl, 20);
+}
+
+TEST(LidarSim, RangeNoiseHasTheScenarioStd) {
+  const double sigma = 0.02;
+  Vlp16Simulator sim(params(sigma), kStartUs);
+  WorldAt world = [](int64_t, WorldSnapshot* w) {
+    w->robot = Pose2{};
+    w->solids = {};
+  };
+  std::vector<Decoded> pts = run(sim, 76, world);
+  // Ground only: the true range of laser l is (0.5 + dz) / sin(-el).
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (const auto& d : pts) {
+    const v::Laser& l = v::kLaserTable[d.ret.laser];
+    ASSERT_LT(l.elevation_deg, 0.0);
+    double range = std::sqrt(d.ret.x * d.ret.x + d.ret.y * d.ret.y + (d.ret.z - l.vertical_offset_m) * (d.ret.z - l.vertical_offset_m));
+    double truth = (0.5 + l.vertical_offset_m) / std::sin(-l.elevation_deg * M_PI / 180.0);
+    double e = range - truth;
+    sum += e;
+    sum2 += e * e;
+    ++n;
+  }
+  ASSERT_GT(n, 10000);
+  double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 0.001);
+  EXPECT_NEAR(sd, sigma, 0.001);
+}
+
+TEST(LidarSim, SameSeedSamePackets) {
+  WorldAt world = [](int64_t, WorldSnapshot* w) {
+    w->robot = Pose2{};
+    w->solids = world_solids();
+  };
+  Vlp16Simulator a(params(0.01), kStartUs), b(params(0.01), kStartUs);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(a.make_packet(world), b.make_packet(world));
+}
+
+}  // namespace
+}  // namespace evade::sim

@@ -1,0 +1,210 @@
+// The sim core on the test bus: Scout frames round-trip through the
+// emulated base (commands in, system and motion status out at 50 Hz), bad
+// frames are counted, the robot follows through its limits and stops on
+// the command timeout, obstacles start with the robot, SIM_TRUTH and the
+// LiDAR packets come at their rates.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "base/scout_protocol.h"
+#include "bus/memory_bus.h"
+#include "sensing/vlp16.h"
+#include "sim/sim_core.h"
+
+namespace evade::sim {
+namespace {
+
+constexpr int64_t kT0 = 1'700'000'000'000'000;
+
+const char* kScenario = R"(name: test
+duration_s: 30
+robot:
+  start: {x: -10.0, y: 0.0, yaw: 0.0}
+  goal: {x: 9.0, y: 0.0, tolerance: 0.3}
+  footprint: {length: 0.42, width: 0.31}
+lidar: {model: vlp16, rate_hz: 10, height: 0.5, range_noise_std: 0.0}
+obstacles:
+  - {shape: cylinder, radius: 0.25, height: 0.5, x: -4.5, y: 0.5, vx: -1.0, vy: 0.5}
+  - {shape: box, size: [1.0, 2.0, 1.0], x: 2.0, y: 3.0, yaw: 0.3}
+)";
+
+SimParams test_params() {
+  config::Node root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  return SimParams::from_config(root);
+}
+
+class SimCoreTest : public ::testing::Test {
+ protected:
+  SimCoreTest() : params_(test_params()), core_(parse_scenario(kScenario, "test.yaml"), params_) {
+    core_.set_serial_sink([this](const uint8_t* d, size_t n) { serial_.insert(serial_.end(), d, d + n); });
+    core_.set_packet_sink([this](const Packet& p) { packets_.push_back(p); });
+    bus_.add(core_);
+    bus_.advance_to(kT0);
+  }
+
+  // Moves time on in 1 ms steps, as the live loop does (a core more than
+  // ten periods behind skips its missed timer ticks, like a stalled process).
+  void run_until(int64_t t) {
+    for (int64_t now = last_ + 1000; now < t; now += 1000) bus_.advance_to(now);
+    bus_.advance_to(t);
+    last_ = t;
+  }
+
+  void send(const std::vector<uint8_t>& bytes, int64_t t) {
+    run_until(t);
+    bus_.input(core_, t, [&] { core_.on_serial_bytes(bytes.data(), bytes.size()); });
+  }
+  void command(double v, double w, int64_t t) {
+    base::MotionCommand c;
+    c.control_mode = base::kControlModeSerial;
+    c.linear_percent = base::linear_percent(v);
+    c.angular_percent = base::angular_percent(w);
+    base::FrameBytes f = base::encode(c, count_++);
+    send(std::vector<uint8_t>(f.begin(), f.end()), t);
+  }
+  // Every status frame the base sent so far.
+  std::vector<base::Frame> status_frames() {
+    std::vector<base::Frame> out;
+    base::StreamParser p;
+    p.feed(serial_.data(), serial_.size(), [&](const base::Frame& f) { out.push_back(f); });
+    EXPECT_EQ(p.stats().noise_bytes + p.stats().bad_checksum + p.stats().bad_length, 0u);
+    return out;
+  }
+
+  SimParams params_;
+  SimCore core_;
+  bus::MemoryBus bus_;
+  std::vector<uint8_t> serial_;
+  std::vector<Packet> packets_;
+  uint8_t count_ = 0;
+  int64_t last_ = kT0;
+};
+
+TEST_F(SimCoreTest, StatusFramesAt50HzReportTheRobotsVelocity) {
+  for (int64_t t = kT0; t <= kT0 + 2'000'000; t += 20'000) command(0.75, -0.2618, t);
+  std::vector<base::Frame> frames = status_frames();
+  int system = 0, motion = 0;
+  base::MotionStatus last{};
+  base::SystemStatus sys{};
+  for (const auto& f : frames) {
+    base::MotionStatus m;
+    base::SystemStatus s;
+    if (base::from_frame(f, &m)) motion++, last = m;
+    if (base::from_frame(f, &s)) system++, sys = s;
+  }
+  // 2 s at 50 Hz, both ends included.
+  EXPECT_EQ(system, 101);
+  EXPECT_EQ(motion, 101);
+  // After 2 s the robot is at the commanded 50 % of 1.5 m/s and -50 % of 0.5235 rad/s.
+  EXPECT_EQ(last.linear_mm_s, 750);
+  EXPECT_EQ(last.angular_mrad_s, -262);
+  EXPECT_EQ(sys.control_mode, base::kControlModeSerial);
+  EXPECT_EQ(sys.battery_decivolts, base::battery_decivolts(params_.battery_voltage_v));
+  EXPECT_EQ(core_.counter("scout_motion_commands"), 101);
+  // Rolling counter increments frame by frame.
+  for (size_t i = 1; i < frames.size(); ++i) EXPECT_EQ(static_cast<uint8_t>(frames[i - 1].count + 1), frames[i].count);
+}
+
+TEST_F(SimCoreTest, RobotAcceleratesAtTheConfiguredLimitThenStopsOnTimeout) {
+  command(0.75, 0.0, kT0 + 1000);
+  run_until(kT0 + 201'000);
+  // max_accel_mps2 for 0.2 s
+  EXPECT_NEAR(core_.robot()->v(), std::min(0.75, params_.robot.max_accel_mps2 * 0.2), 1e-9);
+  // No more commands: 0.25 s after the last one the base brakes to zero.
+  run_until(kT0 + 251'000);
+  double v_at_timeout = core_.robot()->v();
+  EXPECT_GT(v_at_timeout, 0.0);
+  run_until(kT0 + 251'000 + 50'000);
+  EXPECT_NEAR(core_.robot()->v(), v_at_timeout - params_.robot.max_decel_mps2 * 0.05, 2e-3);
+  run_until(kT0 + 2'000'000);
+  EXPECT_EQ(core_.robot()->v(), 0.0);
+  std::vector<base::Frame> frames = status_frames();
+  base::MotionStatus m;
+  ASSERT_TRUE(base::from_frame(frames.back(), &m));
+  EXPECT_EQ(m.linear_mm_s, 0);
+  base::SystemStatus s;
+  ASSERT_TRUE(base::from_frame(frames[frames.size() - 2], &s));
+  EXPECT_EQ(s.control_mode, base::kControlModeStandby);
+}
+
+TEST_F(SimCoreTest, BadFramesAreCountedAndIgnored) {
+  base::MotionCommand c;
+  c.linear_percent = 50;
+  base::FrameBytes f = base::encode(c, 0);
+  std::vector<uint8_t> bad(f.begin(), f.end());
+  bad[12] ^= 0x01;  // checksum
+  send(bad, kT0 + 1000);
+  std::vector<uint8_t> noise = {0x00, 0x13, 0x5A, 0x00};
+  send(noise, kT0 + 2000);
+  c.control_mode = base::kControlModeRemote;  // not serial control: the base ignores it
+  f = base::encode(c, 1);
+  send(std::vector<uint8_t>(f.begin(), f.end()), kT0 + 3000);
+  run_until(kT0 + 200'000);
+  EXPECT_EQ(core_.robot()->v(), 0.0);
+  EXPECT_EQ(core_.counter("scout_bad_checksum"), 1);
+  EXPECT_GE(core_.counter("scout_noise_bytes"), 3);
+  EXPECT_EQ(core_.counter("scout_commands_not_serial_mode"), 1);
+  EXPECT_EQ(core_.counter("scout_motion_commands"), 0);
+  // A frame split over two reads still counts.
+  c.control_mode = base::kControlModeSerial;
+  f = base::encode(c, 2);
+  send(std::vector<uint8_t>(f.begin(), f.begin() + 5), kT0 + 201'000);
+  send(std::vector<uint8_t>(f.begin() + 5, f.end()), kT0 + 202'000);
+  EXPECT_EQ(core_.counter("scout_motion_commands"), 1);
+}
+
+TEST_F(SimCoreTest, ObstaclesStartWhenTheRobotFirstMoves) {
+  run_until(kT0 + 1'000'000);
+  auto truths = bus_.decoded<evade::sim_truth_t>("SIM_TRUTH");
+  ASSERT_FALSE(truths.empty());
+  EXPECT_FALSE(truths.back().obstacles_moving);
+  EXPECT_DOUBLE_EQ(truths.back().obstacles[0].x, -4.5);
+  EXPECT_DOUBLE_EQ(truths.back().obstacles[0].vx, 0.0);
+  command(0.5, 0.0, kT0 + 1'000'000);
+  run_until(kT0 + 3'000'000);
+  ASSERT_TRUE(core_.motion_start_us().has_value());
+  const int64_t t_motion = *core_.motion_start_us();
+  EXPECT_EQ(t_motion, kT0 + 1'001'000);  // first physics step after the command
+  evade::sim_truth_t last = bus_.decoded<evade::sim_truth_t>("SIM_TRUTH").back();
+  EXPECT_TRUE(last.obstacles_moving);
+  double t = (last.utime - t_motion) * 1e-6;
+  ASSERT_EQ(last.num_obstacles, 2);
+  EXPECT_NEAR(last.obstacles[0].x, -4.5 - 1.0 * t, 1e-9);
+  EXPECT_NEAR(last.obstacles[0].y, 0.5 + 0.5 * t, 1e-9);
+  EXPECT_DOUBLE_EQ(last.obstacles[0].vx, -1.0);
+  EXPECT_EQ(last.obstacles[0].shape, "cylinder");
+  EXPECT_DOUBLE_EQ(last.obstacles[0].radius, 0.25);
+  EXPECT_EQ(last.obstacles[1].shape, "box");
+  EXPECT_DOUBLE_EQ(last.obstacles[1].length, 1.0);
+  EXPECT_DOUBLE_EQ(last.obstacles[1].width, 2.0);
+  EXPECT_DOUBLE_EQ(last.obstacles[1].yaw, 0.3);
+  EXPECT_DOUBLE_EQ(last.footprint_length, 0.42);
+  EXPECT_EQ(last.scenario, "test");
+  EXPECT_DOUBLE_EQ(last.goal_x, 9.0);
+}
+
+TEST_F(SimCoreTest, TruthAndPacketRates) {
+  run_until(kT0 + 1'000'000);
+  auto truths = bus_.decoded<evade::sim_truth_t>("SIM_TRUTH");
+  EXPECT_EQ(truths.size(), 51u);  // 50 Hz, both ends
+  EXPECT_EQ(truths.front().utime, kT0);
+  EXPECT_EQ(truths.back().utime, kT0 + 1'000'000);
+  EXPECT_DOUBLE_EQ(truths.back().x, -10.0);
+  // 753.5 packets/s: the packets finished within the first second.
+  EXPECT_EQ(packets_.size(), 753u);
+  std::vector<sensing::vlp16::Return> pts;
+  for (const auto& p : packets_)
+    ASSERT_EQ(sensing::vlp16::decode_packet(p.data(), p.size(), {}, &pts, nullptr), sensing::vlp16::PacketStatus::kOk);
+  EXPECT_GT(pts.size(), 8u * 1800u * 9u);  // nine revolutions of ground and obstacle returns
+}
+
+TEST_F(SimCoreTest, FinishesAfterTheScenarioDuration) {
+  run_until(kT0 + 29'000'000);
+  EXPECT_FALSE(core_.finished());
+  run_until(kT0 + 30'000'000);
+  EXPECT_TRUE(core_.finished());
+}
+
+}  // namespace
+}  // namespace evade::sim
