@@ -86,3 +86,45 @@ TEST(LcmSchema, RejectsMalformed) {
 
 }  // namespace
 }  // namespace evade::bus
+
+#include "bus/log_diff.h"
+#include "evade/plan_t.hpp"
+
+namespace evade::bus {
+namespace {
+
+std::vector<LogEvent> plans(double v3, int64_t solve_us, int n = 3) {
+  std::vector<LogEvent> out;
+  for (int i = 0; i < n; ++i) {
+    evade::plan_t p{};
+    p.utime = i;
+    p.mode = "dcbf";
+    p.horizon = 4;
+    p.num_states = 5;
+    p.x = p.y = p.yaw = std::vector<double>(5, 0.0);
+    p.v = {0.1, 0.2, 0.3, i == 1 ? v3 : 0.4};
+    p.omega = std::vector<double>(4, 0.0);
+    p.solve_time_us = solve_us;
+    out.push_back({i, "PLAN", encode(p)});
+  }
+  return out;
+}
+
+TEST(LogDiff, ToleranceIgnoredFieldsAndPaths) {
+  DiffOptions opt;
+  opt.per_channel["PLAN"] = Tolerance{1e-3, 0.0};
+  opt.ignore_fields = {"PLAN.solve_time_us"};
+  EXPECT_TRUE(diff_logs(plans(0.4, 100), plans(0.4, 900), opt).same());     // wall time ignored
+  EXPECT_TRUE(diff_logs(plans(0.4005, 100), plans(0.4, 100), opt).same());  // within 1e-3
+  auto rep = diff_logs(plans(0.41, 100), plans(0.4, 100), opt);
+  ASSERT_FALSE(rep.same());
+  EXPECT_EQ(rep.differing_messages, 1u);
+  ASSERT_EQ(rep.lines.size(), 1u);
+  EXPECT_EQ(rep.lines[0], "PLAN#1.v[3]: 0.41 vs 0.4");
+  auto count = diff_logs(plans(0.4, 100, 2), plans(0.4, 100, 3), opt);
+  EXPECT_FALSE(count.same());
+  EXPECT_EQ(count.lines[0], "PLAN: 2 messages vs 3 in the reference");
+}
+
+}  // namespace
+}  // namespace evade::bus
