@@ -1,0 +1,315 @@
+// Revolution assembly, time stamping, the lidar_driver core on the memory
+// bus, and LIDAR_SCAN replay giving identical LIDAR_POINTS.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "bus/memory_bus.h"
+#include "config/config.h"
+#include "evade/health_t.hpp"
+#include "sensing/lidar_decoder.h"
+#include "sensing/lidar_driver_core.h"
+#include "synthetic.h"
+
+namespace evade::sensing {
+namespace {
+
+using testing::SyntheticVlp16;
+
+constexpr int64_t kLatencyUs = 250;  // network + stack, constant in these tests
+
+struct Counts {
+  std::map<std::string, int64_t> c;
+  LidarDecoder::CountFn fn() {
+    return [this](const std::string& n, int64_t k) { c[n] += k; };
+  }
+};
+
+double span_us() { return vlp16::firing_offset_us(11, 1, 15); }
+
+LidarDecoderParams vlp_params() {
+  LidarDecoderParams p;
+  p.model = LidarModel::kVlp16;
+  p.min_range_m = 0.0;
+  p.max_range_m = 120.0;
+  return p;
+}
+
+// Feeds `n` synthetic packets received `kLatencyUs` after their last firing.
+std::vector<Revolution> run(LidarDecoder& dec, const SyntheticVlp16& s, int n, bool flush = true,
+                            const std::vector<int64_t>& jitter = {}) {
+  std::vector<Revolution> out;
+  for (int k = 0; k < n; ++k) {
+    auto p = s.packet(k);
+    int64_t recv = p.sensor_utime + std::llround(span_us()) + kLatencyUs + (jitter.empty() ? 0 : jitter[k]);
+    dec.feed(p.bytes.data(), p.bytes.size(), recv, &out);
+  }
+  if (flush) dec.flush(&out);
+  return out;
+}
+
+TEST(LidarDecoder, CutsOneCloudPerRevolutionAtTheCutAzimuth) {
+  SyntheticVlp16 s;  // 10 Hz, starts at 300 deg
+  Counts counts;
+  LidarDecoder dec(vlp_params(), counts.fn());
+  const double per_packet = 12 * s.degrees_per_block();
+  const int n = static_cast<int>(std::ceil((60.0 + 720.0 + 100.0) / per_packet));
+  auto revs = run(dec, s, n);
+  ASSERT_EQ(revs.size(), 4u);  // 300->360, two full turns, the flushed rest
+  // Every firing of a full turn: 360 deg / (deg per block) blocks, two firings each, 16 lasers.
+  const double firings_per_turn = 2.0 * 360.0 / s.degrees_per_block();
+  for (int i : {1, 2}) {
+    const auto& c = revs[i].cloud;
+    EXPECT_NEAR(c.n, 16.0 * firings_per_turn, 16.0 * 2) << i;
+    EXPECT_EQ(c.n, static_cast<int>(c.x.size()));
+    // The first points lie just past azimuth 0 (forward, +x, y slightly negative = right);
+    // the last firing starts just before it (its laser 0 has y slightly positive).
+    EXPECT_GT(c.x[0], 9.9);
+    EXPECT_LE(c.y[0], 0.0f);
+    EXPECT_GT(c.y[0], -0.2f);
+    const int last_firing_laser0 = c.n - 16;
+    EXPECT_GT(c.x[last_firing_laser0], 9.9);
+    EXPECT_GT(c.y[last_firing_laser0], 0.0f);
+    EXPECT_LT(c.y[last_firing_laser0], 0.2f);
+    // 1 / rate apart, first-point times.
+    EXPECT_NEAR(static_cast<double>(revs[i + 1].cloud.utime - c.utime), 1e5, 60.0);
+    // Offsets rise monotonically to about one revolution.
+    for (int j = 1; j < c.n; ++j) ASSERT_GE(c.time_offset[j], c.time_offset[j - 1]);
+    EXPECT_NEAR(c.time_offset[c.n - 1], 1e5, 120.0);
+    EXPECT_EQ(c.sensor_model, "vlp16");
+  }
+  EXPECT_EQ(counts.c["revolutions"], 4);
+  EXPECT_EQ(counts.c["data_packets"], n);
+  // Every packet appears in exactly one scan, in order.
+  int total = 0;
+  for (const auto& r : revs) total += r.scan.num_packets;
+  EXPECT_EQ(total, n);
+}
+
+TEST(LidarDecoder, ReceiveTimeStampsAreExactSensorTimesPlusLatencyDespiteJitter) {
+  SyntheticVlp16 s;
+  s.start_azimuth_deg = 0.5;  // the first revolution starts with the first packet
+  const int n = 200;
+  std::vector<int64_t> jitter(n);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> u(0, 400);
+  for (int k = 1; k < n; ++k) jitter[k] = u(rng);  // the anchor packet (0) arrives on time
+  LidarDecoder dec(vlp_params(), nullptr);
+  auto revs = run(dec, s, n, true, jitter);
+  ASSERT_GE(revs.size(), 2u);
+  const auto& c = revs[0].cloud;
+  // utime = the first firing's true time + latency; offsets = true sensor deltas.
+  EXPECT_EQ(c.utime, s.start_utime + kLatencyUs);
+  // The point of laser l, sequence q, block b, packet k fired at
+  // k * 1327.104 + firing_offset(b, q, l) after the first.
+  int k = 3, b = 4, q = 1, l = 9;
+  const size_t idx = static_cast<size_t>(((k * 12 + b) * 2 + q) * 16 + l);
+  ASSERT_LT(idx, c.time_offset.size());
+  // (the sensor's timestamps are whole microseconds)
+  const int64_t packet_delta = s.packet(k).sensor_utime - s.packet(0).sensor_utime;
+  EXPECT_EQ(c.time_offset[idx], std::llround(packet_delta + vlp16::firing_offset_us(b, q, l)));
+  EXPECT_EQ(c.ring[idx], vlp16::kLaserTable[l].ring);
+}
+
+TEST(LidarDecoder, SensorTimeSourceResolvesThePastHourAgainstTheReceiveTime) {
+  SyntheticVlp16 s;
+  s.start_azimuth_deg = 0.5;
+  // Start 0.5 ms before an hour boundary: the past-hour count wraps inside the revolution.
+  s.start_utime = 3'600'000'000LL * 490'000 - 500;
+  LidarDecoderParams p = vlp_params();
+  p.time_source = TimeSource::kSensor;
+  Counts counts;
+  LidarDecoder dec(p, counts.fn());
+  // Receive clock 20 s off the sensor clock: the sensor time wins.
+  std::vector<Revolution> out;
+  for (int k = 0; k < 100; ++k) {
+    auto pk = s.packet(k);
+    dec.feed(pk.bytes.data(), pk.bytes.size(), pk.sensor_utime + 20'000'000, &out);
+  }
+  dec.flush(&out);
+  ASSERT_GE(out.size(), 1u);
+  EXPECT_EQ(out[0].cloud.utime, s.start_utime);
+  EXPECT_EQ(out[0].cloud.time_offset[16 * 24 * 10], std::llround(10 * s.packet_period_us()));
+  EXPECT_EQ(counts.c["sensor_time_jumps"], 0);
+}
+
+TEST(LidarDecoder, DualReturnRevolutionHasBothEchoes) {
+  SyntheticVlp16 s;
+  s.return_mode = vlp16::kDual;
+  s.start_azimuth_deg = 0.5;
+  Counts counts;
+  LidarDecoder dec(vlp_params(), counts.fn());
+  auto revs = run(dec, s, 200);
+  ASSERT_GE(revs.size(), 2u);
+  const auto& c = revs[0].cloud;
+  int strong = 0, last = 0;
+  for (int i = 0; i < c.n; ++i) (c.intensity[i] == 200 ? strong : last)++;
+  EXPECT_EQ(strong, last);
+  // The first revolution starts at 0.5 deg, the second at the firing just past 360.
+  EXPECT_NEAR(static_cast<double>(revs[1].cloud.utime - c.utime), 1e5 * 359.5 / 360.0, 60.0);
+  EXPECT_EQ(counts.c["dual_duplicates"], 0);
+}
+
+TEST(LidarDecoder, ForcedCutWhenTheAzimuthNeverWraps) {
+  LidarDecoderParams p = vlp_params();
+  p.max_packets_per_revolution = 10;
+  Counts counts;
+  LidarDecoder dec(p, counts.fn());
+  vlp16::PacketEncoder enc;  // a stopped motor: constant azimuth
+  for (auto& b : enc.blocks) b.distance_m[0][0] = 3.0;
+  auto bytes = enc.encode();
+  std::vector<Revolution> out;
+  for (int k = 0; k < 35; ++k) dec.feed(bytes.data(), bytes.size(), 1'000'000 + k * 1327, &out);
+  EXPECT_EQ(out.size(), 3u);
+  EXPECT_EQ(counts.c["forced_cuts"], 3);
+  for (const auto& r : out) EXPECT_EQ(r.cloud.packets, 10);
+}
+
+TEST(LidarDecoder, MalformedAndForeignPacketsAreCountedNotDecoded) {
+  Counts counts;
+  LidarDecoder dec(vlp_params(), counts.fn());
+  std::vector<Revolution> out;
+  std::vector<uint8_t> position(512, 0), shortp(100, 0xFF), longp(1300, 0);
+  dec.feed(position.data(), position.size(), 1, &out);
+  dec.feed(shortp.data(), shortp.size(), 2, &out);
+  dec.feed(longp.data(), longp.size(), 3, &out);
+  std::vector<uint8_t> wrong_flag(vlp16::kPacketSize, 0);
+  dec.feed(wrong_flag.data(), wrong_flag.size(), 4, &out);
+  dec.feed(nullptr, 0, 5, &out);
+  dec.flush(&out);
+  EXPECT_TRUE(out.empty());
+  EXPECT_EQ(counts.c["position_packets"], 1);
+  EXPECT_EQ(counts.c["malformed_wrong_size"], 3);
+  EXPECT_EQ(counts.c["malformed_bad_flag"], 1);
+  EXPECT_EQ(counts.c["data_packets"], 0);
+}
+
+TEST(LidarDecoder, RandomBytesNeverCrash) {
+  std::mt19937 rng(1234);
+  for (LidarModel m : {LidarModel::kVlp16, LidarModel::kRsHelios}) {
+    LidarDecoderParams p = vlp_params();
+    p.model = m;
+    Counts counts;
+    LidarDecoder dec(p, counts.fn());
+    std::vector<Revolution> out;
+    SyntheticVlp16 s;
+    for (int i = 0; i < 3000; ++i) {
+      std::vector<uint8_t> buf;
+      if (i % 3 == 0) {  // a valid packet with random bytes flipped
+        auto pk = s.packet(i);
+        buf.assign(pk.bytes.begin(), pk.bytes.end());
+        for (int f = 0; f < 8; ++f) buf[rng() % buf.size()] = static_cast<uint8_t>(rng());
+      } else {
+        buf.resize(rng() % 1400);
+        for (auto& b : buf) b = static_cast<uint8_t>(rng());
+      }
+      dec.feed(buf.data(), buf.size(), i * 1000, &out);
+    }
+    dec.flush(&out);
+    for (const auto& r : out) {
+      ASSERT_EQ(r.cloud.n, static_cast<int>(r.cloud.x.size()));
+      for (int j = 0; j < r.cloud.n; ++j) ASSERT_TRUE(std::isfinite(r.cloud.x[j]) && std::isfinite(r.cloud.z[j]));
+    }
+  }
+}
+
+// ---------------------------------------------------------------- the core
+
+config::Node test_config(const std::string& model = "vlp16") {
+  return config::load_string(R"(
+lidar:
+  model: )" + model + R"(
+  mount: {x_m: 0.1, y_m: -0.05, z_m: 0.5, roll_rad: 0.0, pitch_rad: 0.01, yaw_rad: 0.02}
+lidar_driver:
+  bind_address: 127.0.0.1
+  vlp16_data_port: 2368
+  rs_helios_msop_port: 6699
+  rs_helios_difop_port: 7788
+  socket_receive_buffer_bytes: 1048576
+  cut_azimuth_deg: 0.0
+  min_range_m: 0.4
+  max_range_m: 100.0
+  vertical_offset_correction: true
+  time_source: receive
+  max_packets_per_revolution: 1000
+  publish_scan: true
+)",
+                             "test.yaml");
+}
+
+TEST(LidarDriverConfig, ReadsRobotYamlAndRejectsBadValues) {
+  auto p = LidarDriverParams::from_config(config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
+  EXPECT_EQ(p.bind_address, "0.0.0.0");
+  EXPECT_EQ(p.ports(), std::vector<int>{2368});
+  auto q = LidarDriverParams::from_config(test_config("rs_helios"));
+  EXPECT_EQ(q.ports(), (std::vector<int>{6699, 7788}));
+  EXPECT_DOUBLE_EQ(q.decoder.mount.pitch, 0.01);
+  std::string bad = R"(
+lidar: {model: vlp16, mount: {x_m: 0, y_m: 0, z_m: 0.5, roll_rad: 0, pitch_rad: 0, yaw_rad: 0}}
+lidar_driver: {bind_address: localhost}
+)";
+  EXPECT_THROW(LidarDriverParams::from_config(config::load_string(bad, "bad.yaml")), config::ConfigError);
+}
+
+TEST(LidarDriverCore, PublishesPointsAndScansAndReplayOfScansIsIdentical) {
+  const auto params = LidarDriverParams::from_config(test_config());
+  bus::MemoryBus live;
+  LidarDriverCore core(params, LidarDriverCore::Source::kPackets);
+  live.add(core);
+  SyntheticVlp16 s;
+  const int n = 300;
+  for (int k = 0; k < n; ++k) {
+    auto p = s.packet(k);
+    int64_t recv = p.sensor_utime + 1500 + (k * 37) % 200;
+    live.input(core, recv, [&] { core.on_packet(p.bytes.data(), p.bytes.size()); });
+  }
+  live.input(core, s.packet(n).sensor_utime, [&] { core.flush(); });
+  auto points = live.decoded<evade::pointcloud_t>(kLidarPointsChannel);
+  auto scans = live.decoded<evade::lidar_scan_t>(kLidarScanChannel);
+  ASSERT_EQ(points.size(), 5u);
+  ASSERT_EQ(scans.size(), points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(points[i].utime, scans[i].utime);
+    EXPECT_DOUBLE_EQ(points[i].mount.x, 0.1);
+    EXPECT_DOUBLE_EQ(points[i].mount.yaw, 0.02);
+  }
+  EXPECT_EQ(core.counter("data_packets"), n);
+
+  // Replay: a fresh core reading only the LIDAR_SCAN messages.
+  bus::MemoryBus replay;
+  LidarDriverCore again(params, LidarDriverCore::Source::kScans);
+  replay.add(again);
+  for (const auto& e : live.published())
+    if (e.channel == kLidarScanChannel) replay.inject(e.channel, e.data, e.timestamp);
+  std::vector<std::vector<uint8_t>> a, b;
+  for (const auto& e : live.published())
+    if (e.channel == kLidarPointsChannel) a.push_back(e.data);
+  for (const auto& e : replay.published())
+    if (e.channel == kLidarPointsChannel) b.push_back(e.data);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "revolution " << i;
+  EXPECT_TRUE(replay.decoded<evade::lidar_scan_t>(kLidarScanChannel).empty());
+}
+
+TEST(LidarDriverCore, HealthReportsCounters) {
+  const auto params = LidarDriverParams::from_config(test_config());
+  bus::MemoryBus mb;
+  LidarDriverCore core(params, LidarDriverCore::Source::kPackets);
+  mb.add(core);
+  std::vector<uint8_t> junk(77, 1);
+  mb.input(core, 1'000'000, [&] { core.on_packet(junk.data(), junk.size()); });
+  mb.advance_to(3'000'000);
+  auto health = mb.decoded<evade::health_t>("HEALTH");
+  ASSERT_FALSE(health.empty());
+  const auto& h = health.back();
+  EXPECT_EQ(h.name, "lidar_driver");
+  bool found = false;
+  for (const auto& c : h.counters)
+    if (c.name == "malformed_wrong_size") found = (c.value == 1);
+  EXPECT_TRUE(found);
+}
+
+}  // namespace
+}  // namespace evade::sensing
