@@ -175,28 +175,33 @@ bool ElevationMapBuilder::build(const CloudView& cloud, const PoseBuffer& poses,
     if (!(zmin[idx] <= z)) zmin[idx] = z;
     ++st.points_binned;
   }
-  st.cells_filled = fill_holes(out, p_.hole_fill_min_neighbors);
+  st.cells_filled = fill_holes(out, p_.hole_fill_min_neighbors, p_.step_max_m);
   compute_obstacle_layer(p_, out);
   if (stats) *stats = st;
   return true;
 }
 
-int64_t fill_holes(ElevationLayers* L, int min_neighbors) {
+int64_t fill_holes(ElevationLayers* L, int min_neighbors, double max_spread_m) {
   const int w = L->width, h = L->height;
   std::vector<std::pair<size_t, float>> fills;
   for (int r = 0; r < h; ++r) {
     for (int c = 0; c < w; ++c) {
       if (L->known(r, c)) continue;
       int n = 0;
-      double sum = 0.0;
+      double sum = 0.0, lo = 1e300, hi = -1e300;
       for (int dr = -1; dr <= 1; ++dr)
         for (int dc = -1; dc <= 1; ++dc) {
           if ((dr || dc) && L->known(r + dr, c + dc)) {
+            const double z = L->z_max[L->index(r + dr, c + dc)];
             ++n;
-            sum += L->z_max[L->index(r + dr, c + dc)];
+            sum += z;
+            lo = std::min(lo, z);
+            hi = std::max(hi, z);
           }
         }
-      if (n >= min_neighbors) fills.emplace_back(L->index(r, c), float(sum / n));
+      // a hole on an edge (neighbours differ by more than a step) stays
+      // unknown: a mean there would invent an intermediate, wider obstacle
+      if (n >= min_neighbors && hi - lo <= max_spread_m) fills.emplace_back(L->index(r, c), float(sum / n));
     }
   }
   // written after the scan, so a fill never feeds another fill

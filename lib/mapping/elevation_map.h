@@ -29,7 +29,8 @@ struct ElevationMapParams {
   int64_t odometry_history_us = 2000000;
   int64_t max_extrapolation_us = 150000;
   // hole filling: an empty cell with at least this many of its 8 neighbours
-  // holding data takes their mean (one pass, so only small holes close)
+  // holding data, all within step_max_m of each other, takes their mean
+  // (one pass, so only small holes close)
   int hole_fill_min_neighbors = 5;
   // obstacle layer limits (the robot's operating limits)
   double sobel_max = 0.6;            // S_max, m/m (slope; Sobel normalised by 8 * resolution)
@@ -104,9 +105,10 @@ class ElevationMapBuilder {
   ElevationMapParams p_;
 };
 
-// Fills small holes in place (see ElevationMapParams::hole_fill_min_neighbors);
-// returns the number of cells filled.
-int64_t fill_holes(ElevationLayers* layers, int min_neighbors);
+// Fills small holes in place (see ElevationMapParams::hole_fill_min_neighbors)
+// whose known neighbours lie within max_spread_m of each other (the builder
+// passes h_max: a hole on a step stays unknown); returns the cells filled.
+int64_t fill_holes(ElevationLayers* layers, int min_neighbors, double max_spread_m);
 
 // The paper's obstacle layer, written into layers->obstacle. Cells without
 // data are never obstacles; inside the 3x3 window an empty neighbour takes

@@ -1,0 +1,518 @@
+// Known-answer tests of the local map: odometry interpolation, the obstacle
+// layer on analytic terrains (flat, ramps, steps, data edges), hole filling,
+// and whole ray-cast VLP-16 revolutions through the builder and the core.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "bus/memory_bus.h"
+#include "mapping/elevation_map.h"
+#include "mapping/elevation_map_core.h"
+#include "mapping/synthetic_scan.h"
+
+namespace evade::mapping {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+ElevationMapParams defaults() {
+  ElevationMapParams p;  // same values as config/robot.yaml (checked below)
+  return p;
+}
+
+TEST(Config, RobotYamlSectionLoadsAndMatchesTestDefaults) {
+  const auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  const auto p = ElevationMapParams::from_config(root.section("elevation_map"));
+  const auto d = defaults();
+  EXPECT_EQ(p.width(), 100);
+  EXPECT_EQ(p.height(), 100);
+  EXPECT_DOUBLE_EQ(p.sobel_max, d.sobel_max);
+  EXPECT_DOUBLE_EQ(p.laplace_max_per_m, d.laplace_max_per_m);
+  EXPECT_DOUBLE_EQ(p.step_max_m, d.step_max_m);
+}
+
+TEST(Config, UnknownKeyIsAnError) {
+  const auto root = config::load_string(
+      "elevation_map: {size_x_m: 10, size_y_m: 10, resolution_m: 0.1, min_z_m: -1, max_z_m: 2, min_range_m: 0.4,"
+      " max_range_m: 100, sweep_slice_s: 0.001, max_sweep_s: 0.2, odometry_history_s: 2, max_extrapolation_s: 0.1,"
+      " hole_fill_min_neighbors: 5, sobel_max: 0.6, laplace_max_per_m: 15, step_max_m: 0.15,"
+      " step_includes_cell_extent: true, sobel_maxx: 1}",
+      "t.yaml");
+  EXPECT_THROW(ElevationMapParams::from_config(root.section("elevation_map")), config::ConfigError);
+}
+
+// ---------------------------------------------------------------- odometry
+OdometrySample odo(int64_t t, double x, double y, double yaw, double v = 0, double w = 0) {
+  OdometrySample s;
+  s.utime = t;
+  s.pose = {x, y, yaw};
+  s.v = v;
+  s.omega = w;
+  return s;
+}
+
+TEST(PoseBuffer, InterpolatesPositionAndYawOnTheShortArc) {
+  PoseBuffer b(2'000'000);
+  b.add(odo(1'000'000, 0, 0, M_PI - 0.1));
+  b.add(odo(1'020'000, 1, 2, -M_PI + 0.1));
+  const auto p = b.at(1'005'000, 0);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->x, 0.25, 1e-12);
+  EXPECT_NEAR(p->y, 0.5, 1e-12);
+  EXPECT_NEAR(std::abs(p->yaw), M_PI - 0.05, 1e-9);  // through +-pi, not through 0
+}
+
+TEST(PoseBuffer, ExtrapolatesAlongTheArcWithinTheLimitOnly) {
+  PoseBuffer b(2'000'000);
+  b.add(odo(1'000'000, 0, 0, 0, 1.0, 0.5));
+  const auto p = b.at(1'100'000, 150'000);
+  ASSERT_TRUE(p);
+  // arc of radius 2 m through 0.05 rad
+  EXPECT_NEAR(p->x, 2.0 * std::sin(0.05), 1e-12);
+  EXPECT_NEAR(p->y, 2.0 * (1 - std::cos(0.05)), 1e-12);
+  EXPECT_NEAR(p->yaw, 0.05, 1e-12);
+  EXPECT_FALSE(b.at(1'200'000, 150'000));
+  EXPECT_FALSE(b.at(800'000, 150'000));
+}
+
+TEST(PoseBuffer, DropsOutOfOrderAndResetsOnALogLoop) {
+  PoseBuffer b(1'000'000);
+  EXPECT_EQ(b.add(odo(5'000'000, 0, 0, 0)), PoseBuffer::AddResult::kAdded);
+  EXPECT_EQ(b.add(odo(4'990'000, 0, 0, 0)), PoseBuffer::AddResult::kOutOfOrder);
+  EXPECT_EQ(b.add(odo(1'000'000, 0, 0, 0)), PoseBuffer::AddResult::kReset);
+  EXPECT_EQ(b.size(), 1u);
+  for (int i = 1; i <= 200; ++i) b.add(odo(1'000'000 + i * 20'000, 0, 0, 0));
+  EXPECT_LE(b.size(), 52u);  // bounded by the history length
+}
+
+// ---------------------------------------------------------- obstacle layer
+ElevationLayers terrain(int w, int h, double res, const std::function<double(double, double)>& z) {
+  ElevationLayers L;
+  L.reset(0, 0, res, w, h);
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      const float v = float(z((c + 0.5) * res, (r + 0.5) * res));
+      L.z_max[L.index(r, c)] = v;
+      L.z_min[L.index(r, c)] = v;
+    }
+  return L;
+}
+
+int count_obstacles(const ElevationLayers& L) {
+  int n = 0;
+  for (auto o : L.obstacle) n += o;
+  return n;
+}
+
+TEST(ObstacleLayer, FlatGroundHasNoObstacle) {
+  auto L = terrain(40, 30, 0.1, [](double, double) { return 0.3; });
+  ObstacleTerms t;
+  compute_obstacle_layer(defaults(), &L, &t);
+  EXPECT_EQ(count_obstacles(L), 0);
+  for (float s : t.sobel) EXPECT_EQ(s, 0.0f);
+}
+
+TEST(ObstacleLayer, SobelGivesTheSlopeInMetresPerMetreAtAnyResolution) {
+  for (double res : {0.05, 0.1, 0.2}) {
+    auto L = terrain(30, 30, res, [](double x, double y) { return 0.3 * x + 0.4 * y; });  // slope 0.5
+    ObstacleTerms t;
+    compute_obstacle_layer(defaults(), &L, &t);
+    EXPECT_NEAR(t.sobel[L.index(15, 15)], 0.5, 1e-4) << res;
+    EXPECT_NEAR(t.laplace[L.index(15, 15)], 0.0, 1e-2) << res;
+  }
+}
+
+TEST(ObstacleLayer, RampBelowTheLimitIsFreeAboveItIsObstacle) {
+  auto gentle = terrain(40, 40, 0.1, [](double x, double) { return 0.4 * x; });
+  compute_obstacle_layer(defaults(), &gentle);
+  EXPECT_EQ(count_obstacles(gentle), 0);
+  auto steep = terrain(40, 40, 0.1, [](double x, double) { return 0.8 * x; });
+  compute_obstacle_layer(defaults(), &steep);
+  // every cell with a full window sees the 0.8 slope (> S_max = 0.6)
+  for (int r = 1; r < 39; ++r)
+    for (int c = 1; c < 39; ++c) EXPECT_EQ(steep.obstacle[steep.index(r, c)], 1);
+}
+
+TEST(ObstacleLayer, StepAboveHmaxMarksBothSidesOfTheEdgeOnly) {
+  auto L = terrain(40, 20, 0.1, [](double x, double) { return x > 2.0 ? 0.2 : 0.0; });  // edge between cols 19 and 20
+  ObstacleTerms t;
+  compute_obstacle_layer(defaults(), &L, &t);
+  for (int r = 0; r < 20; ++r)
+    for (int c = 0; c < 40; ++c) {
+      const bool edge = c == 19 || c == 20;
+      EXPECT_EQ(L.obstacle[L.index(r, c)], edge ? 1 : 0) << r << "," << c;
+    }
+  EXPECT_NEAR(t.step[L.index(5, 19)], 0.2, 1e-6);
+}
+
+TEST(ObstacleLayer, StepBelowHmaxIsFree) {
+  // 0.05 m: step 0.05 < 0.15, Sobel 4 * 0.05 / 0.8 = 0.25 < 0.6, Laplace 0.05 / 0.01 = 5 < 15
+  auto L = terrain(40, 20, 0.1, [](double x, double) { return x > 2.0 ? 0.05 : 0.0; });
+  compute_obstacle_layer(defaults(), &L);
+  EXPECT_EQ(count_obstacles(L), 0);
+}
+
+TEST(ObstacleLayer, EachCriterionAloneTriggers) {
+  // a thin ridge of 0.12 m: step 0.12 < h_max, Sobel 0.12*... below, Laplace 2*0.12/0.01 = 24 > L_max
+  auto ridge = terrain(20, 20, 0.1, [](double x, double) { return (x > 1.0 && x < 1.1) ? 0.12 : 0.0; });
+  ObstacleTerms t;
+  auto p = defaults();
+  p.sobel_max = 100;
+  p.step_max_m = 100;
+  compute_obstacle_layer(p, &ridge, &t);
+  EXPECT_NEAR(t.laplace[ridge.index(10, 10)], 24.0, 1e-3);
+  EXPECT_EQ(ridge.obstacle[ridge.index(10, 10)], 1);
+  p = defaults();
+  p.laplace_max_per_m = 1000;
+  p.step_max_m = 100;
+  auto steep = terrain(20, 20, 0.1, [](double x, double) { return 0.7 * x; });
+  compute_obstacle_layer(p, &steep);
+  EXPECT_EQ(steep.obstacle[steep.index(10, 10)], 1);
+}
+
+TEST(ObstacleLayer, EdgesOfTheDataAreNotObstacles) {
+  // a raised plateau and a tilted patch, both surrounded by cells without data
+  auto L = terrain(60, 60, 0.1, [](double x, double y) {
+    if (x > 1 && x < 2 && y > 1 && y < 2) return 0.8;
+    if (x > 3 && x < 5 && y > 3 && y < 5) return 1.0 + 0.4 * (x - 3);
+    return double(kNaN);
+  });
+  compute_obstacle_layer(defaults(), &L);
+  EXPECT_EQ(count_obstacles(L), 0);
+}
+
+TEST(ObstacleLayer, CellsWithoutDataAreNeverObstacles) {
+  // a 0.5 m step between columns 9 and 10; column 12 and row 5 have no data
+  auto L = terrain(20, 20, 0.1, [](double x, double) { return x > 1.0 ? 0.5 : 0.0; });
+  for (int r = 0; r < 20; ++r) L.z_max[L.index(r, 12)] = L.z_min[L.index(r, 12)] = kNaN;
+  for (int c = 0; c < 20; ++c) L.z_max[L.index(5, c)] = L.z_min[L.index(5, c)] = kNaN;
+  compute_obstacle_layer(defaults(), &L);
+  for (int r = 0; r < 20; ++r) EXPECT_EQ(L.obstacle[L.index(r, 12)], 0);
+  for (int c = 0; c < 20; ++c) EXPECT_EQ(L.obstacle[L.index(5, c)], 0);
+  EXPECT_EQ(L.obstacle[L.index(4, 9)], 1);  // the step still shows where both sides have data
+  EXPECT_EQ(L.obstacle[L.index(4, 10)], 1);
+  EXPECT_EQ(L.obstacle[L.index(4, 11)], 0);
+}
+
+TEST(ObstacleLayer, VerticalSurfaceInsideOneCellCountsOnlyWithCellExtent) {
+  ElevationLayers L;
+  L.reset(0, 0, 0.1, 5, 5);
+  L.z_max[L.index(2, 2)] = 1.2f;  // a pole's returns from 0.1 to 1.2 m in one cell, nothing around
+  L.z_min[L.index(2, 2)] = 0.1f;
+  auto p = defaults();
+  p.step_includes_cell_extent = false;  // the paper's adjacent-cell step only
+  compute_obstacle_layer(p, &L);
+  EXPECT_EQ(L.obstacle[L.index(2, 2)], 0);
+  p.step_includes_cell_extent = true;
+  compute_obstacle_layer(p, &L);
+  EXPECT_EQ(L.obstacle[L.index(2, 2)], 1);
+}
+
+TEST(HoleFilling, ClosesSingleCellsNotGaps) {
+  auto L = terrain(20, 20, 0.1, [](double x, double) { return 0.1 * x; });
+  L.z_max[L.index(5, 5)] = L.z_min[L.index(5, 5)] = kNaN;       // a single hole
+  for (int r = 0; r < 20; ++r)
+    for (int c = 12; c < 15; ++c) L.z_max[L.index(r, c)] = L.z_min[L.index(r, c)] = kNaN;  // a 3-wide gap
+  L.z_max[L.index(15, 5)] = L.z_min[L.index(15, 5)] = kNaN;   // a hole next to a 0.5 m pole: an edge
+  L.z_max[L.index(15, 6)] = L.z_min[L.index(15, 6)] = 0.5f;
+  const int64_t filled = fill_holes(&L, 5, 0.15);
+  EXPECT_EQ(filled, 1);
+  EXPECT_NEAR(L.z_max[L.index(5, 5)], 0.1 * 0.55, 1e-6);  // mean of a plane's neighbours = its centre
+  EXPECT_TRUE(L.filled[L.index(5, 5)]);
+  EXPECT_TRUE(std::isnan(L.z_max[L.index(7, 13)]));
+  EXPECT_TRUE(std::isnan(L.z_max[L.index(15, 5)]));
+}
+
+// ---------------------------------------------------------- whole clouds
+struct Built {
+  ElevationLayers L;
+  Pose2 robot;
+  CloudStats st;
+  bool ok;
+};
+
+Built build_scan(const SynthWorld& world, const SynthScanOptions& opt, bool motion = true,
+                 const ElevationMapParams& params = defaults()) {
+  const SynthCloud cloud = synth_vlp16(world, opt);
+  PoseBuffer poses(2'000'000);
+  const int64_t t0 = 10'000'000;
+  for (int64_t t = t0 - 200'000; t <= t0 + 300'000; t += 20'000) {
+    const Pose2 p = integrate_unicycle(opt.robot_start, opt.v, opt.omega, (t - t0) * 1e-6);
+    poses.add(odo(t, p.x, p.y, p.yaw, opt.v, opt.omega));
+  }
+  CloudView v;
+  v.utime = t0;
+  v.n = cloud.x.size();
+  v.x = cloud.x.data();
+  v.y = cloud.y.data();
+  v.z = cloud.z.data();
+  v.time_offset = motion ? cloud.time_offset.data() : nullptr;
+  v.mount_z = opt.mount_height_m;
+  Built b;
+  ElevationMapBuilder builder(params);
+  b.ok = builder.build(v, poses, &b.L, &b.robot, &b.st);
+  return b;
+}
+
+TEST(Builder, FlatGroundFromAVlp16RevolutionIsFree) {
+  SynthScanOptions opt;
+  opt.robot_start = {3.0, -2.0, 0.7};
+  opt.range_noise_std_m = 0.01;
+  const Built b = build_scan(SynthWorld{}, opt);
+  ASSERT_TRUE(b.ok);
+  EXPECT_EQ(b.st.points_in, 14400);  // the 8 upward rings see no ground
+  EXPECT_GT(b.st.points_binned, 9000);
+  EXPECT_EQ(count_obstacles(b.L), 0);
+  int known = 0;
+  for (float z : b.L.z_max)
+    if (!std::isnan(z)) {
+      ++known;
+      EXPECT_NEAR(z, 0.0, 0.02);
+    }
+  EXPECT_GT(known, 500);
+  // robot-centred: the robot's cell is the middle one
+  EXPECT_EQ(int(std::floor((3.0 - b.L.origin_x) / 0.1)), 50);
+  EXPECT_EQ(int(std::floor((-2.0 - b.L.origin_y) / 0.1)), 50);
+}
+
+TEST(Builder, RampBelowTheLimitIsFree) {
+  SynthWorld w;
+  w.ground_slope_x = 0.25;
+  w.ramp_start_x = 1.0;
+  SynthScanOptions opt;
+  const Built b = build_scan(w, opt);
+  ASSERT_TRUE(b.ok);
+  EXPECT_EQ(count_obstacles(b.L), 0);
+}
+
+TEST(Builder, StepAboveHmaxIsObstacleAlongItsEdge) {
+  SynthWorld w;
+  w.boxes.push_back({4.0, 0.0, 0.0, 3.0, 6.0, 0.3});  // a 0.3 m platform from x = 2.5
+  SynthScanOptions opt;
+  const Built b = build_scan(w, opt);
+  ASSERT_TRUE(b.ok);
+  int edge = 0, elsewhere = 0;
+  for (int r = 0; r < b.L.height; ++r)
+    for (int c = 0; c < b.L.width; ++c) {
+      if (!b.L.obstacle[b.L.index(r, c)]) continue;
+      const double x = b.L.origin_x + (c + 0.5) * 0.1, y = b.L.origin_y + (r + 0.5) * 0.1;
+      const bool near_edge = (std::abs(x - 2.5) < 0.25 && std::abs(y) < 3.05) ||
+                             (x > 2.3 && std::abs(std::abs(y) - 3.0) < 0.25);
+      (near_edge ? edge : elsewhere) += 1;
+    }
+  EXPECT_GT(edge, 40);  // most of the 6 m front edge
+  EXPECT_EQ(elsewhere, 0);
+}
+
+// Obstacle cells of a cylinder: cells holding its surface (centre within
+// r + res/sqrt(2)) and their 8-neighbours on the ground side (one diagonal,
+// res*sqrt(2), farther), plus noise: all within r + 0.25 m of the axis.
+void expect_cylinder_obstacle(const Built& b, double cx, double cy, double r) {
+  int near = 0, far = 0;
+  for (int row = 0; row < b.L.height; ++row)
+    for (int c = 0; c < b.L.width; ++c) {
+      if (!b.L.obstacle[b.L.index(row, c)]) continue;
+      const double x = b.L.origin_x + (c + 0.5) * 0.1, y = b.L.origin_y + (row + 0.5) * 0.1;
+      (std::hypot(x - cx, y - cy) < r + 0.25 ? near : far) += 1;
+    }
+  EXPECT_GE(near, 4);
+  EXPECT_EQ(far, 0);
+}
+
+TEST(Builder, CylinderIsObstacleAndNothingElseIs) {
+  SynthWorld w;
+  w.cylinders.push_back({3.5, 1.0, 0.25, 1.0});
+  w.cylinders.push_back({-2.0, -3.0, 0.3, 0.5});
+  SynthScanOptions opt;
+  opt.range_noise_std_m = 0.01;
+  const Built b = build_scan(w, opt);
+  ASSERT_TRUE(b.ok);
+  int near1 = 0, near2 = 0, far = 0;
+  for (int row = 0; row < b.L.height; ++row)
+    for (int c = 0; c < b.L.width; ++c) {
+      if (!b.L.obstacle[b.L.index(row, c)]) continue;
+      const double x = b.L.origin_x + (c + 0.5) * 0.1, y = b.L.origin_y + (row + 0.5) * 0.1;
+      if (std::hypot(x - 3.5, y - 1.0) < 0.25 + 0.25) ++near1;
+      else if (std::hypot(x + 2.0, y + 3.0) < 0.3 + 0.25) ++near2;
+      else {
+        ++far;
+        ADD_FAILURE() << "obstacle at " << x << "," << y << " z " << b.L.z_max[b.L.index(row, c)] << " min "
+                      << b.L.z_min[b.L.index(row, c)];
+      }
+    }
+  EXPECT_GE(near1, 4);
+  EXPECT_GE(near2, 4);
+  EXPECT_EQ(far, 0);
+}
+
+TEST(Builder, MotionCompensationKeepsAStaticCylinderSharpAtSpeed) {
+  SynthWorld w;
+  w.cylinders.push_back({3.0, 0.0, 0.25, 1.0});
+  SynthScanOptions opt;
+  opt.v = 2.0;  // 0.2 m during the sweep
+  opt.omega = 0.5;
+  expect_cylinder_obstacle(build_scan(w, opt, true), 3.0, 0.0, 0.25);
+  // the same sweep with every point at the cloud's time smears it (the check above can fail)
+  const Built smeared = build_scan(w, opt, false);
+  int far = 0;
+  for (int row = 0; row < smeared.L.height; ++row)
+    for (int c = 0; c < smeared.L.width; ++c) {
+      const double x = smeared.L.origin_x + (c + 0.5) * 0.1, y = smeared.L.origin_y + (row + 0.5) * 0.1;
+      far += smeared.L.obstacle[smeared.L.index(row, c)] && std::hypot(x - 3.0, y) >= 0.5;
+    }
+  EXPECT_GT(far, 0);
+}
+
+TEST(Builder, EachPointUsesThePoseAtItsFiringTime) {
+  // one point 2.04 m ahead, fired 150 ms into the sweep of a robot driving +x at 1 m/s
+  PoseBuffer poses(2'000'000);
+  for (int64_t t = 0; t <= 400'000; t += 20'000) poses.add(odo(t, t * 1e-6, 0, 0, 1.0, 0));
+  const float x[1] = {2.04f}, y[1] = {0.0f}, z[1] = {-0.2f};
+  const int32_t off[1] = {150'000};
+  CloudView v;
+  v.utime = 120'000;
+  v.n = 1;
+  v.x = x;
+  v.y = y;
+  v.z = z;
+  v.time_offset = off;
+  v.mount_z = 0.5;
+  ElevationMapBuilder builder(defaults());
+  ElevationLayers L;
+  Pose2 robot;
+  CloudStats st;
+  ASSERT_TRUE(builder.build(v, poses, &L, &robot, &st));
+  EXPECT_NEAR(robot.x, 0.12, 1e-12);
+  // the robot is at x = 0.2705 mid-slice at 270 ms: the point lies at 2.3105 (cell 72 of a grid from -4.9)
+  EXPECT_NEAR(L.origin_x, -4.9, 1e-9);
+  EXPECT_NEAR(L.z_max[L.index(50, 72)], 0.3f, 1e-6);
+  v.time_offset = nullptr;  // all at utime: 0.12 + 2.04 = 2.16 -> cell 70
+  ASSERT_TRUE(builder.build(v, poses, &L, &robot, &st));
+  EXPECT_NEAR(L.z_max[L.index(50, 70)], 0.3f, 1e-6);
+}
+
+TEST(Builder, TransformsWithMountAndRobotPose) {
+  PoseBuffer poses(2'000'000);
+  poses.add(odo(0, 10.0, 5.0, M_PI / 2));
+  const float x[1] = {2.0f}, y[1] = {0.0f}, z[1] = {0.1f};
+  CloudView v;
+  v.utime = 0;
+  v.n = 1;
+  v.x = x;
+  v.y = y;
+  v.z = z;
+  v.mount_x = 0.2;  // sensor 0.2 m ahead of the base, 0.5 m up
+  v.mount_z = 0.5;
+  ElevationMapBuilder builder(defaults());
+  ElevationLayers L;
+  Pose2 robot;
+  CloudStats st;
+  ASSERT_TRUE(builder.build(v, poses, &L, &robot, &st));
+  // facing +y: the point is at (10, 7.2), 0.6 m above the ground
+  const int c = int(std::floor((10.0 + 0.05 - L.origin_x) / 0.1)), r = int(std::floor((7.2 + 0.05 - L.origin_y) / 0.1));
+  EXPECT_NEAR(L.z_max[L.index(r, c)], 0.6f, 1e-6);
+  EXPECT_EQ(st.points_binned, 1);
+}
+
+TEST(Builder, CropsSelfReturnsHeightBandAndInvalidPoints) {
+  PoseBuffer poses(2'000'000);
+  poses.add(odo(0, 0, 0, 0));
+  const float nan = kNaN;
+  const float x[5] = {0.1f, 3.0f, 3.0f, nan, 30.0f};
+  const float y[5] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  const float z[5] = {0.0f, 3.0f, -0.5f, 0.0f, -0.5f};
+  const int32_t off[5] = {0, 0, -5, 0, 0};
+  CloudView v;
+  v.n = 5;
+  v.x = x;
+  v.y = y;
+  v.z = z;
+  v.time_offset = off;
+  v.mount_z = 0.5;
+  ElevationMapBuilder builder(defaults());
+  ElevationLayers L;
+  Pose2 robot;
+  CloudStats st;
+  ASSERT_TRUE(builder.build(v, poses, &L, &robot, &st));
+  EXPECT_EQ(st.points_binned, 0);
+  EXPECT_EQ(st.points_cropped, 3);  // self, too high, outside the grid
+  EXPECT_EQ(st.points_invalid, 2);  // NaN, negative time offset
+}
+
+TEST(Builder, NoOdometryMeansNoMap) {
+  PoseBuffer poses(2'000'000);
+  CloudView v;
+  ElevationMapBuilder builder(defaults());
+  ElevationLayers L;
+  Pose2 robot;
+  CloudStats st;
+  EXPECT_FALSE(builder.build(v, poses, &L, &robot, &st));
+  poses.add(odo(1'000'000, 0, 0, 0));
+  v.utime = 1'500'000;  // 0.5 s past the newest odometry
+  EXPECT_FALSE(builder.build(v, poses, &L, &robot, &st));
+}
+
+// ---------------------------------------------------------- the process core
+evade::pointcloud_t cloud_msg(int64_t utime, const SynthCloud& c) {
+  evade::pointcloud_t m;
+  m.utime = utime;
+  m.sensor_model = "vlp16";
+  m.mount = {};
+  m.mount.z = 0.5;
+  m.packets = 0;
+  m.n = int32_t(c.x.size());
+  m.x = c.x;
+  m.y = c.y;
+  m.z = c.z;
+  m.intensity.assign(c.x.size(), 0.0f);
+  m.ring.assign(c.x.size(), 0);
+  m.time_offset = c.time_offset;
+  return m;
+}
+
+TEST(Core, PublishesTheMapStampedWithTheCloudTime) {
+  bus::MemoryBus bus;
+  ElevationMapCore core(defaults());
+  bus.add(core);
+  SynthWorld w;
+  w.cylinders.push_back({2.0, 2.0, 0.3, 1.0});
+  SynthScanOptions opt;
+  opt.robot_start = {1.0, 1.0, 0.0};
+  const SynthCloud c = synth_vlp16(w, opt);
+  // a cloud before any odometry is skipped and counted
+  bus.inject("LIDAR_POINTS", cloud_msg(900'000, c), 900'000);
+  EXPECT_EQ(core.counter("cloud_skipped_no_odometry"), 1);
+  for (int64_t t = 1'000'000; t <= 1'300'000; t += 20'000) {
+    evade::odometry_t o{};
+    o.utime = t;
+    o.x = 1.0;
+    o.y = 1.0;
+    bus.inject("ODOMETRY", o, t);
+  }
+  bus.inject("LIDAR_POINTS", cloud_msg(1'100'000, c), 1'300'000);
+  const auto maps = bus.decoded<evade::grid_map_t>("ELEVATION_MAP");
+  ASSERT_EQ(maps.size(), 1u);
+  const auto& m = maps[0];
+  EXPECT_EQ(m.utime, 1'100'000);
+  EXPECT_EQ(m.width, 100);
+  EXPECT_EQ(m.height, 100);
+  EXPECT_DOUBLE_EQ(m.resolution, 0.1);
+  EXPECT_NEAR(m.robot_x, 1.0, 1e-12);
+  EXPECT_NEAR(m.origin[0], 1.0 - 5.0, 1e-9);
+  int obstacles = 0;
+  for (const auto& row : m.obstacle)
+    for (auto o : row) obstacles += o;
+  EXPECT_GT(obstacles, 4);
+  // malformed input is counted, not fatal
+  auto bad = cloud_msg(1'200'000, c);
+  bad.mount.z = std::numeric_limits<double>::quiet_NaN();
+  bus.inject("LIDAR_POINTS", bad, 1'300'000);
+  EXPECT_EQ(core.counter("cloud_invalid"), 1);
+  const uint8_t junk[7] = {1, 2, 3, 4, 5, 6, 7};
+  bus.inject("LIDAR_POINTS", junk, sizeof junk, 1'300'000);
+  EXPECT_EQ(bus.decoded<evade::grid_map_t>("ELEVATION_MAP").size(), 1u);
+}
+
+}  // namespace
+}  // namespace evade::mapping
