@@ -1,0 +1,65 @@
+// Parameters of the predictor (config/robot.yaml, section `predictor:`).
+// Every key is read here; units are in the key names.
+#pragma once
+
+#include <string>
+
+#include "config/config.h"
+
+namespace evade::prediction {
+
+struct FilterParams {
+  // Initial state uncertainty of a new track: velocity and acceleration are
+  // unknown at birth, so they start at zero with these standard deviations
+  // (no two-point velocity spike from a single noisy frame difference).
+  double init_speed_std_mps = 1.5;
+  double init_accel_std_mps2 = 0.2;
+  // Process noise Q, continuous-time spectral densities; discretised for the
+  // actual frame interval (white jerk drives the (p, v, a) chain of each axis,
+  // a random walk drives each shape parameter).
+  double jerk_psd_m2ps5 = 0.0003;
+  double axis_psd_m2ps = 0.002;
+  double theta_psd_rad2ps = 0.05;
+  // Measurement noise R for the shape part of the MBE (the position part is adaptive).
+  double r_axis_m2 = 0.0025;
+  double r_theta_rad2 = 0.01;
+  // Orientation of a near-circular MBE is noise: its measurement variance
+  // grows as (axis std / max(a - b, this))^2.
+  double orientation_min_elongation_m = 0.02;
+};
+
+struct AdaptiveNoiseParams {
+  int window_frames = 10;           // m, frames in the shape-variation window
+  std::string shape_variation_source = "own";  // own | tracker
+  double kappa = 5.5;               // Xi_p = kappa * Xi_eta^gamma
+  double gamma = 1.3;
+  double xi_min_m2 = 0.0016;        // Xi_min,crit
+  double xi_max_m2 = 0.25;          // Xi_max,crit
+  double r_pos_min_m2 = 0.0016;     // R_p,min
+  double r_pos_max_m2 = 0.25;       // R_p,max
+};
+
+struct UncertaintyParams {
+  double confidence = 0.95;         // probability mass covered by r_p and r_eta
+  double min_axis_m = 0.05;         // axes are floored at this before inflation
+  double root_tolerance_m = 1e-9;   // sigma_min bracket width at convergence
+};
+
+struct LimitParams {
+  double max_speed_mps = 3.0;       // predicted speed is clipped to this
+  double max_accel_mps2 = 1.5;      // predicted acceleration magnitude is clipped to this
+};
+
+struct PredictorParams {
+  int prediction_steps = 25;        // N (planner horizon); k = 0..N are published
+  double prediction_dt_s = 0.1;     // planner step
+  double max_frame_gap_s = 1.0;     // a longer gap between frames restarts every track
+  FilterParams filter;
+  AdaptiveNoiseParams adaptive;
+  UncertaintyParams uncertainty;
+  LimitParams limits;
+
+  static PredictorParams from_config(const config::Node& section);
+};
+
+}  // namespace evade::prediction

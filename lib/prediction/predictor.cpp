@@ -1,0 +1,159 @@
+#include "prediction/predictor.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "prediction/inflation.h"
+
+namespace evade::prediction {
+namespace {
+
+bool valid(const evade::obstacle_t& o) {
+  const double v[] = {o.x, o.y, o.a, o.b, o.theta, o.shape_variation};
+  for (double d : v)
+    if (!std::isfinite(d)) return false;
+  return o.a > 0.0 && o.b >= 0.0;
+}
+
+// Scales a 2-vector down to a maximum norm.
+void clip_norm(double* x, double* y, double max_norm) {
+  const double n = std::hypot(*x, *y);
+  if (n > max_norm) {
+    *x *= max_norm / n;
+    *y *= max_norm / n;
+  }
+}
+
+}  // namespace
+
+Predictor::Predictor(const PredictorParams& params)
+    : params_(params),
+      prediction_noise_(process_noise(params.filter, params.prediction_dt_s)),
+      chi2_position_(chi_square_2dof_quantile(params.uncertainty.confidence)),
+      z_shape_(normal_two_sided_quantile(params.uncertainty.confidence)) {}
+
+const TrackFilter* Predictor::track(int64_t id) const {
+  auto it = tracks_.find(id);
+  return it == tracks_.end() ? nullptr : &it->second;
+}
+
+bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list_t* out, FrameStats* stats) {
+  FrameStats st;
+  if (last_utime_ >= 0 && in.utime <= last_utime_) return false;
+  // dt from the message stamps: frames arrive at 10-20 Hz with jitter.
+  const double dt = last_utime_ < 0 ? 0.0 : 1e-6 * static_cast<double>(in.utime - last_utime_);
+  if (last_utime_ >= 0 && dt > params_.max_frame_gap_s) {
+    st.gap_reset = !tracks_.empty();
+    st.dropped += static_cast<int>(tracks_.size());
+    tracks_.clear();
+  }
+  last_utime_ = in.utime;
+
+  out->utime = in.utime;
+  out->dt = params_.prediction_dt_s;
+  out->horizon = params_.prediction_steps + 1;
+  out->tracks.clear();
+  out->tracks.reserve(in.obstacles.size());
+
+  seen_.clear();
+  for (const auto& o : in.obstacles) {
+    if (!valid(o) || !seen_.emplace(o.id, 0).second) {
+      ++st.malformed;
+      continue;
+    }
+    Measurement z;
+    z.x = o.x;
+    z.y = o.y;
+    z.a = o.a;
+    z.b = o.b;
+    z.theta = o.theta;
+    z.tracker_shape_variation = o.shape_variation;
+    auto it = tracks_.find(o.id);
+    if (it == tracks_.end()) {
+      it = tracks_.emplace(o.id, TrackFilter(params_, z)).first;
+      ++st.created;
+    } else {
+      it->second.predict(dt);
+      it->second.update(z);
+      ++st.updated;
+    }
+    out->tracks.emplace_back();
+    predict_track(o.id, it->second, &out->tracks.back());
+  }
+  // Tracks that vanished from the list are dropped (the tracker never reuses ids).
+  for (auto it = tracks_.begin(); it != tracks_.end();) {
+    if (seen_.count(it->first) == 0) {
+      it = tracks_.erase(it);
+      ++st.dropped;
+    } else {
+      ++it;
+    }
+  }
+  out->num_tracks = static_cast<int32_t>(out->tracks.size());
+  if (stats) *stats = st;
+  return true;
+}
+
+void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::track_prediction_t* out) const {
+  const int n = params_.prediction_steps + 1;
+  const double T = params_.prediction_dt_s;
+  const LimitParams& lim = params_.limits;
+  const UncertaintyParams& unc = params_.uncertainty;
+
+  State x = filter.state();
+  Covariance P = filter.covariance();
+  // Caps: a noisy acceleration estimate must not fling the prediction across
+  // the map, so the acceleration and speed used for extrapolation are clipped.
+  clip_norm(&x(kVx), &x(kVy), lim.max_speed_mps);
+  clip_norm(&x(kAx), &x(kAy), lim.max_accel_mps2);
+
+  // Reported shape with a >= b (the filter may hold the swapped representation).
+  double a = std::max(x(kA), unc.min_axis_m), b = std::max(x(kB), unc.min_axis_m), theta = x(kTheta);
+  const bool swap = b > a;
+  if (swap) {
+    std::swap(a, b);
+    theta = wrap_half_pi(theta + 0.5 * 3.14159265358979323846);
+  }
+
+  out->id = id;
+  out->vx = x(kVx);
+  out->vy = x(kVy);
+  out->ax = x(kAx);
+  out->ay = x(kAy);
+  out->horizon = n;
+  out->x.resize(n);
+  out->y.resize(n);
+  out->a.resize(n);
+  out->b.resize(n);
+  out->theta.resize(n);
+  out->sigma.resize(n);
+  for (int k = 0; k < n; ++k) {
+    if (k > 0) {
+      // Paper: x_k = A x_(k-1), P_k = A P_(k-1) A^T + Q; the mean with the speed cap
+      // (once at the cap the acceleration stops acting), the covariance linear.
+      const double vx0 = x(kVx), vy0 = x(kVy);
+      double vx1 = vx0 + T * x(kAx), vy1 = vy0 + T * x(kAy);
+      if (std::hypot(vx1, vy1) > lim.max_speed_mps) {
+        clip_norm(&vx1, &vy1, lim.max_speed_mps);
+        x(kAx) = x(kAy) = 0.0;
+      }
+      x(kX) += 0.5 * (vx0 + vx1) * T;  // = vx T + ax T^2 / 2 when not capped
+      x(kY) += 0.5 * (vy0 + vy1) * T;
+      x(kVx) = vx1;
+      x(kVy) = vy1;
+      State unused = State::Zero();
+      propagate(&unused, &P, prediction_noise_, T);
+    }
+    const double r_p = position_radius(P(kX, kX), P(kX, kY), P(kY, kY), chi2_position_);
+    const double r_eta = shape_radius(P(kA, kA), P(kB, kB), P(kTheta, kTheta), a - b, z_shape_);
+    const Inflation inf = solve_inflation(a, b, r_p + r_eta, unc.root_tolerance_m);
+    out->x[k] = x(kX);
+    out->y[k] = x(kY);
+    out->a[k] = a + inf.total;
+    out->b[k] = b + inf.total;
+    out->theta[k] = theta;
+    out->sigma[k] = inf.total;
+  }
+}
+
+}  // namespace evade::prediction

@@ -1,0 +1,49 @@
+// OBSTACLES -> OBSTACLE_PREDICTIONS without any bus: one TrackFilter per
+// track id, updated at the frame's utime, then rolled forward over the
+// planner's horizon with uncertainty-inflated ellipses.
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+
+#include "evade/obstacle_list_t.hpp"
+#include "evade/prediction_list_t.hpp"
+#include "prediction/params.h"
+#include "prediction/track_filter.h"
+
+namespace evade::prediction {
+
+struct FrameStats {
+  int created = 0;       // new track ids
+  int dropped = 0;       // ids no longer in the list
+  int updated = 0;       // existing tracks updated
+  int malformed = 0;     // obstacles skipped (non-finite, bad axes, duplicate id)
+  bool gap_reset = false;  // frame gap above max_frame_gap_s: all tracks restarted
+};
+
+class Predictor {
+ public:
+  explicit Predictor(const PredictorParams& params);
+
+  // Processes one obstacle list. Returns false (and leaves *out alone) when the
+  // frame is not newer than the last one accepted (duplicate or out of order).
+  bool process(const evade::obstacle_list_t& in, evade::prediction_list_t* out, FrameStats* stats);
+
+  // Rolls one filtered track forward: index 0 = the filter's current estimate.
+  void predict_track(int64_t id, const TrackFilter& filter, evade::track_prediction_t* out) const;
+
+  const TrackFilter* track(int64_t id) const;
+  size_t num_tracks() const { return tracks_.size(); }
+  const PredictorParams& params() const { return params_; }
+
+ private:
+  PredictorParams params_;
+  Covariance prediction_noise_;    // Q for one prediction step
+  double chi2_position_ = 0;       // chi-square quantile, 2 dof, at the confidence level
+  double z_shape_ = 0;             // two-sided normal quantile at the confidence level
+  std::unordered_map<int64_t, TrackFilter> tracks_;
+  std::unordered_map<int64_t, int64_t> seen_;  // scratch: ids of the current frame
+  int64_t last_utime_ = -1;
+};
+
+}  // namespace evade::prediction

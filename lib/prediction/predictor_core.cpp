@@ -1,0 +1,24 @@
+#include "prediction/predictor_core.h"
+
+namespace evade::prediction {
+
+PredictorCore::PredictorCore(const PredictorParams& params) : bus::Core("predictor"), predictor_(params) {
+  subscribe<evade::obstacle_list_t>(kObstaclesChannel,
+                                    [this](const evade::obstacle_list_t& m) { on_obstacles(m); });
+}
+
+void PredictorCore::on_obstacles(const evade::obstacle_list_t& msg) {
+  FrameStats st;
+  if (!predictor_.process(msg, &out_, &st)) {
+    count("stale_frames");  // utime not after the previous frame: skipped
+    return;
+  }
+  count("frames");
+  if (st.created) count("tracks_created", st.created);
+  if (st.dropped) count("tracks_dropped", st.dropped);
+  if (st.malformed) count("malformed_obstacles", st.malformed);
+  if (st.gap_reset) count("frame_gap_resets");
+  publish(kPredictionsChannel, out_);
+}
+
+}  // namespace evade::prediction

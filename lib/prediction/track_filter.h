@@ -1,0 +1,89 @@
+// The paper's 9-state Kalman filter for one tracked MBE (section III-B,
+// "Trajectory prediction"), with the adaptive position noise of
+// "Uncertainty analysis".
+//
+// State order (the and the paper's text): s = (x, y, a, b, theta, vx, vy, ax, ay).
+// The paper PRINTS its A matrix for the order (x, y, vx, vy, ax, ay, a, b, theta):
+// a 6x6 constant-acceleration block and I_3 for the shape. Mapped to our order
+// it reads, with T the frame interval:
+//   x'  = x + T vx + T^2/2 ax      y'  = y + T vy + T^2/2 ay
+//   vx' = vx + T ax                vy' = vy + T ay
+//   ax' = ax, ay' = ay,  a' = a, b' = b, theta' = theta.
+// The paper's printed H = [I_2 O_2x7; O_3x6 I_3] likewise picks (x, y, a, b, theta);
+// in our order that is H = [I_5 O_5x4].
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "prediction/params.h"
+
+namespace evade::prediction {
+
+enum StateIndex { kX = 0, kY, kA, kB, kTheta, kVx, kVy, kAx, kAy, kStateSize };
+
+using State = Eigen::Matrix<double, kStateSize, 1>;
+using Covariance = Eigen::Matrix<double, kStateSize, kStateSize>;
+
+// Wraps an ellipse orientation (pi-periodic) into [-pi/2, pi/2).
+double wrap_half_pi(double angle);
+
+// A and Q for a step of dt seconds (Q: white jerk per axis, random walk per shape parameter).
+Covariance transition_matrix(double dt);
+Covariance process_noise(const FilterParams& p, double dt);
+
+// x <- A x and P <- A P A^T + Q using the sparsity of A (same result as the dense products).
+void propagate(State* x, Covariance* P, const Covariance& Q, double dt);
+
+// The paper's adaptive position variance: Xi_p = kappa Xi_eta^gamma,
+// k = lg(Xi_p / Xi_min) / lg(Xi_max / Xi_min) clipped to [0, 1],
+// R_p = R_max^k R_min^(1-k). Returns R_p; *k_out gets k.
+double adaptive_position_variance(double xi_eta, const AdaptiveNoiseParams& p, double* k_out);
+
+// One MBE observation.
+struct Measurement {
+  double x = 0, y = 0, a = 0, b = 0, theta = 0;
+  double tracker_shape_variation = 0;  // the tracker's Xi_eta, used when configured
+};
+
+// What the last update did (for tests and diagnostics).
+struct UpdateInfo {
+  double xi_eta = 0;     // shape variation used
+  double k = 0;          // adaptive exponent
+  double r_position = 0; // R_p, m^2
+  bool swapped_axes = false;  // the measurement was matched as (b, a, theta + pi/2)
+};
+
+class TrackFilter {
+ public:
+  // A new track: position and shape from the first MBE, velocity and
+  // acceleration zero with a wide covariance (no spike from one noisy difference).
+  TrackFilter(const PredictorParams& params, const Measurement& z);
+
+  void predict(double dt);
+  UpdateInfo update(const Measurement& z);
+
+  const State& state() const { return x_; }
+  const Covariance& covariance() const { return P_; }
+  int updates() const { return updates_; }
+
+  // Xi_eta of the paper over the last m aligned shapes: sum ||eta_i - mean||^2 / (m - 1),
+  // with the orientation term weighted by the mean (a - b) so that it is in metres
+  // (the boundary displacement a rotation causes) and a circle's arbitrary
+  // orientation does not count. 0 with fewer than two frames.
+  double own_shape_variation() const;
+
+ private:
+  struct Shape { double a, b, theta; };
+  const PredictorParams* params_;
+  State x_;
+  Covariance P_;
+  std::vector<Shape> window_;  // ring buffer of the last m aligned shapes
+  size_t window_next_ = 0;
+  double last_theta_ = 0;             // orientation of the newest window entry (unwrapped)
+  bool use_tracker_variation_ = false;
+  int updates_ = 0;
+};
+
+}  // namespace evade::prediction
