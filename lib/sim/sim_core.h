@@ -66,6 +66,10 @@ class SimCore : public bus::Core {
   // Bytes from the host side of the serial link (call inside Core::input).
   void on_serial_bytes(const uint8_t* data, size_t size);
 
+  // Counts an event seen by the I/O side (a failed send, a flushed
+  // backlog) in this core's HEALTH counters.
+  void count_io(const std::string& counter) { count(counter); }
+
   // True once the scenario's duration_s has passed (and stop_at_duration).
   bool finished() const;
   bool started() const { return robot_ != nullptr; }
