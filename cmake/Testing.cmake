@@ -1,10 +1,10 @@
-# evade_add_gtest(NAME SOURCES a.cpp ... LIBS x y LABEL unit|integration [NETNS] [TIMEOUT s])
+# evade_add_gtest(NAME SOURCES a.cpp ... LIBS x y LABEL unit|integration [NETNS] [SERIAL] [TIMEOUT s])
 #   One GoogleTest binary, each TEST registered with ctest by discovery.
 #   NETNS: every test runs through tools/netns-run, inside a private network
 #   namespace with multicast routed to lo and ttl=0, so no packet leaves.
 set(EVADE_NETNS_RUN ${CMAKE_SOURCE_DIR}/tools/netns-run)
 function(evade_add_gtest name)
-  cmake_parse_arguments(T "NETNS" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(T "NETNS;SERIAL" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
   if(NOT T_LABEL)
     message(FATAL_ERROR "evade_add_gtest(${name}): LABEL unit or integration is required")
   endif()
@@ -16,8 +16,12 @@ function(evade_add_gtest name)
   if(T_NETNS)
     set_target_properties(${name} PROPERTIES CROSSCOMPILING_EMULATOR ${EVADE_NETNS_RUN})
   endif()
+  set(serial FALSE)
+  if(T_SERIAL)
+    set(serial TRUE)
+  endif()
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${CMAKE_SOURCE_DIR}
-    PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT}
+    PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT} RUN_SERIAL ${serial}
     DISCOVERY_TIMEOUT 60)
 endfunction()
