@@ -1,0 +1,179 @@
+// The base_driver binary end to end, inside a private network namespace
+// (NETNS), against a pseudo-terminal that plays the Scout: device missing
+// at start, commands on the wire, ODOMETRY and BASE_STATUS on LCM, a
+// hang-up (the process must survive libserial's hang-up abort), and a
+// reconnect at the same path. Waits are generous bounds, never assertions
+// on timing.
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "base/scout_protocol.h"
+#include "evade/base_status_t.hpp"
+#include "evade/cmd_vel_t.hpp"
+#include "evade/odometry_t.hpp"
+#include "pty_peer.h"
+
+namespace evade::base {
+namespace {
+
+using testing::PtyPeer;
+using Clock = std::chrono::steady_clock;
+
+class Listener {
+ public:
+  void on_odometry(const lcm::ReceiveBuffer*, const std::string&, const evade::odometry_t* m) { odometry.push_back(*m); }
+  void on_status(const lcm::ReceiveBuffer*, const std::string&, const evade::base_status_t* m) { status.push_back(*m); }
+  std::vector<evade::odometry_t> odometry;
+  std::vector<evade::base_status_t> status;
+};
+
+class BaseDriverProcess : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/evade_base_proc_XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    dir_ = tmpl;
+    path_ = dir_ + "/scout";
+    ASSERT_TRUE(lcm_.good());
+    lcm_.subscribe("ODOMETRY", &Listener::on_odometry, &listener_);
+    lcm_.subscribe("BASE_STATUS", &Listener::on_status, &listener_);
+  }
+  void TearDown() override {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  void start() {
+    pid_ = ::fork();
+    ASSERT_GE(pid_, 0);
+    if (pid_ == 0) {
+      std::string err = dir_ + "/stderr.log";
+      FILE* f = std::freopen(err.c_str(), "w", stderr);
+      (void)f;
+      std::string bin = std::string(EVADE_BIN_DIR) + "/base_driver";
+      std::string config = std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml";
+      ::execl(bin.c_str(), bin.c_str(), "--config", config.c_str(), "--device", path_.c_str(), "--initial-pose",
+              "1,2,0", static_cast<char*>(nullptr));
+      std::_Exit(127);
+    }
+  }
+  bool alive() { return ::waitpid(pid_, nullptr, WNOHANG) == 0; }
+  std::string log() {
+    std::ifstream in(dir_ + "/stderr.log");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  // Runs LCM and the pty for `ms`: collects command frames, optionally
+  // sends CMD_VEL and motion-status frames every 20 ms.
+  void pump(PtyPeer* base, int ms, double cmd_v = NAN, int16_t status_mm_s = INT16_MIN) {
+    const auto end = Clock::now() + std::chrono::milliseconds(ms);
+    auto next_send = Clock::now();
+    while (Clock::now() < end) {
+      if (Clock::now() >= next_send) {
+        next_send += std::chrono::milliseconds(20);
+        if (!std::isnan(cmd_v)) {
+          evade::cmd_vel_t c{};
+          c.v = cmd_v;
+          lcm_.publish("CMD_VEL", &c);
+        }
+        if (base && status_mm_s != INT16_MIN) base->write(encode(MotionStatus{status_mm_s, 0}, 0));
+      }
+      lcm_.handleTimeout(5);
+      if (base) {
+        auto bytes = base->drain(0);
+        parser_.feed(bytes.data(), bytes.size(), [&](const Frame& f) {
+          MotionCommand mc;
+          if (from_frame(f, &mc)) commands_.push_back(mc);
+        });
+      }
+    }
+  }
+
+  std::string dir_, path_;
+  pid_t pid_ = -1;
+  lcm::LCM lcm_;  // $LCM_DEFAULT_URL, set by tools/netns-run
+  Listener listener_;
+  StreamParser parser_;
+  std::vector<MotionCommand> commands_;
+};
+
+TEST_F(BaseDriverProcess, SurvivesHangUpAndReconnects) {
+  start();
+  pump(nullptr, 400);  // no device yet
+  ASSERT_TRUE(alive());
+
+  auto base = std::make_unique<PtyPeer>(path_);
+  // Commands flow; with no CMD_VEL the watchdog holds them at zero.
+  for (int i = 0; i < 100 && commands_.size() < 5; ++i) pump(base.get(), 50);
+  ASSERT_GE(commands_.size(), 5u);
+  for (const auto& c : commands_) EXPECT_EQ(c.linear_percent, 0);
+
+  // A planner sends 0.3 m/s: the commands ramp up toward 20 % and never exceed it.
+  commands_.clear();
+  pump(base.get(), 600, 0.3, 1000);
+  ASSERT_FALSE(commands_.empty());
+  int8_t highest = 0;
+  for (const auto& c : commands_) highest = std::max(highest, c.linear_percent);
+  EXPECT_GT(highest, 0);
+  EXPECT_LE(highest, linear_percent(0.3));
+  // Motion-status frames became ODOMETRY from the initial pose (1, 2, 0).
+  ASSERT_FALSE(listener_.odometry.empty());
+  EXPECT_DOUBLE_EQ(listener_.odometry.front().x, 1.0);
+  EXPECT_DOUBLE_EQ(listener_.odometry.front().y, 2.0);
+  EXPECT_DOUBLE_EQ(listener_.odometry.back().v, 1.0);
+  EXPECT_GT(listener_.odometry.back().x, 1.0);
+  ASSERT_FALSE(listener_.status.empty());
+  EXPECT_TRUE(listener_.status.back().link_ok);
+
+  // The simulator goes away: master closed, link dangling.
+  base.reset();
+  pump(nullptr, 500);
+  ASSERT_TRUE(alive()) << log();
+  ASSERT_FALSE(listener_.status.empty());
+  EXPECT_FALSE(listener_.status.back().link_ok);
+  EXPECT_DOUBLE_EQ(listener_.odometry.back().v, 0.0);  // considered stopped
+
+  // ... and comes back on a new pty at the same path.
+  base = std::make_unique<PtyPeer>(path_);
+  commands_.clear();
+  parser_.reset();
+  for (int i = 0; i < 100 && commands_.size() < 5; ++i) pump(base.get(), 50);
+  EXPECT_GE(commands_.size(), 5u);
+  pump(base.get(), 200, NAN, 0);
+  EXPECT_TRUE(listener_.status.back().link_ok);
+
+  ASSERT_EQ(::kill(pid_, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid_, &status, 0), pid_);
+  pid_ = -1;
+  EXPECT_TRUE(WIFEXITED(status)) << log();
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  const std::string text = log();
+  EXPECT_NE(text.find("cannot open " + path_ + ": No such file or directory"), std::string::npos) << text;
+  EXPECT_NE(text.find("hang-up"), std::string::npos) << text;
+  EXPECT_NE(text.find("opened " + path_), std::string::npos) << text;
+}
+
+TEST_F(BaseDriverProcess, BadConfigExitsWithStatus2) {
+  std::ofstream(dir_ + "/bad.yaml") << "robot: {}\nbase_driver: {}\n";
+  std::string cmd = std::string(EVADE_BIN_DIR) + "/base_driver --config " + dir_ + "/bad.yaml 2>/dev/null";
+  int rc = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(rc));
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+  cmd = std::string(EVADE_BIN_DIR) + "/base_driver --initial-pose 1,2 2>/dev/null";
+  rc = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+}
+
+}  // namespace
+}  // namespace evade::base
