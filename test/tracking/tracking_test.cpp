@@ -1,0 +1,565 @@
+// Known-answer tests of obstacle parameterization and tracking: minimum
+// bounding ellipses against analytic cases and a brute-force search, grid
+// DBSCAN against the textbook O(n^2) DBSCAN, Kuhn-Munkres against all
+// permutations, and tracks through crossings, dropouts and long clutter runs.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <random>
+#include <set>
+
+#include "bus/memory_bus.h"
+#include "tracking/tracker.h"
+#include "tracking/tracker_core.h"
+
+namespace evade::tracking {
+namespace {
+
+// ------------------------------------------------------------------ MBE
+std::vector<Vec2> cell_corners(const std::vector<std::pair<int, int>>& cells, double res) {
+  std::vector<Vec2> pts;
+  for (auto [r, c] : cells)
+    for (int dr = 0; dr <= 1; ++dr)
+      for (int dc = 0; dc <= 1; ++dc) pts.push_back({(c + dc) * res, (r + dr) * res});
+  return pts;
+}
+
+double max_level(const Ellipse& e, const std::vector<Vec2>& pts) {
+  double m = 0.0;
+  for (const auto& p : pts) m = std::max(m, ellipse_level(e, p));
+  return m;
+}
+
+TEST(Mbe, RectangleCornersGiveTheAnalyticEllipse) {
+  // the minimum ellipse through a w x h rectangle's corners has semi-axes w/sqrt2, h/sqrt2
+  for (double yaw : {0.0, 0.4, -1.2}) {
+    const double w = 1.2, h = 0.4, c = std::cos(yaw), s = std::sin(yaw);
+    std::vector<Vec2> pts;
+    for (double sx : {-1.0, 1.0})
+      for (double sy : {-1.0, 1.0})
+        pts.push_back({2.0 + c * sx * w / 2 - s * sy * h / 2, -1.0 + s * sx * w / 2 + c * sy * h / 2});
+    const Ellipse e = min_bounding_ellipse(pts, MbeOptions{});
+    EXPECT_NEAR(e.cx, 2.0, 1e-6);
+    EXPECT_NEAR(e.cy, -1.0, 1e-6);
+    EXPECT_NEAR(e.a, w / std::sqrt(2.0), 1e-4);
+    EXPECT_NEAR(e.b, h / std::sqrt(2.0), 1e-4);
+    EXPECT_NEAR(wrap_half_pi(e.theta - yaw), 0.0, 1e-4);
+    EXPECT_LE(max_level(e, pts), 1.0 + 1e-9);
+  }
+}
+
+TEST(Mbe, OneCellIsItsCircumcircleALineOfCellsIsThin) {
+  const Ellipse one = min_bounding_ellipse(cell_corners({{3, 4}}, 0.1), MbeOptions{});
+  EXPECT_NEAR(one.a, 0.1 / std::sqrt(2.0), 1e-5);
+  EXPECT_NEAR(one.b, 0.1 / std::sqrt(2.0), 1e-5);
+  EXPECT_NEAR(one.cx, 0.45, 1e-6);
+  EXPECT_NEAR(one.cy, 0.35, 1e-6);
+  std::vector<std::pair<int, int>> line;
+  for (int r = 0; r < 6; ++r) line.push_back({r, 2});  // a column of 6 cells: 0.1 x 0.6 m
+  const Ellipse e = min_bounding_ellipse(cell_corners(line, 0.1), MbeOptions{});
+  EXPECT_NEAR(e.a, 0.6 / std::sqrt(2.0), 1e-4);
+  EXPECT_NEAR(e.b, 0.1 / std::sqrt(2.0), 1e-4);
+  EXPECT_NEAR(std::abs(e.theta), M_PI / 2, 1e-4);
+}
+
+TEST(Mbe, CollinearAndSinglePointsGetAThinEllipse) {
+  MbeOptions opt;
+  opt.min_semi_axis = 0.05;
+  const Ellipse e = min_bounding_ellipse({{0, 0}, {1, 1}, {2, 2}, {0.5, 0.5}}, opt);
+  EXPECT_NEAR(e.cx, 1.0, 1e-12);
+  EXPECT_NEAR(e.cy, 1.0, 1e-12);
+  EXPECT_NEAR(e.a, std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(e.b, 0.05, 1e-12);
+  EXPECT_NEAR(e.theta, M_PI / 4, 1e-12);
+  const Ellipse p = min_bounding_ellipse({{3, 4}}, opt);
+  EXPECT_NEAR(p.cx, 3.0, 1e-12);
+  EXPECT_NEAR(p.a, 0.05, 1e-12);
+}
+
+// Brute force: for a centre, an axis angle and an axis ratio k = b/a, the
+// smallest enclosing a follows directly; search those four parameters with
+// a coarse grid and then shrinking coordinate steps from the best starts.
+double brute_force_min_area(const std::vector<Vec2>& pts) {
+  double mx = 0, my = 0;
+  for (const auto& p : pts) mx += p.x, my += p.y;
+  mx /= pts.size(), my /= pts.size();
+  auto area = [&](const double q[4]) {
+    const double c = std::cos(q[2]), s = std::sin(q[2]), k = q[3];
+    if (k <= 0.01 || k > 1.0) return 1e300;
+    double a2 = 0.0;
+    for (const auto& p : pts) {
+      const double dx = p.x - q[0], dy = p.y - q[1];
+      const double u = c * dx + s * dy, v = (-s * dx + c * dy) / k;
+      a2 = std::max(a2, u * u + v * v);
+    }
+    return M_PI * a2 * k;
+  };
+  std::vector<std::pair<double, std::array<double, 4>>> starts;
+  for (int i = -3; i <= 3; ++i)
+    for (int j = -3; j <= 3; ++j)
+      for (int t = 0; t < 12; ++t)
+        for (double k : {0.2, 0.4, 0.6, 0.8, 1.0}) {
+          std::array<double, 4> q = {mx + 0.03 * i, my + 0.03 * j, M_PI * t / 12, k};
+          starts.push_back({area(q.data()), q});
+        }
+  std::sort(starts.begin(), starts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  double best = 1e300;
+  for (size_t sidx = 0; sidx < 8; ++sidx) {
+    auto q = starts[sidx].second;
+    double f = starts[sidx].first;
+    double step[4] = {0.02, 0.02, 0.1, 0.05};
+    for (int round = 0; round < 60; ++round) {
+      bool improved = true;
+      while (improved) {
+        improved = false;
+        for (int d = 0; d < 4; ++d)
+          for (double sgn : {-1.0, 1.0}) {
+            auto t = q;
+            t[d] += sgn * step[d];
+            const double ft = area(t.data());
+            if (ft < f) f = ft, q = t, improved = true;
+          }
+      }
+      for (double& s : step) s *= 0.7;
+    }
+    best = std::min(best, f);
+  }
+  return best;
+}
+
+TEST(Mbe, RandomSmallClustersMatchBruteForceWithinOnePercent) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 25; ++trial) {
+    // a random 4-connected cluster of 2..7 cells
+    std::set<std::pair<int, int>> cells = {{0, 0}};
+    const int n = 2 + int(rng() % 6);
+    while (int(cells.size()) < n) {
+      auto it = cells.begin();
+      std::advance(it, rng() % cells.size());
+      const int dir = int(rng() % 4);
+      cells.insert({it->first + (dir == 0) - (dir == 1), it->second + (dir == 2) - (dir == 3)});
+    }
+    const auto pts = cell_corners({cells.begin(), cells.end()}, 0.1);
+    const Ellipse e = min_bounding_ellipse(pts, MbeOptions{});
+    const double ours = ellipse_area(e);
+    const double brute = brute_force_min_area(pts);
+    EXPECT_LE(max_level(e, pts), 1.0 + 1e-9) << trial;  // encloses every corner
+    EXPECT_LE(ours, brute * 1.01) << trial;               // no more than 1% above the search's minimum
+    EXPECT_LE(brute, ours * 1.02) << trial;               // and the search is itself close (sanity)
+  }
+}
+
+TEST(Mbe, LargeClusterEnclosesEveryCorner) {
+  std::mt19937 rng(3);
+  std::vector<std::pair<int, int>> cells;
+  for (int i = 0; i < 400; ++i) cells.push_back({int(rng() % 30), int(rng() % 17)});
+  const auto pts = cell_corners(cells, 0.1);
+  int iters = 0;
+  const Ellipse e = min_bounding_ellipse(pts, MbeOptions{}, &iters);
+  EXPECT_LE(max_level(e, pts), 1.0 + 1e-9);
+  EXPECT_LT(iters, MbeOptions{}.max_iterations);  // converged to the tolerance
+}
+
+// --------------------------------------------------------------- DBSCAN
+// Textbook DBSCAN over cell centres, O(n^2).
+std::vector<int> reference_dbscan(const std::vector<std::pair<int, int>>& pts, double eps, int min_pts,
+                                  std::vector<char>* core) {
+  const size_t n = pts.size();
+  auto nb = [&](size_t i) {
+    std::vector<size_t> out;
+    for (size_t j = 0; j < n; ++j) {
+      const double dr = pts[i].first - pts[j].first, dc = pts[i].second - pts[j].second;
+      if (dr * dr + dc * dc <= eps * eps + 1e-9) out.push_back(j);
+    }
+    return out;
+  };
+  core->assign(n, 0);
+  for (size_t i = 0; i < n; ++i) (*core)[i] = int(nb(i).size()) >= min_pts;
+  std::vector<int> label(n, -1);
+  int next = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!(*core)[i] || label[i] >= 0) continue;
+    std::vector<size_t> q = {i};
+    label[i] = next;
+    for (size_t k = 0; k < q.size(); ++k) {
+      if (!(*core)[q[k]]) continue;
+      for (size_t j : nb(q[k]))
+        if (label[j] < 0) label[j] = next, q.push_back(j);
+    }
+    ++next;
+  }
+  return label;
+}
+
+TEST(Dbscan, MatchesTheTextbookAlgorithmOnRandomGrids) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 30; ++trial) {
+    const int w = 40, h = 30;
+    std::vector<int8_t> grid(w * h, 0);
+    for (int k = 0; k < 150; ++k) grid[rng() % grid.size()] = 1;
+    for (int b = 0; b < 4; ++b) {  // plus a few blobs
+      const int r0 = int(rng() % (h - 5)), c0 = int(rng() % (w - 5));
+      for (int r = r0; r < r0 + 4; ++r)
+        for (int c = c0; c < c0 + 4; ++c) grid[r * w + c] = 1;
+    }
+    const double eps = 1.0 + (trial % 3) * 0.8;  // 1, 1.8, 2.6 cells
+    const int min_pts = 2 + trial % 4;
+    GridDbscan db(eps, min_pts);
+    const auto clusters = db.run(grid.data(), w, h);
+    std::vector<std::pair<int, int>> pts;
+    std::map<int, size_t> index_of;
+    for (int i = 0; i < w * h; ++i)
+      if (grid[i]) index_of[i] = pts.size(), pts.push_back({i / w, i % w});
+    std::vector<char> core;
+    const auto ref = reference_dbscan(pts, eps, min_pts, &core);
+    // the same clusters, same order (both start from row-major first core cells)
+    std::vector<int> got(pts.size(), -1);
+    for (size_t k = 0; k < clusters.size(); ++k)
+      for (int32_t cell : clusters[k]) got[index_of[cell]] = int(k);
+    int noise = 0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      EXPECT_EQ(got[i], ref[i]) << "trial " << trial << " cell " << pts[i].first << "," << pts[i].second;
+      noise += ref[i] < 0;
+    }
+    EXPECT_EQ(db.noise_cells(), noise);
+  }
+}
+
+TEST(Dbscan, TwoBlobsAndANoiseCell) {
+  const int w = 20, h = 10;
+  std::vector<int8_t> g(w * h, 0);
+  for (int r = 2; r < 5; ++r)
+    for (int c = 2; c < 5; ++c) g[r * w + c] = 1;
+  for (int r = 5; r < 8; ++r)
+    for (int c = 12; c < 15; ++c) g[r * w + c] = 1;
+  g[9 * w + 19] = 1;
+  GridDbscan db(2.5, 4);
+  const auto cl = db.run(g.data(), w, h);
+  ASSERT_EQ(cl.size(), 2u);
+  EXPECT_EQ(cl[0].size(), 9u);
+  EXPECT_EQ(cl[1].size(), 9u);
+  EXPECT_EQ(db.noise_cells(), 1);
+}
+
+// ---------------------------------------------------------- Kuhn-Munkres
+TEST(KuhnMunkres, OptimalAgainstAllPermutations) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(0.0, 10.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int rows = 1 + int(rng() % 6), cols = 1 + int(rng() % 6);
+    std::vector<double> cost(rows * cols);
+    for (auto& c : cost) c = U(rng);
+    const auto asg = kuhn_munkres(cost, rows, cols);
+    double got = 0.0;
+    std::set<int> used;
+    int assigned = 0;
+    for (int r = 0; r < rows; ++r)
+      if (asg[r] >= 0) {
+        got += cost[r * cols + asg[r]];
+        EXPECT_TRUE(used.insert(asg[r]).second);
+        ++assigned;
+      }
+    EXPECT_EQ(assigned, std::min(rows, cols));
+    // brute force over injective maps of the smaller side
+    double best = 1e300;
+    const int n = std::max(rows, cols);
+    std::vector<int> perm(n);
+    std::iota(perm.begin(), perm.end(), 0);
+    do {
+      double s = 0.0;
+      for (int r = 0; r < rows; ++r)
+        if (perm[r] < cols) s += cost[r * cols + perm[r]];
+      best = std::min(best, s);
+    } while (std::next_permutation(perm.begin(), perm.end()));
+    EXPECT_NEAR(got, best, 1e-9) << rows << "x" << cols;
+  }
+}
+
+// ---------------------------------------------------------------- tracker
+TrackerParams params() {
+  TrackerParams p;  // the values of config/robot.yaml (checked below)
+  return p;
+}
+
+TEST(Config, RobotYamlTrackerSectionLoads) {
+  const auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  const auto p = TrackerParams::from_config(root.section("tracker"));
+  const auto d = params();
+  EXPECT_DOUBLE_EQ(p.eps_m, d.eps_m);
+  EXPECT_EQ(p.min_points, d.min_points);
+  EXPECT_DOUBLE_EQ(p.gate_m, d.gate_m);
+  EXPECT_EQ(p.max_missed_frames, d.max_missed_frames);
+  EXPECT_EQ(p.shape_history, d.shape_history);
+  EXPECT_EQ(p.large_cluster, d.large_cluster);
+}
+
+// A 10 x 10 m grid at 0.1 m with discs painted in (their full footprint).
+struct Scene {
+  double origin_x = -5, origin_y = -5, res = 0.1;
+  int w = 100, h = 100;
+  std::vector<int8_t> cells = std::vector<int8_t>(100 * 100, 0);
+  void disc(double x, double y, double r) {
+    for (int row = 0; row < h; ++row)
+      for (int c = 0; c < w; ++c) {
+        const double cx = origin_x + (c + 0.5) * res, cy = origin_y + (row + 0.5) * res;
+        if (std::hypot(cx - x, cy - y) <= r) cells[row * w + c] = 1;
+      }
+  }
+  void rect(double x0, double y0, double x1, double y1) {
+    for (int row = 0; row < h; ++row)
+      for (int c = 0; c < w; ++c) {
+        const double cx = origin_x + (c + 0.5) * res, cy = origin_y + (row + 0.5) * res;
+        if (cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1) cells[row * w + c] = 1;
+      }
+  }
+  GridView view(int64_t utime) const {
+    GridView g;
+    g.utime = utime;
+    g.origin_x = origin_x;
+    g.origin_y = origin_y;
+    g.resolution = res;
+    g.width = w;
+    g.height = h;
+    g.obstacle = cells.data();
+    return g;
+  }
+};
+
+const TrackedObstacle* nearest(const std::vector<TrackedObstacle>& obs, double x, double y) {
+  const TrackedObstacle* best = nullptr;
+  double d = 1e300;
+  for (const auto& o : obs) {
+    const double dd = std::hypot(o.ellipse.cx - x, o.ellipse.cy - y);
+    if (dd < d) d = dd, best = &o;
+  }
+  return best;
+}
+
+TEST(Tracker, CylinderFootprintGivesACentredEllipseWithAStableId) {
+  Tracker t(params());
+  int64_t id = -1;
+  for (int f = 0; f < 20; ++f) {
+    Scene s;
+    s.disc(1.5, -2.0, 0.3);
+    const auto& obs = t.update(s.view(1'000'000 + f * 100'000));
+    ASSERT_EQ(obs.size(), 1u);
+    EXPECT_NEAR(obs[0].ellipse.cx, 1.5, 0.05);
+    EXPECT_NEAR(obs[0].ellipse.cy, -2.0, 0.05);
+    EXPECT_GE(obs[0].ellipse.b, 0.3);  // encloses the disc's cells
+    EXPECT_LE(obs[0].ellipse.a, 0.3 + 0.1);
+    if (f == 0) id = obs[0].id;
+    EXPECT_EQ(obs[0].id, id);
+    EXPECT_EQ(obs[0].age, f);
+    EXPECT_NEAR(obs[0].shape_variation, 0.0, 1e-12);  // the same cells every frame
+  }
+}
+
+int run_crossing(double sep_y, bool expect_merge_free) {
+  // A moves +x at 1.8 m/s along y = +sep/2, B moves -x along y = -sep/2
+  Tracker t(params());
+  int64_t ida = -1, idb = -1;
+  int frames_with_both = 0;
+  for (int f = 0; f <= 30; ++f) {
+    const double time = f * 0.1;
+    const double xa = -2.7 + 1.8 * time, xb = 2.7 - 1.8 * time;
+    Scene s;
+    s.disc(xa, sep_y / 2, 0.3);
+    s.disc(xb, -sep_y / 2, 0.3);
+    const auto& obs = t.update(s.view(5'000'000 + f * 100'000));
+    if (obs.size() != 2) {
+      EXPECT_FALSE(expect_merge_free) << "frame " << f;
+      continue;
+    }
+    ++frames_with_both;
+    const auto* a = nearest(obs, xa, sep_y / 2);
+    const auto* b = nearest(obs, xb, -sep_y / 2);
+    EXPECT_NE(a, b);
+    if (ida < 0) ida = a->id, idb = b->id;
+    EXPECT_EQ(a->id, ida) << "frame " << f;
+    EXPECT_EQ(b->id, idb) << "frame " << f;
+  }
+  EXPECT_GT(frames_with_both, 20);
+  EXPECT_EQ(t.next_id(), 3);  // no other id was ever handed out
+  return 31 - frames_with_both;
+}
+
+TEST(Tracker, CrossingObstaclesKeepTheirIds) { EXPECT_EQ(run_crossing(1.0, true), 0); }
+
+TEST(Tracker, CrossingObstaclesThatMergeForAFewFramesKeepTheirIds) {
+  // passing 0.5 m apart, centre to centre: the discs touch and DBSCAN sees one cluster for a few frames
+  EXPECT_GE(run_crossing(0.5, false), 2);
+}
+
+TEST(Tracker, PaperAssociationWithoutPredictionAlsoKeepsSeparatedIds) {
+  auto p = params();
+  p.predict_with_velocity = false;
+  Tracker t(p);
+  int64_t ida = -1;
+  for (int f = 0; f <= 30; ++f) {
+    const double x = -2.7 + 1.8 * f * 0.1;  // 0.18 m per frame < d_max
+    Scene s;
+    s.disc(x, 1.0, 0.3);
+    s.disc(-x, -1.0, 0.3);
+    const auto& obs = t.update(s.view(f * 100'000 + 1));
+    ASSERT_EQ(obs.size(), 2u);
+    const auto* a = nearest(obs, x, 1.0);
+    if (ida < 0) ida = a->id;
+    EXPECT_EQ(a->id, ida);
+  }
+}
+
+TEST(Tracker, TracksDropAfterKMissedFramesAndIdsAreNeverReused) {
+  auto p = params();
+  p.max_missed_frames = 5;
+  Tracker t(p);
+  Scene with;
+  with.disc(0.0, 2.0, 0.3);
+  Scene without;
+  int64_t utime = 1'000'000;
+  const int64_t first = t.update(with.view(utime += 100'000))[0].id;
+  for (int k = 1; k <= 5; ++k) {
+    EXPECT_TRUE(t.update(without.view(utime += 100'000)).empty());
+    EXPECT_EQ(t.num_tracks(), 1u) << k;
+  }
+  // back within K frames: same id
+  EXPECT_EQ(t.update(with.view(utime += 100'000))[0].id, first);
+  for (int k = 1; k <= 6; ++k) t.update(without.view(utime += 100'000));
+  EXPECT_EQ(t.num_tracks(), 0u);  // 6 > K missed: gone
+  const int64_t again = t.update(with.view(utime += 100'000))[0].id;
+  EXPECT_GT(again, first);  // same place, new obstacle, new id
+}
+
+TEST(Tracker, LongClutterRunKeepsMemoryBounded) {
+  auto p = params();
+  p.max_tracks = 64;
+  Tracker t(p);
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<double> pos(-4.5, 4.5);
+  size_t max_tracks_seen = 0, max_second_half = 0;
+  for (int f = 0; f < 10'000; ++f) {
+    Scene s;
+    const int n = int(rng() % 12);
+    for (int k = 0; k < n; ++k) s.disc(pos(rng), pos(rng), 0.15 + 0.2 * (rng() % 3));
+    for (int k = 0; k < 30; ++k) s.cells[rng() % s.cells.size()] = 1;  // speckle
+    t.update(s.view(1 + int64_t(f) * 100'000));
+    max_tracks_seen = std::max(max_tracks_seen, t.num_tracks());
+    if (f >= 5000) max_second_half = std::max(max_second_half, t.num_tracks());
+  }
+  // at most 12 detections a frame, each track lives at most K + 1 frames unseen
+  EXPECT_LE(max_tracks_seen, size_t(12 * (p.max_missed_frames + 1)));
+  EXPECT_LE(max_tracks_seen, size_t(p.max_tracks));
+  EXPECT_LE(max_second_half, max_tracks_seen);
+  EXPECT_GT(t.next_id(), 10'000);  // ids kept growing, none reused, no overflow at 100 labels
+}
+
+TEST(Tracker, TrackTableNeverExceedsItsLimit) {
+  auto p = params();
+  p.max_tracks = 5;
+  Tracker t(p);
+  Scene s;
+  for (int k = 0; k < 9; ++k) s.disc(-4 + k, 0, 0.2);
+  const auto& obs = t.update(s.view(100));
+  EXPECT_EQ(obs.size(), 5u);
+  EXPECT_EQ(t.num_tracks(), 5u);
+  EXPECT_EQ(t.stats().over_track_limit, 4);
+}
+
+TEST(ShapeVariation, KnownAnswers) {
+  std::deque<Ellipse> h;
+  for (int i = 0; i < 4; ++i) h.push_back(Ellipse{0, 0, i % 2 ? 1.2 : 1.0, 0.5, 0.3});
+  // a alternates 1.0, 1.2: mean 1.1, four deviations of 0.1 -> 0.04 / (4 - 1)
+  EXPECT_NEAR(shape_variation(h, ThetaVariation::kRaw), 0.04 / 3, 1e-12);
+  EXPECT_NEAR(shape_variation(h, ThetaVariation::kBoundary), 0.04 / 3, 1e-12);
+  // theta is an axis: -pi/2 + 0.05 and pi/2 - 0.05 are 0.1 rad apart, not 3.04
+  std::deque<Ellipse> t = {Ellipse{0, 0, 1.0, 0.5, -M_PI / 2 + 0.05}, Ellipse{0, 0, 1.0, 0.5, M_PI / 2 - 0.05}};
+  EXPECT_NEAR(shape_variation(t, ThetaVariation::kRaw), 2 * 0.05 * 0.05, 1e-12);
+  EXPECT_NEAR(shape_variation(t, ThetaVariation::kBoundary), 2 * 0.025 * 0.025, 1e-12);
+  // a circle's axis is meaningless: with kBoundary its jitter costs nothing
+  std::deque<Ellipse> c = {Ellipse{0, 0, 0.3, 0.3, 0.0}, Ellipse{0, 0, 0.3, 0.3, 1.0}};
+  EXPECT_NEAR(shape_variation(c, ThetaVariation::kBoundary), 0.0, 1e-12);
+  EXPECT_GT(shape_variation(c, ThetaVariation::kRaw), 0.4);
+  EXPECT_EQ(shape_variation(std::deque<Ellipse>(1), ThetaVariation::kRaw), 0.0);
+}
+
+TEST(ShapeVariation, UsesOnlyTheLastMFrames) {
+  auto p = params();
+  p.shape_history = 4;
+  Tracker t(p);
+  for (int f = 0; f < 12; ++f) {
+    Scene s;
+    s.disc(0.0, 0.0, f < 6 ? 0.5 : 0.3);  // a changes at frame 6, then stays
+    const auto& obs = t.update(s.view(1 + f * 100'000));
+    ASSERT_EQ(obs.size(), 1u);
+    if (f == 6) {
+      EXPECT_GT(obs[0].shape_variation, 0.001);
+    }
+    if (f >= 9) {
+      EXPECT_NEAR(obs[0].shape_variation, 0.0, 1e-12) << f;
+    }
+  }
+}
+
+TEST(Tracker, LargeClustersFollowThePolicy) {
+  Scene wall;
+  wall.rect(-3.0, 1.0, 2.0, 1.2);  // a 5 m wall
+  auto p = params();
+  p.large_cluster = LargeClusterPolicy::kKeep;
+  {
+    Tracker t(p);
+    const auto& o = t.update(wall.view(1));
+    ASSERT_EQ(o.size(), 1u);
+    EXPECT_GT(o[0].ellipse.a, 2.5);
+  }
+  p.large_cluster = LargeClusterPolicy::kDrop;
+  {
+    Tracker t(p);
+    EXPECT_TRUE(t.update(wall.view(1)).empty());
+    EXPECT_EQ(t.stats().large_dropped, 1);
+  }
+  p.large_cluster = LargeClusterPolicy::kSplit;
+  p.split_tile_m = 1.5;
+  {
+    Tracker t(p);
+    const auto& o = t.update(wall.view(1));
+    EXPECT_EQ(o.size(), 4u);  // x tiles [-4.5,-3), [-3,-1.5), [-1.5,0), [0,1.5), [1.5,3) minus the empty first
+    for (const auto& e : o) EXPECT_LT(e.ellipse.a, 1.5);
+  }
+}
+
+// ---------------------------------------------------------------- core
+TEST(Core, PublishesObstaclesStampedWithTheMapTime) {
+  bus::MemoryBus bus;
+  TrackerCore core(params());
+  bus.add(core);
+  Scene s;
+  s.disc(1.0, 1.0, 0.3);
+  evade::grid_map_t m;
+  m.utime = 4242;
+  m.origin[0] = s.origin_x;
+  m.origin[1] = s.origin_y;
+  m.resolution = s.res;
+  m.width = s.w;
+  m.height = s.h;
+  m.robot_x = m.robot_y = m.robot_yaw = 0;
+  m.elevation.assign(s.h, std::vector<float>(s.w, 0.0f));
+  m.obstacle.resize(s.h);
+  for (int r = 0; r < s.h; ++r) m.obstacle[r].assign(s.cells.begin() + r * s.w, s.cells.begin() + (r + 1) * s.w);
+  bus.inject("ELEVATION_MAP", m, 10'000);
+  auto out = bus.decoded<evade::obstacle_list_t>("OBSTACLES");
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].utime, 4242);
+  ASSERT_EQ(out[0].num_obstacles, 1);
+  EXPECT_EQ(out[0].obstacles[0].id, 1);
+  EXPECT_NEAR(out[0].obstacles[0].x, 1.0, 0.05);
+  EXPECT_GE(out[0].obstacles[0].a, out[0].obstacles[0].b);
+  m.resolution = -1;  // malformed: counted, skipped
+  bus.inject("ELEVATION_MAP", m, 20'000);
+  EXPECT_EQ(core.counter("map_invalid"), 1);
+  EXPECT_EQ(bus.decoded<evade::obstacle_list_t>("OBSTACLES").size(), 1u);
+}
+
+}  // namespace
+}  // namespace evade::tracking
