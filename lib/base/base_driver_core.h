@@ -74,6 +74,9 @@ class BaseDriverCore : public bus::Core {
   void on_link_lost(const std::string& reason);
   // Bytes queued for the port since the last call.
   std::vector<uint8_t> take_tx();
+  // Serial-side events the I/O owner counts in this core's HEALTH
+  // (serial_open_failures, serial_tx_dropped_bytes, serial_ports_leaked).
+  void count_link_event(const std::string& counter, int64_t n = 1) { count(counter, n); }
 
   // ---- state, for tests and logs ----
   const Pose2& pose() const { return pose_; }

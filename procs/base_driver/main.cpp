@@ -39,6 +39,18 @@ int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
 
   std::vector<uint8_t> rx;
   int registered_fd = -1;
+  uint64_t leaked_reported = 0;
+  uint64_t dropped_reported = 0;
+  // Mirrors the link's own tallies into HEALTH counters.
+  auto report_link_counters = [&](int64_t now) {
+    if (link.leaked_ports() == leaked_reported && link.dropped_tx_bytes() == dropped_reported) return;
+    core.input(now, [&] {
+      core.count_link_event("serial_ports_leaked", static_cast<int64_t>(link.leaked_ports() - leaked_reported));
+      core.count_link_event("serial_tx_dropped_bytes", static_cast<int64_t>(link.dropped_tx_bytes() - dropped_reported));
+    });
+    leaked_reported = link.leaked_ports();
+    dropped_reported = link.dropped_tx_bytes();
+  };
   std::string last_error;
   int64_t last_error_log = 0;
 
@@ -48,6 +60,7 @@ int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
     std::fprintf(stderr, "%s: serial link lost: %s; reopening in %.2f s\n", kName, why.c_str(),
                  (link.next_attempt() - now) * 1e-6);
     core.input(now, [&] { core.on_link_lost(why); });
+    report_link_counters(now);
     live.wake_at(link.next_attempt());
   };
   auto on_readable = [&](int64_t now) {
@@ -76,6 +89,8 @@ int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
           last_error_log = now;
         }
         last_error = message;
+        core.input(now, [&] { core.count_link_event("serial_open_failures"); });
+        report_link_counters(now);
         live.wake_at(link.next_attempt());
         break;
       default:
@@ -88,6 +103,7 @@ int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
       const int64_t t = bus::wall_utime();
       std::string why;
       if (!link.write(t, tx.data(), tx.size(), &why)) lost(t, why);
+      report_link_counters(t);
     }
   }
   if (link.dropped_tx_bytes() > 0)

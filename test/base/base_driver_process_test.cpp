@@ -12,12 +12,14 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <thread>
 
 #include "base/scout_protocol.h"
 #include "evade/base_status_t.hpp"
 #include "evade/cmd_vel_t.hpp"
+#include "evade/health_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "pty_peer.h"
 
@@ -31,6 +33,11 @@ class Listener {
  public:
   void on_odometry(const lcm::ReceiveBuffer*, const std::string&, const evade::odometry_t* m) { odometry.push_back(*m); }
   void on_status(const lcm::ReceiveBuffer*, const std::string&, const evade::base_status_t* m) { status.push_back(*m); }
+  void on_health(const lcm::ReceiveBuffer*, const std::string&, const evade::health_t* m) {
+    if (m->name != "base_driver") return;
+    for (const auto& c : m->counters) counters[c.name] = c.value;
+  }
+  std::map<std::string, int64_t> counters;  // latest base_driver HEALTH counters
   std::vector<evade::odometry_t> odometry;
   std::vector<evade::base_status_t> status;
 };
@@ -45,6 +52,7 @@ class BaseDriverProcess : public ::testing::Test {
     ASSERT_TRUE(lcm_.good());
     lcm_.subscribe("ODOMETRY", &Listener::on_odometry, &listener_);
     lcm_.subscribe("BASE_STATUS", &Listener::on_status, &listener_);
+    lcm_.subscribe("HEALTH", &Listener::on_health, &listener_);
   }
   void TearDown() override {
     if (pid_ > 0) {
@@ -151,6 +159,13 @@ TEST_F(BaseDriverProcess, SurvivesHangUpAndReconnects) {
   EXPECT_GE(commands_.size(), 5u);
   pump(base.get(), 200, NAN, 0);
   EXPECT_TRUE(listener_.status.back().link_ok);
+  // HEALTH (1 Hz) tells the story: open failures, one leaked libserial
+  // port (its Close() threw after the hang-up), frames parsed.
+  for (int i = 0; i < 30 && listener_.counters["serial_ports_leaked"] < 1; ++i) pump(base.get(), 100, NAN, 0);
+  EXPECT_EQ(listener_.counters["serial_ports_leaked"], 1);
+  EXPECT_GE(listener_.counters["serial_open_failures"], 1);
+  EXPECT_GE(listener_.counters["link_lost"], 1);
+  EXPECT_GT(listener_.counters["motion_status_frames"], 0);
 
   ASSERT_EQ(::kill(pid_, SIGTERM), 0);
   int status = 0;
