@@ -12,7 +12,7 @@ struct FilterParams {
   // Initial state uncertainty of a new track: velocity and acceleration are
   // unknown at birth, so they start at zero with these standard deviations
   // (no two-point velocity spike from a single noisy frame difference).
-  double init_speed_std_mps = 1.5;
+  double init_speed_std_mps = 1.0;
   double init_accel_std_mps2 = 0.2;
   // Process noise Q, continuous-time spectral densities; discretised for the
   // actual frame interval (white jerk drives the (p, v, a) chain of each axis,
@@ -46,7 +46,7 @@ struct UncertaintyParams {
 };
 
 struct LimitParams {
-  double max_speed_mps = 3.0;       // predicted speed is clipped to this
+  double max_speed_mps = 5.0;       // predicted speed is clipped to this
   double max_accel_mps2 = 1.5;      // predicted acceleration magnitude is clipped to this
 };
 

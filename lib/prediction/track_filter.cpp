@@ -89,8 +89,8 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
   x_(kB) = z.b;
   x_(kTheta) = wrap_half_pi(z.theta);
   P_.setZero();
-  // Position: the worst case of the adaptive range (one frame says nothing about shape stability).
-  P_(kX, kX) = P_(kY, kY) = params.adaptive.r_pos_max_m2;
+  // Position: the noise of one steady MBE (R_p,min); the shape window fills from here.
+  P_(kX, kX) = P_(kY, kY) = params.adaptive.r_pos_min_m2;
   P_(kA, kA) = P_(kB, kB) = f.r_axis_m2;
   P_(kTheta, kTheta) = f.r_theta_rad2 + f.r_axis_m2 / std::pow(std::max(std::fabs(z.a - z.b), f.orientation_min_elongation_m), 2);
   P_(kVx, kVx) = P_(kVy, kVy) = f.init_speed_std_mps * f.init_speed_std_mps;

@@ -1,0 +1,174 @@
+// The 9-state filter: the paper's A and H in our state order, the sparse
+// propagation, the adaptive position noise law, and pi-periodic orientation.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+
+#include "prediction/track_filter.h"
+#include "scenario.h"
+
+namespace evade::prediction {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The paper's printed A, for ITS state order (x, y, vx, vy, ax, ay, a, b, theta).
+Covariance paper_printed_A(double T) {
+  Covariance A = Covariance::Identity();
+  A(0, 2) = T; A(0, 4) = T * T / 2;
+  A(1, 3) = T; A(1, 5) = T * T / 2;
+  A(2, 4) = T;
+  A(3, 5) = T;
+  return A;
+}
+
+TEST(Filter, TransitionMatrixIsThePapersAInOurStateOrder) {
+  const double T = 0.137;
+  // paper index of each of our states (x, y, a, b, theta, vx, vy, ax, ay)
+  const int paper_of[9] = {0, 1, 6, 7, 8, 2, 3, 4, 5};
+  const Covariance ours = transition_matrix(T);
+  const Covariance paper = paper_printed_A(T);
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j) EXPECT_DOUBLE_EQ(ours(i, j), paper(paper_of[i], paper_of[j])) << i << "," << j;
+}
+
+TEST(Filter, SparsePropagationEqualsDenseProducts) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n01;
+  Eigen::Matrix<double, 9, 9> L;
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j) L(i, j) = n01(rng);
+  Covariance P = L * L.transpose();
+  State x;
+  for (int i = 0; i < 9; ++i) x(i) = n01(rng);
+  const double dt = 0.083;
+  testing::default_params();
+  FilterParams fp;
+  const Covariance Q = process_noise(fp, dt);
+  const Covariance A = transition_matrix(dt);
+  const State x_dense = A * x;
+  const Covariance P_dense = A * P * A.transpose() + Q;
+  propagate(&x, &P, Q, dt);
+  EXPECT_LT((x - x_dense).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((P - P_dense).cwiseAbs().maxCoeff(), 1e-11);
+}
+
+TEST(Filter, ProcessNoiseScalesWithTheInterval) {
+  FilterParams fp;
+  const Covariance q1 = process_noise(fp, 0.1), q2 = process_noise(fp, 0.2);
+  EXPECT_NEAR(q2(kVx, kVx) / q1(kVx, kVx), 8.0, 1e-12);   // dt^3 / 3
+  EXPECT_NEAR(q2(kX, kX) / q1(kX, kX), 32.0, 1e-12);      // dt^5 / 20
+  EXPECT_NEAR(q2(kA, kA) / q1(kA, kA), 2.0, 1e-12);       // random walk
+  EXPECT_EQ(q1(kX, kY), 0.0);
+}
+
+TEST(Filter, WrapHalfPi) {
+  EXPECT_NEAR(wrap_half_pi(0.3), 0.3, 1e-15);
+  EXPECT_NEAR(wrap_half_pi(0.3 + kPi), 0.3, 1e-12);
+  EXPECT_NEAR(wrap_half_pi(0.3 - 3 * kPi), 0.3, 1e-12);
+  EXPECT_NEAR(wrap_half_pi(kPi / 2 + 0.1), -kPi / 2 + 0.1, 1e-12);
+  EXPECT_NEAR(wrap_half_pi(-kPi / 2), -kPi / 2, 1e-15);
+  EXPECT_NEAR(wrap_half_pi(kPi / 2), -kPi / 2, 1e-15);
+}
+
+TEST(Filter, AdaptivePositionVarianceFollowsThePaper) {
+  AdaptiveNoiseParams p;
+  p.kappa = 5.5;
+  p.gamma = 1.3;
+  p.xi_min_m2 = 0.001;
+  p.xi_max_m2 = 0.1;
+  p.r_pos_min_m2 = 0.002;
+  p.r_pos_max_m2 = 0.5;
+  double k = -1;
+  EXPECT_DOUBLE_EQ(adaptive_position_variance(0.0, p, &k), p.r_pos_min_m2);
+  EXPECT_EQ(k, 0.0);
+  EXPECT_NEAR(adaptive_position_variance(1e-6, p, &k), p.r_pos_min_m2, 1e-15);
+  EXPECT_EQ(k, 0.0);
+  EXPECT_NEAR(adaptive_position_variance(10.0, p, &k), p.r_pos_max_m2, 1e-15);
+  EXPECT_EQ(k, 1.0);
+  // Xi_p = kappa Xi_eta^gamma = sqrt(Xi_min Xi_max) = 0.01 gives k = 1/2, R_p = sqrt(R_min R_max).
+  const double xi_eta = std::pow(0.01 / 5.5, 1.0 / 1.3);
+  EXPECT_NEAR(adaptive_position_variance(xi_eta, p, &k), std::sqrt(0.002 * 0.5), 1e-12);
+  EXPECT_NEAR(k, 0.5, 1e-12);
+  // monotone in Xi_eta
+  double prev = 0;
+  for (int i = 1; i < 200; ++i) {
+    const double r = adaptive_position_variance(1e-4 * i, p, nullptr);
+    EXPECT_GE(r, prev);
+    prev = r;
+  }
+}
+
+Measurement mbe(double x, double y, double a, double b, double theta) {
+  Measurement z;
+  z.x = x; z.y = y; z.a = a; z.b = b; z.theta = theta;
+  return z;
+}
+
+// An elongated ellipse lying along +-pi/2 whose measured orientation jitters
+// across the wrap: the estimate must stay near +-pi/2, never drift towards 0.
+TEST(Filter, OrientationIsPiPeriodicAcrossTheWrap) {
+  const PredictorParams params = testing::default_params();
+  std::mt19937 rng(11);
+  std::normal_distribution<double> jitter(0.0, 0.05);
+  TrackFilter f(params, mbe(0, 0, 0.8, 0.2, kPi / 2 - 0.01));
+  for (int i = 0; i < 60; ++i) {
+    const double measured = wrap_half_pi(kPi / 2 + jitter(rng));
+    f.predict(0.1);
+    f.update(mbe(0, 0, 0.8, 0.2, measured));
+    const double err = wrap_half_pi(f.state()(kTheta) - kPi / 2);
+    EXPECT_LT(std::fabs(err), 0.1) << "frame " << i << " theta " << f.state()(kTheta);
+    EXPECT_GE(f.state()(kTheta), -kPi / 2);
+    EXPECT_LT(f.state()(kTheta), kPi / 2);
+  }
+}
+
+// A near-circle whose MBE flips between (a, b, theta) and (b, a, theta + pi/2):
+// the same ellipse, so the shape estimate must not jump and Xi_eta stays small.
+TEST(Filter, AxisSwapOfTheSameEllipseIsNotAShapeChange) {
+  const PredictorParams params = testing::default_params();
+  TrackFilter f(params, mbe(1, 2, 0.41, 0.39, 0.2));
+  for (int i = 0; i < 30; ++i) {
+    f.predict(0.1);
+    const UpdateInfo info = (i % 2) ? f.update(mbe(1, 2, 0.41, 0.39, 0.2)) : f.update(mbe(1, 2, 0.39, 0.41, 0.2 - kPi / 2));
+    EXPECT_EQ(info.swapped_axes, i % 2 == 0);
+    EXPECT_LT(info.xi_eta, 1e-6);
+    EXPECT_NEAR(f.state()(kA), 0.41, 1e-3);
+    EXPECT_NEAR(f.state()(kB), 0.39, 1e-3);
+  }
+}
+
+// Own Xi_eta is the paper's sample variance over the window: known answer.
+TEST(Filter, OwnShapeVariationKnownAnswer) {
+  PredictorParams params = testing::default_params();
+  params.adaptive.window_frames = 4;
+  TrackFilter f(params, mbe(0, 0, 1.0, 0.5, 0.0));
+  // window after 3 updates: a = 1.0, 1.2, 1.0, 1.2 (b, theta constant)
+  for (double a : {1.2, 1.0, 1.2}) {
+    f.predict(0.1);
+    f.update(mbe(0, 0, a, 0.5, 0.0));
+  }
+  // mean 1.1, sum of squares 4 * 0.01, divided by m - 1 = 3
+  EXPECT_NEAR(f.own_shape_variation(), 0.04 / 3.0, 1e-12);
+  // ring buffer: two more frames at a = 1.0 replace the two oldest (1.0, 1.2)
+  for (int i = 0; i < 2; ++i) {
+    f.predict(0.1);
+    f.update(mbe(0, 0, 1.0, 0.5, 0.0));
+  }
+  // window 1.0, 1.2, 1.0, 1.0 -> mean 1.05, squares 3*0.0025 + 0.0225 = 0.03
+  EXPECT_NEAR(f.own_shape_variation(), 0.03 / 3.0, 1e-12);
+}
+
+TEST(Filter, NewTrackStartsAtRestWithWideVelocityCovariance) {
+  const PredictorParams params = testing::default_params();
+  TrackFilter f(params, mbe(3, 4, 0.5, 0.3, 0.1));
+  EXPECT_EQ(f.state()(kVx), 0.0);
+  EXPECT_EQ(f.state()(kVy), 0.0);
+  EXPECT_NEAR(f.covariance()(kVx, kVx), std::pow(params.filter.init_speed_std_mps, 2), 1e-12);
+  EXPECT_NEAR(f.state()(kX), 3.0, 1e-15);
+}
+
+}  // namespace
+}  // namespace evade::prediction
