@@ -17,7 +17,6 @@ constexpr int64_t kMaxSensorStepUs = 1'000'000;
 constexpr int64_t kHourUs = vlp16::kMicrosPerHour;
 // VLP-16 position packets (GPS/PPS status) are 512-byte payloads on port 8308.
 constexpr size_t kVlp16PositionPacketSize = 512;
-constexpr size_t kExpectedPointsPerRevolution = 32768;
 
 // Last firing of a packet after its first, us: a packet leaves the sensor
 // after its last firing, so this is how far its receive time lags the
@@ -56,14 +55,17 @@ LidarDecoder::LidarDecoder(const LidarDecoderParams& params, CountFn count)
 }
 
 void LidarDecoder::start_revolution() {
+  // Room for as many points as the last revolution had: one allocation per
+  // array and revolution in steady state.
+  const size_t expected = rel_us_.size() + rel_us_.size() / 8;
   rev_ = Revolution{};
-  rev_.cloud.x.reserve(kExpectedPointsPerRevolution);
-  rev_.cloud.y.reserve(kExpectedPointsPerRevolution);
-  rev_.cloud.z.reserve(kExpectedPointsPerRevolution);
-  rev_.cloud.intensity.reserve(kExpectedPointsPerRevolution);
-  rev_.cloud.ring.reserve(kExpectedPointsPerRevolution);
+  rev_.cloud.x.reserve(expected);
+  rev_.cloud.y.reserve(expected);
+  rev_.cloud.z.reserve(expected);
+  rev_.cloud.intensity.reserve(expected);
+  rev_.cloud.ring.reserve(expected);
   rel_us_.clear();
-  rel_us_.reserve(kExpectedPointsPerRevolution);
+  rel_us_.reserve(expected);
   anchored_ = false;
 }
 

@@ -1,0 +1,6 @@
+// libFuzzer target: VLP-16 packets (see fuzz_lidar_common.h).
+#include "fuzz_lidar_common.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  return evade::sensing::fuzz::fuzz_lidar(evade::sensing::LidarModel::kVlp16, data, size);
+}
