@@ -19,8 +19,8 @@ enum class LargeClusterPolicy { kKeep, kDrop, kSplit };
 enum class ThetaVariation { kRaw, kBoundary };
 
 struct TrackerParams {
-  double eps_m = 0.25;         // DBSCAN neighbourhood radius
-  int min_points = 4;          // DBSCAN minPts (the cell itself included)
+  double eps_m = 0.15;         // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
+  int min_points = 3;          // DBSCAN minPts (the cell itself included)
   double gate_m = 0.8;         // d_max: farthest centre distance accepted as the same obstacle
   int max_missed_frames = 5;   // K: a track unseen for more frames is dropped
   int shape_history = 10;      // m: frames in the shape-variation window
