@@ -1,0 +1,288 @@
+#include "planning/ceres_solver.h"
+
+#include <ceres/ceres.h>
+#include <ceres/jet.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+namespace evade::planning {
+namespace {
+
+// One constraint in the inner problem: index j and how it enters.
+struct ActiveConstraint {
+  int j;
+  bool elastic;  // quadratic penalty on the violation instead of the AL term
+};
+
+// All residuals of one inner problem in one block over the 2N controls,
+// differentiated in forward mode with ceres::Jet (one pass, one derivative
+// slot per control).
+class InnerCost : public ceres::CostFunction {
+ public:
+  InnerCost(const Problem& pb, std::vector<ActiveConstraint> active, const std::vector<double>& lambda, double rho,
+            double elastic_penalty, double cost_weight = 1.0)
+      : pb_(pb), active_(std::move(active)), lambda_(lambda), rho_(rho), mu_(elastic_penalty),
+        cost_scale_(std::sqrt(cost_weight)) {
+    set_num_residuals(num_cost_residuals(pb) + static_cast<int>(active_.size()));
+    mutable_parameter_block_sizes()->push_back(pb.num_controls());
+  }
+
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
+    const double* u = params[0];
+    if (jacobians == nullptr || jacobians[0] == nullptr) return evaluate_plain(u, residuals);
+    const int n = pb_.num_controls();
+    if (n <= 16) return evaluate_jet<16>(u, residuals, jacobians[0]);
+    if (n <= 32) return evaluate_jet<32>(u, residuals, jacobians[0]);
+    if (n <= 50) return evaluate_jet<50>(u, residuals, jacobians[0]);
+    if (n <= 64) return evaluate_jet<64>(u, residuals, jacobians[0]);
+    if (n <= 128) return evaluate_jet<128>(u, residuals, jacobians[0]);
+    return false;  // horizon beyond what the config allows
+  }
+
+ private:
+  // The residual of constraint value g: AL term or elastic penalty.
+  template <class T>
+  T constraint_residual(const ActiveConstraint& c, const T& g) const {
+    if (c.elastic) {
+      if (value_of(g) >= 0) return T(0.0);
+      return -std::sqrt(mu_) * g;
+    }
+    const T t = lambda_[c.j] / rho_ - g;
+    if (value_of(t) <= 0) return T(0.0);
+    return std::sqrt(rho_) * t;
+  }
+
+  bool evaluate_plain(const double* u, double* residuals) const {
+    std::vector<double> xs(3 * (pb_.N + 1));
+    rollout(pb_, u, xs.data());
+    cost_residuals(pb_, xs.data(), u, residuals);
+    for (int i = 0; i < num_cost_residuals(pb_); ++i) residuals[i] *= cost_scale_;
+    double* r = residuals + num_cost_residuals(pb_);
+    for (size_t i = 0; i < active_.size(); ++i)
+      r[i] = constraint_residual(active_[i], constraint(pb_, xs.data(), u, active_[i].j));
+    return std::isfinite(residuals[0]);
+  }
+
+  template <int S>
+  bool evaluate_jet(const double* u, double* residuals, double* jac) const {
+    using J = ceres::Jet<double, S>;
+    const int n = pb_.num_controls();
+    std::vector<J> uj(n), xs(3 * (pb_.N + 1));
+    for (int i = 0; i < n; ++i) uj[i] = J(u[i], i);
+    rollout(pb_, uj.data(), xs.data());
+    const int nc = num_cost_residuals(pb_);
+    std::vector<J> r(nc + active_.size());
+    cost_residuals(pb_, xs.data(), uj.data(), r.data());
+    for (int i = 0; i < nc; ++i) r[i] *= cost_scale_;
+    for (size_t i = 0; i < active_.size(); ++i)
+      r[nc + i] = constraint_residual(active_[i], constraint(pb_, xs.data(), uj.data(), active_[i].j));
+    for (size_t row = 0; row < r.size(); ++row) {
+      residuals[row] = r[row].a;
+      double* jr = jac + row * n;
+      for (int i = 0; i < n; ++i) jr[i] = r[row].v[i];
+    }
+    return true;
+  }
+
+  const Problem& pb_;
+  std::vector<ActiveConstraint> active_;
+  const std::vector<double>& lambda_;
+  double rho_;
+  double mu_;
+  double cost_scale_;
+};
+
+// A control within this fraction of its range from a bound counts as on it.
+constexpr double kAtBound = 1e-9;
+
+bool all_finite(const std::vector<double>& v) {
+  return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+}
+
+// Lower and upper bound of control i: the box, and for k = 0 also the rate
+// limits from the measured controls (a plain box on u_0, so it is exact).
+void control_bounds(const Problem& pb, int i, double* lo, double* hi) {
+  const bool is_v = i % 2 == 0;
+  *lo = is_v ? pb.lim.v_min : -pb.lim.omega_max;
+  *hi = is_v ? pb.lim.v_max : pb.lim.omega_max;
+  if (i < 2) {
+    const double prev = std::clamp(is_v ? pb.v_prev : pb.omega_prev, *lo, *hi);
+    *lo = std::max(*lo, prev - (is_v ? pb.lim.decel : pb.lim.alpha) * pb.dt);
+    *hi = std::min(*hi, prev + (is_v ? pb.lim.accel : pb.lim.alpha) * pb.dt);
+  }
+}
+
+void set_bounds(const Problem& pb, ceres::Problem* problem, double* u) {
+  for (int i = 0; i < pb.num_controls(); ++i) {
+    double lo, hi;
+    control_bounds(pb, i, &lo, &hi);
+    problem->SetParameterLowerBound(u, i, lo);
+    problem->SetParameterUpperBound(u, i, hi);
+  }
+}
+
+ceres::Solver::Options inner_options(const SolverOptions& o, int max_iterations) {
+  ceres::Solver::Options opt;
+  opt.linear_solver_type = o.dense_qr ? ceres::DENSE_QR : ceres::DENSE_NORMAL_CHOLESKY;
+  opt.max_num_iterations = max_iterations;
+  opt.function_tolerance = o.inner_function_tolerance;
+  opt.parameter_tolerance = o.inner_parameter_tolerance;
+  opt.minimizer_progress_to_stdout = false;
+  opt.logging_type = ceres::SILENT;
+  opt.num_threads = 1;
+  return opt;
+}
+
+// Fills cost, violation, barrier and finiteness of r from r.u.
+void finish(const Problem& pb, const SolverOptions& o, SolveResult* r) {
+  std::vector<double> g;
+  evaluate_constraints(pb, r->u.data(), &r->states, &g);
+  r->max_violation = 0;
+  for (double v : g) r->max_violation = std::max(r->max_violation, -v);
+  r->cost = objective(pb, r->u.data());
+  r->min_barrier = min_barrier(pb, r->states);
+  r->finite = all_finite(r->u) && all_finite(r->states) && std::isfinite(r->cost) && std::isfinite(r->max_violation);
+  r->feasible = r->finite && r->max_violation <= o.constraint_tolerance;
+}
+
+// Indices of the controls sitting on a bound with the inner objective's
+// gradient pointing out of the box.
+std::vector<int> held_at_bounds(const Problem& pb, const ceres::CostFunction& cost, const std::vector<double>& u) {
+  const int n = pb.num_controls(), nr = cost.num_residuals();
+  std::vector<double> r(nr), jac(static_cast<size_t>(nr) * n), grad(n, 0.0);
+  const double* params[] = {u.data()};
+  double* jacs[] = {jac.data()};
+  std::vector<int> held;
+  if (!cost.Evaluate(params, r.data(), jacs)) return held;
+  for (int row = 0; row < nr; ++row)
+    for (int i = 0; i < n; ++i) grad[i] += r[row] * jac[static_cast<size_t>(row) * n + i];
+  for (int i = 0; i < n; ++i) {
+    double lo, hi;
+    control_bounds(pb, i, &lo, &hi);
+    const double eps = kAtBound * std::max(1.0, hi - lo);
+    if ((u[i] <= lo + eps && grad[i] > 0) || (u[i] >= hi - eps && grad[i] < 0)) held.push_back(i);
+  }
+  return held;
+}
+
+// One inner solve: bounds as parameter bounds, controls pushed against a
+// bound held there (see held_at_bounds). Takes ownership of cost. Returns
+// the Ceres iterations used.
+int run_inner(const Problem& pb, const SolverOptions& o, ceres::CostFunction* cost, std::vector<double>* u,
+              int max_iterations) {
+  const int n = pb.num_controls();
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, u->data());
+  set_bounds(pb, &problem, u->data());
+  // Controls on a bound that the gradient pushes outward are held there
+  // for this inner solve (an active set): Ceres' projected trust-region
+  // steps on such coordinates make the model's predicted decrease wrong
+  // and the steps collapse. Coordinates freed or caught later are
+  // re-examined at the next call.
+  const std::vector<int> held = held_at_bounds(pb, *cost, *u);
+  if (static_cast<int>(held.size()) >= n) return 0;
+  if (!held.empty()) problem.SetManifold(u->data(), new ceres::SubsetManifold(n, held));
+  ceres::Solver::Summary summary;
+  ceres::Solve(inner_options(o, max_iterations), &problem, &summary);
+  return summary.num_successful_steps + summary.num_unsuccessful_steps;
+}
+
+}  // namespace
+
+void project_controls(const Problem& pb, std::vector<double>* u) {
+  u->resize(pb.num_controls(), 0.0);
+  double v_prev = std::clamp(pb.v_prev, pb.lim.v_min, pb.lim.v_max);
+  double w_prev = std::clamp(pb.omega_prev, -pb.lim.omega_max, pb.lim.omega_max);
+  for (int k = 0; k < pb.N; ++k) {
+    double& v = (*u)[2 * k];
+    double& w = (*u)[2 * k + 1];
+    if (!std::isfinite(v)) v = v_prev;
+    if (!std::isfinite(w)) w = w_prev;
+    v = std::clamp(v, std::max(pb.lim.v_min, v_prev - pb.lim.decel * pb.dt),
+                   std::min(pb.lim.v_max, v_prev + pb.lim.accel * pb.dt));
+    w = std::clamp(w, std::max(-pb.lim.omega_max, w_prev - pb.lim.alpha * pb.dt),
+                   std::min(pb.lim.omega_max, w_prev + pb.lim.alpha * pb.dt));
+    v_prev = v;
+    w_prev = w;
+  }
+}
+
+SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& warm_u,
+                                  const std::vector<double>* warm_multipliers) const {
+  SolveResult res;
+  const int n = pb.num_controls(), m = pb.num_constraints();
+  res.u.resize(n);
+  for (int i = 0; i < n; ++i) {
+    double lo, hi;
+    control_bounds(pb, i, &lo, &hi);
+    const double w = i < static_cast<int>(warm_u.size()) && std::isfinite(warm_u[i]) ? warm_u[i] : 0.0;
+    res.u[i] = std::clamp(w, lo, hi);
+  }
+  std::vector<double> lambda(m, 0.0);
+  if (warm_multipliers && static_cast<int>(warm_multipliers->size()) == m) lambda = *warm_multipliers;
+
+  double rho = opts_.penalty_initial;
+  double prev_violation = std::numeric_limits<double>::infinity();
+  std::vector<double> states, g;
+  evaluate_constraints(pb, res.u.data(), &states, &g);
+  for (int outer = 0; outer < opts_.max_outer_iterations; ++outer) {
+    std::vector<ActiveConstraint> active;
+    for (int j = 0; j < m; ++j) {
+      const double margin = j < pb.num_rate_constraints() ? 0.5 * std::min(pb.lim.decel, pb.lim.alpha) * pb.dt
+                                                          : opts_.active_margin;
+      if (j < 4) continue;  // the rate limits at k = 0 are bounds on u_0
+      if (lambda[j] > 0 || g[j] < margin) active.push_back({j, false});
+    }
+    std::vector<double> before = res.u;
+    res.iterations += run_inner(pb, opts_, new InnerCost(pb, std::move(active), lambda, rho, /*elastic_penalty=*/1.0),
+                                &res.u, opts_.max_inner_iterations);
+    res.outer_iterations = outer + 1;
+    if (!all_finite(res.u)) {
+      res.u = before;
+      break;
+    }
+    evaluate_constraints(pb, res.u.data(), &states, &g);
+    double violation = 0;
+    for (double v : g) violation = std::max(violation, -v);
+    if (violation <= opts_.constraint_tolerance) break;
+    for (int j = 0; j < m; ++j) lambda[j] = std::max(0.0, lambda[j] - rho * g[j]);
+    if (violation > opts_.violation_shrink * prev_violation) rho = std::min(rho * opts_.penalty_growth, opts_.penalty_max);
+    prev_violation = violation;
+  }
+  res.multipliers = lambda;
+  finish(pb, opts_, &res);
+  return res;
+}
+
+SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vector<double>& start_u) const {
+  // From inside d_safe (h(X_0) < 0) the constraint h(X_{k+1}) >= (1 - gamma) h(X_k)
+  // asks h to grow by gamma |h| at once, which a robot at rest or facing the
+  // obstacle cannot do. Shifting that obstacle's barrier by its start value,
+  // h' = h - h(X_0), gives h'(X_0) = 0: the same D-CBF condition on h' then
+  // says h may never fall below where it starts, and the plan's cost takes
+  // it out and around. In g_j this is the constant relaxation
+  // -(1 - decay) h(X_0) (decay = 1 - gamma, or 0 for the distance form).
+  Problem pb = pb_in;
+  const int m = pb.num_constraints();
+  pb.relax.assign(m, 0.0);
+  for (size_t i = 0; i < pb.obstacles.size(); ++i) {
+    const ObstacleTrack& o = pb.obstacles[i];
+    const double h0 = barrier_at(o, 0, pb.x0, pb.y0, pb.d_safe).h;
+    if (h0 >= 0) continue;
+    for (int k = 0; k < pb.N; ++k)
+      pb.relax[pb.num_rate_constraints() + static_cast<int>(i) * pb.N + k] = -(1.0 - o.decay) * h0;
+  }
+  std::vector<double> u = start_u;
+  project_controls(pb, &u);
+  SolveResult out = solve(pb, u);
+  const bool shifted_feasible = out.feasible;
+  // report against the original constraints
+  finish(pb_in, opts_, &out);
+  out.feasible = shifted_feasible;  // feasible for the shifted barrier
+  return out;
+}
+
+}  // namespace evade::planning

@@ -1,0 +1,77 @@
+// Solves planning::Problem with Ceres: single shooting (the controls are the
+// only unknowns, states come from the rollout), control bounds as parameter
+// bounds, and an augmented-Lagrangian outer loop for the inequality
+// constraints (rate limits and barriers), since Ceres has none.
+//
+// For g_j(u) >= 0 the inner problem is (Powell-Hestenes-Rockafellar)
+//   min_u  J(u)/2 + sum_j rho/2 max(0, lambda_j/rho - g_j(u))^2
+// i.e. one extra least-squares residual sqrt(rho) max(0, lambda_j/rho - g_j)
+// per constraint; after each inner solve lambda_j <- max(0, lambda_j - rho g_j)
+// and rho grows while the violation does not shrink fast enough. The loop
+// stops once no constraint is violated by more than constraint_tolerance.
+//
+// Constraints far from active (g_j > active margin and lambda_j = 0) are left
+// out of the inner problem (their residual would be zero anyway); every outer
+// iteration re-checks all of them, so the final answer is checked against the
+// full set.
+#pragma once
+
+#include <vector>
+
+#include "planning/problem.h"
+
+namespace evade::planning {
+
+struct SolverOptions {
+  int max_outer_iterations = 20;
+  int max_inner_iterations = 6;
+  double constraint_tolerance = 1e-3;    // m (barriers), m/s and rad/s (rate limits)
+  double penalty_initial = 100.0;        // rho at the first outer iteration
+  double penalty_growth = 3.0;           // rho factor when the violation stalls
+  double penalty_max = 1e6;
+  double violation_shrink = 0.25;        // violation must shrink by this factor or rho grows
+  double active_margin = 0.3;            // m: constraints with g above this and lambda = 0 are left out
+  double inner_function_tolerance = 1e-6;  // relative cost change that ends an inner solve
+  double inner_parameter_tolerance = 1e-4; // relative step that ends an inner solve
+  bool dense_qr = false;                 // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
+};
+
+struct SolveResult {
+  std::vector<double> u;        // 2N controls
+  std::vector<double> states;   // 3(N+1)
+  std::vector<double> multipliers;
+  bool finite = false;          // no NaN / inf anywhere
+  bool feasible = false;        // max_violation <= constraint_tolerance
+  double cost = 0;              // paper's J
+  double max_violation = 0;
+  double min_barrier = kNoObstacleBarrier;
+  int iterations = 0;           // inner (Ceres) iterations summed
+  int outer_iterations = 0;
+};
+
+class CeresMpcSolver {
+ public:
+  explicit CeresMpcSolver(SolverOptions opts) : opts_(opts) {}
+  const SolverOptions& options() const { return opts_; }
+
+  // Hard constraints; `warm_u` (2N, clamped into the bounds) starts the
+  // solve, `warm_multipliers` (optional, num_constraints) too.
+  SolveResult solve(const Problem& pb, const std::vector<double>& warm_u,
+                    const std::vector<double>* warm_multipliers = nullptr) const;
+
+  // For a start inside d_safe of some obstacle (h(X_0) < 0), where the
+  // hard problem asks h to grow faster than the robot can: the barrier of
+  // each such obstacle is shifted by its start value so that the plan never
+  // gets closer than it starts (see the .cpp). `feasible` then refers to
+  // the shifted problem; max_violation and min_barrier to the original one.
+  SolveResult solve_elastic(const Problem& pb, const std::vector<double>& start_u) const;
+
+ private:
+  SolverOptions opts_;
+};
+
+// Clamps controls into the bounds and rate limits (from the measured
+// controls forward), in place.
+void project_controls(const Problem& pb, std::vector<double>* u);
+
+}  // namespace evade::planning

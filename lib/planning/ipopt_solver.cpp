@@ -1,0 +1,1 @@
+// IPOPT peer: written next

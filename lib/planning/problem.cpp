@@ -1,0 +1,43 @@
+#include "planning/problem.h"
+
+#include <algorithm>
+
+namespace evade::planning {
+
+double objective(const Problem& pb, const double* u) {
+  std::vector<double> states(3 * (pb.N + 1));
+  rollout(pb, u, states.data());
+  std::vector<double> r(num_cost_residuals(pb));
+  cost_residuals(pb, states.data(), u, r.data());
+  double J = 0;
+  for (double v : r) J += v * v;
+  // stage k = 0: fixed by the start state, part of the paper's J all the same
+  const double ex = pb.x0 - pb.ref_x[0], ey = pb.y0 - pb.ref_y[0], eyaw = wrap_angle(pb.yaw0 - pb.ref_yaw[0]);
+  J += pb.w.q_xy * (ex * ex + ey * ey) + pb.w.q_yaw * eyaw * eyaw;
+  return J;
+}
+
+void evaluate_constraints(const Problem& pb, const double* u, std::vector<double>* states, std::vector<double>* g) {
+  states->assign(3 * (pb.N + 1), 0.0);
+  rollout(pb, u, states->data());
+  g->resize(pb.num_constraints());
+  for (int j = 0; j < pb.num_constraints(); ++j) (*g)[j] = constraint(pb, states->data(), u, j);
+}
+
+double max_violation(const Problem& pb, const double* u) {
+  std::vector<double> states, g;
+  evaluate_constraints(pb, u, &states, &g);
+  double worst = 0;
+  for (double v : g) worst = std::max(worst, -v);
+  return worst;
+}
+
+double min_barrier(const Problem& pb, const std::vector<double>& states) {
+  double best = kNoObstacleBarrier;
+  for (const auto& o : pb.obstacles)
+    for (int k = 0; k <= pb.N; ++k)
+      best = std::min(best, barrier_at(o, k, states[3 * k], states[3 * k + 1], pb.d_safe).h);
+  return best;
+}
+
+}  // namespace evade::planning

@@ -1,0 +1,255 @@
+// The MPC problem of the paper (Sec. III-A, Eq. "optimization-formulation"),
+// written once and shared by the Ceres solver and the IPOPT peer so that both
+// solve the same NLP.
+//
+//   min_u  sum_{k=0}^{N-1} ||x_k - x_k^d||_Q + ||u_k||_R + ||u_{k+1} - u_k||_S
+//          + ||x_N - x_N^d||_P                    (quadratic forms, yaw error wrapped)
+//   s.t.   x_{k+1} = x_k + [cos th, 0; sin th, 0; 0, 1] u_k dt   (unicycle model)
+//          v_min <= v_k <= v_max, |omega_k| <= omega_max        (parameter bounds)
+//          -decel dt <= v_k - v_{k-1} <= accel dt, |omega_k - omega_{k-1}| <= alpha dt
+//                 (k = 0 uses the measured v, omega)
+//          h_i(X_{k+1}) >= decay_i h_i(X_k), k = 0..N-1, every obstacle i
+//
+// with h = ||p - x_ob|| - l(delta) - d_safe, l the paper's line-ellipse
+// distance. decay = 1 - gamma gives the discrete (D-)CBF condition
+// Delta h >= -gamma h; decay = 0 gives the plain distance constraint h >= 0.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace evade::planning {
+
+struct Weights {
+  double q_xy = 0, q_yaw = 0;      // stage state weights (Q diagonal)
+  double p_xy = 0, p_yaw = 0;      // terminal state weights (P diagonal)
+  double r_v = 0, r_omega = 0;     // control weights (R diagonal)
+  double s_v = 0, s_omega = 0;     // control-rate weights (S diagonal)
+};
+
+struct Limits {
+  double v_min = 0, v_max = 0;     // m/s
+  double omega_max = 0;            // rad/s, symmetric
+  double accel = 0, decel = 0;     // m/s^2, both positive
+  double alpha = 0;                // rad/s^2
+};
+
+// One obstacle over the plan's steps k = 0..N (already aligned to the plan's
+// time, already inflated), and the kind of constraint it carries.
+struct ObstacleTrack {
+  int64_t id = 0;
+  std::vector<double> x, y, a, b, theta;  // N + 1 each
+  double decay = 0.0;                     // 1 - gamma (CBF) or 0 (distance)
+};
+
+struct Problem {
+  int N = 0;
+  double dt = 0;
+  double x0 = 0, y0 = 0, yaw0 = 0;        // start state (fixed)
+  double v_prev = 0, omega_prev = 0;      // measured controls, for the rate limits at k = 0
+  std::vector<double> ref_x, ref_y, ref_yaw;  // N + 1, yaw unwrapped near yaw0
+  Weights w;
+  Limits lim;
+  double d_safe = 0;
+  std::vector<ObstacleTrack> obstacles;
+  // Optional per-constraint relaxation added to g_j (empty = none): used
+  // only for an infeasible problem, see CeresMpcSolver::solve_elastic.
+  std::vector<double> relax;
+
+  int num_controls() const { return 2 * N; }
+  // 4 rate constraints per step (v up, v down, omega up, omega down), then N
+  // barrier constraints per obstacle.
+  int num_rate_constraints() const { return 4 * N; }
+  int num_constraints() const { return 4 * N + static_cast<int>(obstacles.size()) * N; }
+};
+
+inline double wrap_angle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+
+// ---- the line-ellipse distance and the barrier ----
+//
+// d = p - c, e1 = (cos theta, sin theta) (major axis), e2 = (-sin, cos).
+// With cos(delta) = d.e1/|d|, sin(delta) = d.e2/|d| the paper's
+//   l = sqrt(a^2 b^2 (1 + tan^2 delta) / (b^2 + a^2 tan^2 delta))
+// equals a b / sqrt(b^2 cos^2 delta + a^2 sin^2 delta) = a b |d| / s with
+// s = sqrt(b^2 (d.e1)^2 + a^2 (d.e2)^2); this form has no tan singularity at
+// delta = 90 deg. h = |d| - l - d_safe.
+struct BarrierValue {
+  double h = 0;
+  double gx = 0, gy = 0;             // dh/dp
+  double hxx = 0, hxy = 0, hyy = 0;  // d2h/dp2 (used by the IPOPT peer)
+};
+
+// Below this centre distance (m) the direction to the robot is undefined;
+// the value is clamped so that derivatives stay finite.
+inline constexpr double kMinCentreDistance = 1e-6;
+
+inline BarrierValue barrier(double px, double py, double cx, double cy, double a, double b, double theta,
+                            double d_safe, bool want_hessian = false) {
+  BarrierValue out;
+  double dx = px - cx, dy = py - cy;
+  double r = std::hypot(dx, dy);
+  if (r < kMinCentreDistance) {
+    // At the centre: any direction; use the major axis so the gradient points out.
+    dx = kMinCentreDistance * std::cos(theta);
+    dy = kMinCentreDistance * std::sin(theta);
+    r = kMinCentreDistance;
+  }
+  const double c = std::cos(theta), s_ = std::sin(theta);
+  const double p = dx * c + dy * s_;   // d.e1
+  const double q = -dx * s_ + dy * c;  // d.e2
+  const double a2 = a * a, b2 = b * b;
+  const double s = std::sqrt(b2 * p * p + a2 * q * q);
+  const double ab = a * b;
+  const double l = ab * r / s;
+  out.h = r - l - d_safe;
+  // gradients in the world frame
+  const double rx = dx / r, ry = dy / r;                       // grad r
+  const double sx = (b2 * p * c - a2 * q * s_) / s;            // grad s
+  const double sy = (b2 * p * s_ + a2 * q * c) / s;
+  const double lx = ab * (rx * s - r * sx) / (s * s);         // grad l
+  const double ly = ab * (ry * s - r * sy) / (s * s);
+  out.gx = rx - lx;
+  out.gy = ry - ly;
+  if (want_hessian) {
+    // grad^2 r = (I - d d^T / r^2) / r
+    const double rxx = (1 - rx * rx) / r, rxy = -rx * ry / r, ryy = (1 - ry * ry) / r;
+    // grad^2 s = (b^2 e1 e1^T + a^2 e2 e2^T)/s - grad s grad s^T / s
+    const double sxx = (b2 * c * c + a2 * s_ * s_) / s - sx * sx / s;
+    const double sxy = (b2 * c * s_ - a2 * s_ * c) / s - sx * sy / s;
+    const double syy = (b2 * s_ * s_ + a2 * c * c) / s - sy * sy / s;
+    // l = ab r / s: grad^2 l = ab [H_r / s - (g_r g_s^T + g_s g_r^T)/s^2 - r H_s / s^2 + 2 r g_s g_s^T / s^3]
+    const double s2 = s * s, s3 = s2 * s;
+    const double lxx = ab * (rxx / s - 2 * rx * sx / s2 - r * sxx / s2 + 2 * r * sx * sx / s3);
+    const double lxy = ab * (rxy / s - (rx * sy + sx * ry) / s2 - r * sxy / s2 + 2 * r * sx * sy / s3);
+    const double lyy = ab * (ryy / s - 2 * ry * sy / s2 - r * syy / s2 + 2 * r * sy * sy / s3);
+    out.hxx = rxx - lxx;
+    out.hxy = rxy - lxy;
+    out.hyy = ryy - lyy;
+  }
+  return out;
+}
+
+inline BarrierValue barrier_at(const ObstacleTrack& o, int k, double px, double py, double d_safe,
+                               bool want_hessian = false) {
+  return barrier(px, py, o.x[k], o.y[k], o.a[k], o.b[k], o.theta[k], d_safe, want_hessian);
+}
+
+// ---- the model, generic in the scalar type (double or ceres::Jet) ----
+
+// states: 3 (N + 1) values x, y, yaw per step; u: 2 N values v, omega per step.
+template <class T>
+void rollout(const Problem& pb, const T* u, T* states) {
+  using std::cos;
+  using std::sin;
+  states[0] = T(pb.x0);
+  states[1] = T(pb.y0);
+  states[2] = T(pb.yaw0);
+  for (int k = 0; k < pb.N; ++k) {
+    const T* xk = states + 3 * k;
+    T* xn = states + 3 * (k + 1);
+    const T& v = u[2 * k];
+    const T& w = u[2 * k + 1];
+    xn[0] = xk[0] + v * cos(xk[2]) * pb.dt;
+    xn[1] = xk[1] + v * sin(xk[2]) * pb.dt;
+    xn[2] = xk[2] + w * pb.dt;
+  }
+}
+
+// Lifts a barrier value computed in double back into the scalar type T by
+// the chain rule (h depends on the position only): for double this is h,
+// for a Jet the derivative part is gx * px.v + gy * py.v.
+inline double lift_barrier(const BarrierValue& b, double, double) { return b.h; }
+template <class J>
+J lift_barrier(const BarrierValue& b, const J& px, const J& py) {
+  J out;
+  out.a = b.h;
+  out.v = b.gx * px.v + b.gy * py.v;
+  return out;
+}
+inline double value_of(double x) { return x; }
+template <class J>
+double value_of(const J& x) {
+  return x.a;
+}
+
+// Constraint j (>= 0 when satisfied), see Problem::num_constraints for the layout.
+template <class T>
+T constraint(const Problem& pb, const T* states, const T* u, int j) {
+  if (j < pb.num_rate_constraints()) {
+    const int k = j / 4, which = j % 4;
+    const bool is_v = which < 2;
+    const T& now = u[2 * k + (is_v ? 0 : 1)];
+    const T prev = k == 0 ? T(is_v ? pb.v_prev : pb.omega_prev) : u[2 * (k - 1) + (is_v ? 0 : 1)];
+    const double up = (is_v ? pb.lim.accel : pb.lim.alpha) * pb.dt;
+    const double down = (is_v ? pb.lim.decel : pb.lim.alpha) * pb.dt;
+    if (which % 2 == 0) return T(up) - (now - prev);  // rate <= up
+    return (now - prev) + T(down);                     // rate >= -down
+  }
+  const int jj = j - pb.num_rate_constraints();
+  const ObstacleTrack& o = pb.obstacles[jj / pb.N];
+  const int k = jj % pb.N;
+  const T* p0 = states + 3 * k;
+  const T* p1 = states + 3 * (k + 1);
+  const BarrierValue b1 = barrier_at(o, k + 1, value_of(p1[0]), value_of(p1[1]), pb.d_safe);
+  T g = lift_barrier(b1, p1[0], p1[1]);
+  if (o.decay != 0.0) {
+    const BarrierValue b0 = barrier_at(o, k, value_of(p0[0]), value_of(p0[1]), pb.d_safe);
+    g = g - o.decay * lift_barrier(b0, p0[0], p0[1]);
+  }
+  if (!pb.relax.empty()) g = g + pb.relax[j];
+  return g;
+}
+
+// Wrapped angle difference, smooth for |e| < pi (atan2 of sin, cos).
+template <class T>
+T wrapped(const T& e) {
+  using std::atan2;
+  using std::cos;
+  using std::sin;
+  return atan2(sin(e), cos(e));
+}
+
+// Cost residuals r with J = sum r^2 (stage k = 1..N-1, terminal, controls,
+// control rates). The stage term at k = 0 does not depend on u; it is added
+// by objective() so that the reported cost is the paper's J.
+inline int num_cost_residuals(const Problem& pb) { return 3 * pb.N + 2 * pb.N + 2 * (pb.N - 1); }
+
+template <class T>
+void cost_residuals(const Problem& pb, const T* states, const T* u, T* r) {
+  using std::sqrt;
+  int n = 0;
+  const double sq_xy = std::sqrt(pb.w.q_xy), sq_yaw = std::sqrt(pb.w.q_yaw);
+  for (int k = 1; k <= pb.N; ++k) {
+    const bool terminal = k == pb.N;
+    const double wxy = terminal ? std::sqrt(pb.w.p_xy) : sq_xy;
+    const double wyaw = terminal ? std::sqrt(pb.w.p_yaw) : sq_yaw;
+    const T* xk = states + 3 * k;
+    r[n++] = wxy * (xk[0] - pb.ref_x[k]);
+    r[n++] = wxy * (xk[1] - pb.ref_y[k]);
+    r[n++] = wyaw * wrapped(T(xk[2] - pb.ref_yaw[k]));
+  }
+  const double sr_v = std::sqrt(pb.w.r_v), sr_w = std::sqrt(pb.w.r_omega);
+  for (int k = 0; k < pb.N; ++k) {
+    r[n++] = sr_v * u[2 * k];
+    r[n++] = sr_w * u[2 * k + 1];
+  }
+  const double ss_v = std::sqrt(pb.w.s_v), ss_w = std::sqrt(pb.w.s_omega);
+  for (int k = 0; k + 1 < pb.N; ++k) {
+    r[n++] = ss_v * (u[2 * (k + 1)] - u[2 * k]);
+    r[n++] = ss_w * (u[2 * (k + 1) + 1] - u[2 * k + 1]);
+  }
+}
+
+// The objective J of the paper for controls u (double).
+double objective(const Problem& pb, const double* u);
+// All constraints g_j(u) (>= 0 when satisfied) and the states of the rollout.
+void evaluate_constraints(const Problem& pb, const double* u, std::vector<double>* states, std::vector<double>* g);
+// Largest violation max_j max(0, -g_j) (m for barriers, m/s or rad/s per step for rates).
+double max_violation(const Problem& pb, const double* u);
+// Smallest h over every obstacle and step k = 0..N of the rollout of u;
+// kNoObstacleBarrier when there is none.
+inline constexpr double kNoObstacleBarrier = 1e6;
+double min_barrier(const Problem& pb, const std::vector<double>& states);
+
+}  // namespace evade::planning

@@ -1,0 +1,127 @@
+// The Ceres MPC solver: barrier derivatives, constraints met to 1e-3 when a
+// feasible solution exists, obstacles passed with h >= 0, start inside
+// d_safe escaped, never NaN.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "planning/ceres_solver.h"
+#include "planning/problem.h"
+#include "test_problems.h"
+
+namespace evade::planning {
+namespace {
+
+using testing::bench_problem;
+using testing::moving_obstacle;
+using testing::straight_problem;
+
+SolverOptions opts() { return SolverOptions{}; }
+
+TEST(Barrier, LineEllipseDistanceMatchesThePaperFormula) {
+  // l = sqrt(a^2 b^2 (1 + tan^2 d) / (b^2 + a^2 tan^2 d)), delta from the major axis
+  const double a = 0.8, b = 0.3, theta = 0.4, cx = 1.0, cy = -2.0, r = 3.0;
+  for (double delta : {0.1, 0.7, 1.2, 2.0, -0.5}) {
+    const double px = cx + r * std::cos(theta + delta), py = cy + r * std::sin(theta + delta);
+    const double t2 = std::tan(delta) * std::tan(delta);
+    const double l = std::sqrt(a * a * b * b * (1 + t2) / (b * b + a * a * t2));
+    EXPECT_NEAR(barrier(px, py, cx, cy, a, b, theta, 0.2).h, r - l - 0.2, 1e-12) << delta;
+  }
+  // along the axes: l = a and l = b
+  EXPECT_NEAR(barrier(cx + r * std::cos(theta), cy + r * std::sin(theta), cx, cy, a, b, theta, 0).h, r - a, 1e-12);
+  EXPECT_NEAR(barrier(cx - r * std::sin(theta), cy + r * std::cos(theta), cx, cy, a, b, theta, 0).h, r - b, 1e-12);
+}
+
+TEST(Barrier, GradientAndHessianMatchFiniteDifferences) {
+  const double a = 0.7, b = 0.4, theta = -0.9, cx = 0.3, cy = 0.2, ds = 0.3, e = 1e-6;
+  for (auto [px, py] : {std::pair{1.5, 0.7}, std::pair{-0.4, 1.1}, std::pair{0.5, -2.0}}) {
+    const BarrierValue v = barrier(px, py, cx, cy, a, b, theta, ds, true);
+    const BarrierValue xp = barrier(px + e, py, cx, cy, a, b, theta, ds, true);
+    const BarrierValue xm = barrier(px - e, py, cx, cy, a, b, theta, ds, true);
+    const BarrierValue yp = barrier(px, py + e, cx, cy, a, b, theta, ds, true);
+    const BarrierValue ym = barrier(px, py - e, cx, cy, a, b, theta, ds, true);
+    EXPECT_NEAR(v.gx, (xp.h - xm.h) / (2 * e), 1e-6);
+    EXPECT_NEAR(v.gy, (yp.h - ym.h) / (2 * e), 1e-6);
+    EXPECT_NEAR(v.hxx, (xp.gx - xm.gx) / (2 * e), 1e-5);
+    EXPECT_NEAR(v.hxy, (yp.gx - ym.gx) / (2 * e), 1e-5);
+    EXPECT_NEAR(v.hyy, (yp.gy - ym.gy) / (2 * e), 1e-5);
+  }
+}
+
+TEST(CeresSolver, FreePathTracksTheReference) {
+  Problem pb = straight_problem(0, 0, 0, 0.8, 0.8);
+  CeresMpcSolver solver(opts());
+  SolveResult r = solver.solve(pb, std::vector<double>(2 * pb.N, 0.0));
+  ASSERT_TRUE(r.feasible);
+  // Cruising at the reference speed: v stays near 0.8, no turning.
+  for (int k = 0; k < pb.N; ++k) {
+    EXPECT_NEAR(r.u[2 * k], 0.8, 0.1) << k;
+    EXPECT_NEAR(r.u[2 * k + 1], 0.0, 1e-3) << k;
+  }
+  EXPECT_NEAR(r.states[3 * pb.N], pb.ref_x[pb.N], 0.2);
+}
+
+TEST(CeresSolver, StaticObstacleOnThePathIsPassedWithPositiveBarrier) {
+  Problem pb = straight_problem(0, 0, 0, 0.8, 0.8);
+  pb.obstacles.push_back(moving_obstacle(1, 3.0, 0.05, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt));
+  CeresMpcSolver solver(opts());
+  SolveResult r = solver.solve(pb, std::vector<double>(2 * pb.N, 0.0));
+  ASSERT_TRUE(r.feasible) << r.max_violation;
+  EXPECT_LE(r.max_violation, 1e-3);
+  // h >= 0 at every step (CBF from h0 >= 0 keeps h >= 0 up to the tolerance)
+  for (int k = 0; k <= pb.N; ++k)
+    EXPECT_GE(barrier_at(pb.obstacles[0], k, r.states[3 * k], r.states[3 * k + 1], pb.d_safe).h, -1e-3) << k;
+  // and so does the plan's own minimum
+  double max_lateral = 0;
+  for (int k = 0; k <= pb.N; ++k) max_lateral = std::max(max_lateral, std::fabs(r.states[3 * k + 1]));
+  EXPECT_GE(r.min_barrier, -1e-3);
+}
+
+TEST(CeresSolver, EveryBenchmarkProblemSolvesWithinTolerance) {
+  CeresMpcSolver solver(opts());
+  for (int k : {0, 4, 8, 16}) {
+    Problem pb = bench_problem(k);
+    SolveResult r = solver.solve(pb, std::vector<double>(2 * pb.N, 0.0));
+    EXPECT_TRUE(r.finite);
+    EXPECT_TRUE(r.feasible) << k << " obstacles: violation " << r.max_violation;
+    EXPECT_LE(r.max_violation, 1e-3) << k;
+  }
+}
+
+TEST(CeresSolver, StartInsideSafeDistanceElasticPlanIncreasesH) {
+  // Obstacle ahead-left, robot at rest already inside d_safe: the hard CBF
+  // problem asks h to grow by gamma |h| at once, faster than the robot can
+  // accelerate (it cannot reverse either).
+  Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
+  pb.obstacles.push_back(moving_obstacle(1, 0.45, 0.3, 0, 0, 0.25, 0.25, 0, 0.9, pb.N, pb.dt));
+  const double h0 = barrier_at(pb.obstacles[0], 0, 0, 0, pb.d_safe).h;
+  ASSERT_LT(h0, 0);
+  CeresMpcSolver solver(opts());
+  SolveResult hard = solver.solve(pb, std::vector<double>(2 * pb.N, 0.0));
+  EXPECT_FALSE(hard.feasible);
+  // started from braking to a stop (here: standing still), feasible for the shifted barrier
+  SolveResult r = solver.solve_elastic(pb, std::vector<double>(2 * pb.N, 0.0));
+  ASSERT_TRUE(r.finite);
+  std::vector<double> h;
+  for (int k = 0; k <= pb.N; ++k)
+    h.push_back(barrier_at(pb.obstacles[0], k, r.states[3 * k], r.states[3 * k + 1], pb.d_safe).h);
+  // The AL loop does not always close the shifted problem to 1e-3 here (a
+  // known weakness, see the report): allow a dip of 2 cm below the start.
+  for (int k = 1; k <= pb.N; ++k) EXPECT_GE(h[k], h0 - 0.02) << k;
+  EXPECT_GT(h.back(), 0.0);  // out of d_safe by the end of the plan
+  EXPECT_GT(h.back(), h0 + 0.05);
+}
+
+TEST(CeresSolver, NeverNaNOnDegenerateInput) {
+  Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
+  // obstacle centred exactly on the robot, zero-size ellipse axes are not allowed; tiny ones are
+  pb.obstacles.push_back(moving_obstacle(1, 0.0, 0.0, 0, 0, 0.2, 0.1, 0, 0.9, pb.N, pb.dt));
+  CeresMpcSolver solver(opts());
+  SolveResult r = solver.solve(pb, std::vector<double>(2 * pb.N, std::nan("")));
+  SolveResult e = solver.solve_elastic(pb, r.u);
+  for (double v : e.u) EXPECT_TRUE(std::isfinite(v));
+  for (double v : e.states) EXPECT_TRUE(std::isfinite(v));
+}
+
+}  // namespace
+}  // namespace evade::planning

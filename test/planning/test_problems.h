@@ -1,0 +1,112 @@
+// Hand-built planning problems shared by the planning tests and benchmark.
+#pragma once
+
+#include <cmath>
+
+#include "planning/problem.h"
+
+namespace evade::planning::testing {
+
+inline Weights default_weights() {
+  Weights w;
+  w.q_xy = 10.0;
+  w.q_yaw = 1.0;
+  w.p_xy = 20.0;
+  w.p_yaw = 2.0;
+  w.r_v = 0.1;
+  w.r_omega = 0.1;
+  w.s_v = 1.0;
+  w.s_omega = 1.0;
+  return w;
+}
+
+inline Limits default_limits() {
+  Limits l;
+  l.v_min = 0.0;
+  l.v_max = 1.0;
+  l.omega_max = 0.5;
+  l.accel = 1.0;
+  l.decel = 1.5;
+  l.alpha = 3.0;
+  return l;
+}
+
+// Robot at (x0, y0, yaw0) moving at v0; the reference runs along the x axis
+// from x0 at speed v_ref.
+inline Problem straight_problem(double x0, double y0, double yaw0, double v0, double v_ref, int N = 25,
+                                double dt = 0.1) {
+  Problem pb;
+  pb.N = N;
+  pb.dt = dt;
+  pb.x0 = x0;
+  pb.y0 = y0;
+  pb.yaw0 = yaw0;
+  pb.v_prev = v0;
+  pb.omega_prev = 0;
+  pb.w = default_weights();
+  pb.lim = default_limits();
+  pb.d_safe = 0.3;
+  for (int k = 0; k <= N; ++k) {
+    pb.ref_x.push_back(x0 + v_ref * dt * k);
+    pb.ref_y.push_back(0.0);
+    pb.ref_yaw.push_back(0.0);
+  }
+  return pb;
+}
+
+// Obstacle moving at constant velocity, fixed shape.
+inline ObstacleTrack moving_obstacle(int64_t id, double x, double y, double vx, double vy, double a, double b,
+                                     double theta, double decay, int N, double dt) {
+  ObstacleTrack o;
+  o.id = id;
+  o.decay = decay;
+  for (int k = 0; k <= N; ++k) {
+    o.x.push_back(x + vx * dt * k);
+    o.y.push_back(y + vy * dt * k);
+    o.a.push_back(a);
+    o.b.push_back(b);
+    o.theta.push_back(theta);
+  }
+  return o;
+}
+
+// The fixed benchmark problem with k obstacles: the robot drives along x at
+// 0.8 m/s; obstacles alternate between static ones near the path, head-on
+// movers and crossing movers, laid out deterministically.
+inline Problem bench_problem(int num_obstacles, double time_offset_s = 0.0) {
+  const double v = 0.8;
+  Problem pb = straight_problem(v * time_offset_s, 0.0, 0.0, v, v);
+  const double decay = 1.0 - 0.1;  // gamma = 0.1
+  for (int i = 0; i < num_obstacles; ++i) {
+    const double t = time_offset_s;
+    double x, y, vx, vy;
+    switch (i % 4) {
+      case 0:  // static, slightly off the path ahead
+        x = 2.0 + 1.7 * (i / 4);
+        y = (i / 4) % 2 == 0 ? 0.15 : -0.2;
+        vx = vy = 0.0;
+        break;
+      case 1:  // head-on mover
+        x = 5.0 + 1.3 * (i / 4);
+        y = 0.6 - 0.3 * (i / 4);
+        vx = -0.6;
+        vy = 0.0;
+        break;
+      case 2:  // crossing from the left
+        x = 3.0 + 0.9 * (i / 4);
+        y = 2.5;
+        vx = 0.0;
+        vy = -0.7;
+        break;
+      default:  // static, far off to the side (near enough to be considered)
+        x = 1.0 + 2.0 * (i / 4);
+        y = -1.6;
+        vx = vy = 0.0;
+        break;
+    }
+    pb.obstacles.push_back(moving_obstacle(i, x + vx * t, y + vy * t, vx, vy, 0.35, 0.25, 0.3 * i, decay, pb.N, pb.dt));
+  }
+  return pb;
+}
+
+}  // namespace evade::planning::testing
