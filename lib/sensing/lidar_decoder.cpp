@@ -173,19 +173,28 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
   record_packet(data, size, receive_utime);
   bool cut_done = false;
   bool packet_counted = false;
-  bool jump_counted = false;
+  // The packet's time relative to the revolution's anchor, from the sensor
+  // clock unless that jumped; recomputed when a cut re-anchors.
+  double packet_rel_us = 0.0;
+  bool rel_valid = false;
+  float last_firing_az = -1.0f;
   for (const LidarReturn& r : returns_) {
-    double rel_az = std::fmod(r.firing_azimuth_deg - params_.cut_azimuth_deg + 720.0, 360.0);
-    // The firing azimuth passed the cut angle when it wraps from near 360 to near 0.
-    if (have_prev_azimuth_ && !cut_done && rel_az + 180.0 < prev_rel_azimuth_) {
-      cut_done = true;
-      if (!rel_us_.empty()) {
-        emit(out);  // this packet stays in the emitted revolution's scan
-        packet_counted = false;
+    if (r.firing_azimuth_deg != last_firing_az) {  // a new firing: may cut
+      last_firing_az = r.firing_azimuth_deg;
+      double rel_az = r.firing_azimuth_deg - params_.cut_azimuth_deg;
+      if (rel_az < 0.0) rel_az += 360.0;
+      // The firing azimuth passed the cut angle when it wraps from near 360 to near 0.
+      if (have_prev_azimuth_ && !cut_done && rel_az + 180.0 < prev_rel_azimuth_) {
+        cut_done = true;
+        if (!rel_us_.empty()) {
+          emit(out);  // this packet stays in the emitted revolution's scan
+          packet_counted = false;
+          rel_valid = false;
+        }
       }
+      prev_rel_azimuth_ = rel_az;
+      have_prev_azimuth_ = true;
     }
-    prev_rel_azimuth_ = rel_az;
-    have_prev_azimuth_ = true;
     if (!anchored_) {
       anchor_ = times;
       anchor_time_us_ = params_.time_source == TimeSource::kSensor ? times.absolute_us : times.receive_us;
@@ -195,12 +204,15 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
       ++rev_.cloud.packets;
       packet_counted = true;
     }
-    int64_t d = sensor_delta_us(anchor_.sensor_us, times.sensor_us);
-    if (d > kMaxSensorStepUs || d < -kMaxSensorStepUs) {
-      if (!jump_counted) count_("sensor_time_jumps", 1);
-      jump_counted = true;
-      d = params_.time_source == TimeSource::kSensor ? times.absolute_us - anchor_.absolute_us
-                                                     : times.receive_us - anchor_.receive_us;
+    if (!rel_valid) {
+      int64_t d = sensor_delta_us(anchor_.sensor_us, times.sensor_us);
+      if (d > kMaxSensorStepUs || d < -kMaxSensorStepUs) {
+        count_("sensor_time_jumps", 1);
+        d = params_.time_source == TimeSource::kSensor ? times.absolute_us - anchor_.absolute_us
+                                                       : times.receive_us - anchor_.receive_us;
+      }
+      packet_rel_us = static_cast<double>(d);
+      rel_valid = true;
     }
     evade::pointcloud_t& c = rev_.cloud;
     c.x.push_back(r.x);
@@ -208,7 +220,7 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
     c.z.push_back(r.z);
     c.intensity.push_back(r.intensity);
     c.ring.push_back(static_cast<int8_t>(r.ring));
-    rel_us_.push_back(static_cast<double>(d) + r.time_offset_us);
+    rel_us_.push_back(packet_rel_us + r.time_offset_us);
   }
 }
 

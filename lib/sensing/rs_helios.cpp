@@ -5,6 +5,8 @@
 #include <cstring>
 #include <numeric>
 
+#include "sensing/small_rotation.h"
+
 namespace evade::sensing::rs_helios {
 
 namespace {
@@ -57,6 +59,15 @@ void write_angle(uint8_t* p, double deg) {
 }
 }  // namespace
 
+void Calibration::update_trig() {
+  for (int c = 0; c < kChannels; ++c) {
+    cos_vertical[c] = std::cos(vertical_deg[c] * kDegToRad);
+    sin_vertical[c] = std::sin(vertical_deg[c] * kDegToRad);
+    cos_horizontal[c] = std::cos(horizontal_deg[c] * kDegToRad);
+    sin_horizontal[c] = std::sin(horizontal_deg[c] * kDegToRad);
+  }
+}
+
 const char* to_string(PacketStatus s) {
   switch (s) {
     case PacketStatus::kOk: return "ok";
@@ -96,6 +107,7 @@ PacketStatus parse_difop(const uint8_t* data, size_t size, Calibration* out) {
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return cal.vertical_deg[a] < cal.vertical_deg[b]; });
   for (int r = 0; r < kChannels; ++r) cal.ring[order[r]] = r;
+  cal.update_trig();
   cal.return_mode = data[kDifopReturnModeOffset];
   cal.rpm = read_u16be(data + kDifopRpmOffset);
   *out = cal;
@@ -136,6 +148,10 @@ PacketStatus decode_msop(const uint8_t* data, size_t size, const Calibration& ca
         break;
       }
 
+  const auto& cos_el = cal.cos_vertical;
+  const auto& sin_el = cal.sin_vertical;
+  const auto& cos_h = cal.cos_horizontal;
+  const auto& sin_h = cal.sin_horizontal;
   const float min_r = static_cast<float>(options.min_range_m);
   const float max_r = static_cast<float>(options.max_range_m);
   for (int b = 0; b < kBlocksPerPacket; ++b) {
@@ -143,6 +159,9 @@ PacketStatus decode_msop(const uint8_t* data, size_t size, const Calibration& ca
     const uint8_t* p = data + kHeaderSize + b * kBlockSize;
     const uint8_t* other = (dual && b % 2 == 1) ? data + kHeaderSize + (b - 1) * kBlockSize : nullptr;
     const double block_az = azimuth[column * step] * kAzimuthUnitDeg;
+    double cos_block, sin_block;
+    azimuth_cos_sin(azimuth[column * step], &cos_block, &sin_block);
+    const double gap_rad = gap_deg[column] * kDegToRad;
     for (int c = 0; c < kChannels; ++c) {
       const uint8_t* r = p + 4 + 3 * c;
       const uint16_t count = read_u16be(r);
@@ -159,21 +178,24 @@ PacketStatus decode_msop(const uint8_t* data, size_t size, const Calibration& ca
         ++pi.out_of_range;
         continue;
       }
+      // az0: block azimuth interpolated by the channel's firing time;
+      // az = az0 + the channel's horizontal calibration.
       const double t_us = c * kChannelIntervalUs;
-      const double az0 = block_az + gap_deg[column] * t_us / kBlockPeriodUs;
-      const double az = az0 + cal.horizontal_deg[c];
-      const double el = cal.vertical_deg[c] * kDegToRad;
-      const double horizontal = range * std::cos(el);
+      const double frac = t_us / kBlockPeriodUs;
+      double cos_az0, sin_az0;
+      rotate_by_small_angle(cos_block, sin_block, gap_rad * frac, &cos_az0, &sin_az0);
+      const double cos_az = cos_az0 * cos_h[c] - sin_az0 * sin_h[c];
+      const double sin_az = sin_az0 * cos_h[c] + cos_az0 * sin_h[c];
+      const double horizontal = range * cos_el[c];
       LidarReturn ret;
-      ret.x = static_cast<float>(horizontal * std::cos(az * kDegToRad) +
-                                 kOpticalCentreOffsetM * std::cos(az0 * kDegToRad));
-      ret.y = static_cast<float>(-horizontal * std::sin(az * kDegToRad) -
-                                 kOpticalCentreOffsetM * std::sin(az0 * kDegToRad));
-      ret.z = static_cast<float>(range * std::sin(el));
+      ret.x = static_cast<float>(horizontal * cos_az + kOpticalCentreOffsetM * cos_az0);
+      ret.y = static_cast<float>(-horizontal * sin_az - kOpticalCentreOffsetM * sin_az0);
+      ret.z = static_cast<float>(range * sin_el[c]);
       ret.intensity = r[2];
-      double az_wrapped = std::fmod(az, 360.0);
-      if (az_wrapped < 0.0) az_wrapped += 360.0;
-      ret.azimuth_deg = static_cast<float>(az_wrapped);
+      double az = block_az + gap_deg[column] * frac + cal.horizontal_deg[c];
+      if (az >= 360.0) az -= 360.0;
+      if (az < 0.0) az += 360.0;
+      ret.azimuth_deg = static_cast<float>(az);
       ret.firing_azimuth_deg = static_cast<float>(block_az);
       ret.time_offset_us = static_cast<float>(column * kBlockPeriodUs + t_us);
       ret.ring = static_cast<uint8_t>(cal.ring[c]);

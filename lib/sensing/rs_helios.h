@@ -74,6 +74,10 @@ struct Calibration {
   std::array<int, kChannels> ring{};               // rank by elevation, 0 = lowest
   uint8_t return_mode = kStrongest;
   int rpm = 0;
+  // cos/sin of the angles above, used per point; parse_difop fills them,
+  // whoever edits the angles calls update_trig().
+  std::array<double, kChannels> cos_vertical{}, sin_vertical{}, cos_horizontal{}, sin_horizontal{};
+  void update_trig();
 };
 
 enum class PacketStatus {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "sensing/small_rotation.h"
+
 namespace evade::sensing::vlp16 {
 
 namespace {
@@ -45,9 +47,6 @@ std::array<Laser, kLasers> make_laser_table() {
 
 struct Trig {
   float cos_el[kLasers], sin_el[kLasers], dz[kLasers];
-  // cos/sin of every 0.01 deg azimuth count would be 36000 entries; the
-  // interpolated azimuth is fractional, so std::cos/sin is used per firing
-  // (one pair per 16 points).
 };
 const Trig& trig() {
   static const Trig t = [] {
@@ -176,8 +175,14 @@ PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions
     const uint8_t* p = data + b * kBlockSize;
     const uint8_t* other = nullptr;  // dual: the paired block of the same firing
     if (dual && (b % 2 == 1)) other = data + (b - 1) * kBlockSize;
+    const double block_az = azimuth[column * step] * kAzimuthUnitDeg;
+    double cos_block, sin_block;
+    azimuth_cos_sin(azimuth[column * step], &cos_block, &sin_block);
+    const double gap_rad = gap_deg[column] * kDegToRad;
     for (int s = 0; s < kSequencesPerBlock; ++s) {
       const double seq_offset_us = column * kBlockPeriodUs + s * kSequencePeriodUs;
+      double firing_az = block_az + gap_deg[column] * s * kSequencePeriodUs / kBlockPeriodUs;
+      if (firing_az >= 360.0) firing_az -= 360.0;
       for (int l = 0; l < kLasers; ++l) {
         const uint8_t* r = p + 4 + 3 * (s * kLasers + l);
         const uint16_t count = read_u16le(r);
@@ -194,18 +199,16 @@ PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions
           ++pi.out_of_range;
           continue;
         }
-        const double within_block_us = s * kSequencePeriodUs + l * kFiringIntervalUs;
-        double az = azimuth[column * step] * kAzimuthUnitDeg + gap_deg[column] * within_block_us / kBlockPeriodUs;
+        // Azimuth interpolated by firing time within the block.
+        const double frac = (s * kSequencePeriodUs + l * kFiringIntervalUs) / kBlockPeriodUs;
+        double az = block_az + gap_deg[column] * frac;
         if (az >= 360.0) az -= 360.0;
-        double firing_az = azimuth[column * step] * kAzimuthUnitDeg + gap_deg[column] * s * kSequencePeriodUs / kBlockPeriodUs;
-        if (firing_az >= 360.0) firing_az -= 360.0;
-        const double az_rad = az * kDegToRad;
-        const float ca = static_cast<float>(std::cos(az_rad));
-        const float sa = static_cast<float>(std::sin(az_rad));
+        double ca, sa;
+        rotate_by_small_angle(cos_block, sin_block, gap_rad * frac, &ca, &sa);
         const float horizontal = range * t.cos_el[l];
         Return ret;
-        ret.x = horizontal * ca;
-        ret.y = -horizontal * sa;
+        ret.x = horizontal * static_cast<float>(ca);
+        ret.y = -horizontal * static_cast<float>(sa);
         ret.z = range * t.sin_el[l] + (options.vertical_offset_correction ? t.dz[l] : 0.0f);
         ret.intensity = r[2];
         ret.azimuth_deg = static_cast<float>(az);

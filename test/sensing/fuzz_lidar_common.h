@@ -33,6 +33,7 @@ inline int fuzz_lidar(LidarModel model, const uint8_t* data, size_t size) {
     rs_helios::Calibration cal;
     rs_helios::parse_difop(data, size, &cal);
     for (int c = 0; c < rs_helios::kChannels; ++c) cal.vertical_deg[c] = -16.0 + c;
+    cal.update_trig();
     cal.return_mode = (size > 0 && (data[0] & 1)) ? rs_helios::kDual : rs_helios::kStrongest;
     rs_helios::decode_msop(data, size, cal, {}, &returns, nullptr);
   }

@@ -121,6 +121,7 @@ INSTANTIATE_TEST_SUITE_P(AllChannels, RsHeliosPerChannel, ::testing::Range(0, 32
 TEST(RsHeliosMsop, AzimuthInterpolatedWithChannelTiming) {
   h::Calibration cal = calibration();
   cal.horizontal_deg.fill(0.0);
+  cal.update_trig();
   h::MsopEncoder m;
   for (int b = 0; b < 12; ++b) {
     m.blocks[b].azimuth_deg = 10.0 + 0.2 * b;
