@@ -90,18 +90,22 @@ void BaseDriverCore::on_cmd_vel(double v, double omega) {
   }
 }
 
+bool BaseDriverCore::update_watchdog() {
+  const bool stale = !have_cmd_ || now() - last_cmd_now_ > to_us(params_.watchdog_timeout_s);
+  if (!stale || watchdog_tripped_) return false;
+  watchdog_tripped_ = true;
+  commanded_ = Twist{};
+  count("watchdog_trips");
+  return true;
+}
+
 void BaseDriverCore::command_tick() {
   // Link supervision shares the command clock: a port that is open but has
   // been silent for link_timeout_s is a lost link.
   if (link_ok_ && now() - last_status_now_ > to_us(params_.link_timeout_s))
     set_link_ok(false, "no status frame for " + std::to_string(params_.link_timeout_s) + " s");
 
-  const bool stale = !have_cmd_ || now() - last_cmd_now_ > to_us(params_.watchdog_timeout_s);
-  if (stale && !watchdog_tripped_) {
-    watchdog_tripped_ = true;
-    count("watchdog_trips");
-    publish_status();
-  }
+  if (update_watchdog()) publish_status();
   if (watchdog_tripped_) {
     commanded_ = Twist{};
   } else {
@@ -206,6 +210,9 @@ void BaseDriverCore::publish_odometry(double v, double omega) {
 }
 
 void BaseDriverCore::publish_status() {
+  // Evaluated here too, so that BASE_STATUS is right even when it is
+  // published between command ticks (or the command timer was skipped).
+  update_watchdog();
   evade::base_status_t m;
   m.utime = now();
   m.state = static_cast<int8_t>(system_.base_state);

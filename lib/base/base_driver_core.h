@@ -91,6 +91,8 @@ class BaseDriverCore : public bus::Core {
  private:
   void on_cmd_vel(double v, double omega);
   void command_tick();
+  // Trips the watchdog if CMD_VEL is stale at now(); true if it just tripped.
+  bool update_watchdog();
   void on_frame(const Frame& frame);
   void on_motion_status(const MotionStatus& status);
   void set_link_ok(bool ok, const std::string& why);
