@@ -252,6 +252,22 @@ TEST(SimProcessErrors, BadScenarioExitsWithFileLineKey) {
   std::remove(path.c_str());
 }
 
+TEST(SimProcessRun, StopsAtTheScenarioDurationFasterWithSpeed) {
+  std::string path = temp_path("short.yaml");
+  std::string text = kScenario;
+  text.replace(text.find("duration_s: 60"), 14, "duration_s: 2");
+  std::ofstream(path) << text;
+  std::string err;
+  auto t0 = Clock::now();
+  EXPECT_EQ(run_to_end({SIM_BINARY, "--scenario", path, "--speed", "10", "--device", temp_path("scout_fast")}, &err), 0)
+      << err;
+  double wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  // 2 simulated seconds at 10x take 0.2 s of wall time; at 1x they would take 2 s.
+  EXPECT_LT(wall_s, 1.5);
+  EXPECT_NE(err.find("scenario duration 2 s reached"), std::string::npos) << err;
+  std::remove(path.c_str());
+}
+
 TEST(SimProcessErrors, BadLidarDestinationIsRefused) {
   std::string err;
   EXPECT_EQ(run_to_end({SIM_BINARY, "--scenario", std::string(EVADE_SOURCE_DIR) + "/config/scenarios/paper_sim.yaml",
