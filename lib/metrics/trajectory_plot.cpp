@@ -13,7 +13,9 @@ namespace {
 constexpr int kWidth = 1400;          // px
 constexpr int kMarginPx = 60;         // px around the drawing
 constexpr int kLegendPx = 110;        // px below the drawing for text and colour bar
-constexpr double kWorldPadM = 1.0;    // m around the content
+constexpr double kWorldPadM = 5.0;    // m around the robot's path and route: half the local map
+constexpr double kTimeLabelS = 5.0;   // s between time labels on the robot and the obstacles
+constexpr double kOutlineS = 1.0;     // s between outlines of moving obstacles
 
 struct Rgb {
   double r, g, b;
@@ -26,8 +28,9 @@ Rgb speed_colour(double t) {
   return {2 * (t - 0.5), 1.0 - 2 * (t - 0.5), 0.0};
 }
 
+// Moving obstacles; none grey (grey marks static ones).
 const Rgb kObstacleColours[] = {{0.85, 0.33, 0.10}, {0.49, 0.18, 0.56}, {0.47, 0.67, 0.19}, {0.30, 0.75, 0.93},
-                                {0.64, 0.08, 0.18}, {0.93, 0.69, 0.13}, {0.0, 0.45, 0.74},  {0.5, 0.5, 0.5}};
+                                {0.64, 0.08, 0.18}, {0.93, 0.69, 0.13}, {0.0, 0.45, 0.74},  {0.85, 0.2, 0.6}};
 
 struct View {
   double xmin, ymin, scale;
@@ -66,11 +69,10 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
     ymin = std::min(ymin, p.y);
     ymax = std::max(ymax, p.y);
   };
+  // Framed on what the robot did; obstacles far from it are clipped.
   for (auto p : m.robot_path) grow(p);
   for (auto p : m.route) grow(p);
   grow(m.goal);
-  for (const auto& o : m.obstacles)
-    for (auto p : o.path) grow(p);
   xmin -= kWorldPadM;
   xmax += kWorldPadM;
   ymin -= kWorldPadM;
@@ -84,7 +86,7 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
 
-  // 1 m grid with labels every 5 m.
+  // 1 m grid with labels every 5 m (labels outside the plot area).
   cairo_set_line_width(cr, 0.5);
   cairo_set_font_size(cr, 11);
   for (double x = std::ceil(xmin); x <= xmax; x += 1.0) {
@@ -109,6 +111,11 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
       cairo_show_text(cr, std::to_string(static_cast<int>(y)).c_str());
     }
   }
+
+  // Everything in the world is clipped to the plot area.
+  cairo_save(cr);
+  cairo_rectangle(cr, v.px(xmin), v.py(ymax), (xmax - xmin) * scale, (ymax - ymin) * scale);
+  cairo_clip(cr);
 
   // Route.
   if (m.route.size() >= 2) {
@@ -135,9 +142,18 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
       for (auto p : o.path) cairo_line_to(cr, v.px(p.x), v.py(p.y));
       cairo_stroke(cr);
       cairo_set_line_width(cr, 0.7);
-      for (size_t k = 0; k < o.path.size(); k += 50) {
-        shape_path(cr, v, o, o.path[k], o.yaw[k]);
-        cairo_stroke(cr);
+      double next_outline = 0.0, next_label = kTimeLabelS;
+      for (size_t k = 0; k < o.path.size() && k < m.robot_t_s.size(); ++k) {
+        if (m.robot_t_s[k] >= next_outline) {
+          next_outline += kOutlineS;
+          shape_path(cr, v, o, o.path[k], o.yaw[k]);
+          cairo_stroke(cr);
+        }
+        if (m.robot_t_s[k] >= next_label) {
+          next_label += kTimeLabelS;
+          cairo_move_to(cr, v.px(o.path[k].x) + 6, v.py(o.path[k].y) + 4);
+          cairo_show_text(cr, (std::to_string(static_cast<int>(std::lround(m.robot_t_s[k]))) + "s").c_str());
+        }
       }
     }
     cairo_set_source_rgba(cr, c.r, c.g, c.b, o.dynamic ? 0.5 : 0.8);
@@ -159,6 +175,18 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
     cairo_move_to(cr, v.px(m.robot_path[k - 1].x), v.py(m.robot_path[k - 1].y));
     cairo_line_to(cr, v.px(m.robot_path[k].x), v.py(m.robot_path[k].y));
     cairo_stroke(cr);
+  }
+
+  // Time labels on the robot's path, matching the obstacles'.
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  double next_label = kTimeLabelS;
+  for (size_t k = 0; k < m.robot_path.size(); ++k) {
+    if (m.robot_t_s[k] < next_label) continue;
+    next_label += kTimeLabelS;
+    cairo_arc(cr, v.px(m.robot_path[k].x), v.py(m.robot_path[k].y), 3, 0, 2 * M_PI);
+    cairo_fill(cr);
+    cairo_move_to(cr, v.px(m.robot_path[k].x) - 8, v.py(m.robot_path[k].y) - 8);
+    cairo_show_text(cr, (std::to_string(static_cast<int>(std::lround(m.robot_t_s[k]))) + "s").c_str());
   }
 
   // Start, goal.
@@ -196,6 +224,8 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
     cairo_show_text(cr, label);
   }
 
+  cairo_restore(cr);
+
   // Legend: title, metrics, speed bar.
   double ly = height - kLegendPx + 20;
   cairo_set_source_rgb(cr, 0, 0, 0);
@@ -224,7 +254,9 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_move_to(cr, bx, by + bh + 14);
   cairo_show_text(cr, "0 m/s");
-  std::snprintf(line, sizeof line, "%.2f m/s   robot speed (path colour); dashed: route; grey: static obstacles",
+  std::snprintf(line, sizeof line,
+                "%.2f m/s   robot speed (path colour); dashed: route; grey: static obstacles; "
+                "moving obstacles outlined every second; labels: time since start",
                 vmax);
   cairo_move_to(cr, bx + bw - 20, by + bh + 14);
   cairo_show_text(cr, line);

@@ -5,6 +5,8 @@
 // (1), or when SIM_TRUTH stops arriving for --stall-s (3).
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 
@@ -56,11 +58,14 @@ class Monitor : public evade::bus::Core {
       clear = std::min(clear, c);
     }
     min_clear_ = std::min(min_clear_, clear);
-    if (!quiet_ && t.utime - last_print_ >= 200'000) {
+    // On a terminal one line rewritten 5 times a second; in a log file a
+    // new line every 2 s.
+    const int64_t print_period = tty_ ? 200'000 : 2'000'000;
+    if (!quiet_ && t.utime - last_print_ >= print_period) {
       last_print_ = t.utime;
-      std::fprintf(stderr, "\r  t %5.1f s  to goal %6.2f m  v %5.2f m/s  clearance %5.2f m (min %5.2f)  plan %-8s %5.2f ms ",
-                   elapsed, to_goal, t.v, clear, min_clear_, plan_status_ < 0 ? "-" : status_name(plan_status_),
-                   solve_ms_);
+      std::fprintf(stderr, "%s  t %5.1f s  to goal %6.2f m  v %5.2f m/s  clearance %5.2f m (min %5.2f)  plan %-8s %5.2f ms %s",
+                   tty_ ? "\r" : "", elapsed, to_goal, t.v, clear, min_clear_, plan_status_ < 0 ? "-" : status_name(plan_status_),
+                   solve_ms_, tty_ ? "" : "\n");
       std::fflush(stderr);
     }
     if (result >= 0) return;
@@ -77,7 +82,7 @@ class Monitor : public evade::bus::Core {
   }
   void finish(int code, const char* why, double elapsed) {
     result = code;
-    if (!quiet_) std::fprintf(stderr, "\n");
+    if (!quiet_ && tty_) std::fprintf(stderr, "\n");
     std::fprintf(stderr, "run-monitor: %s%s\n", why,
                  elapsed >= 0 ? (" at t " + std::to_string(elapsed).substr(0, 6) + " s").c_str() : "");
   }
@@ -87,6 +92,7 @@ class Monitor : public evade::bus::Core {
   int plan_status_ = -1;
   int64_t margin_us_, stall_us_;
   bool quiet_;
+  bool tty_ = ::isatty(2) != 0;
 };
 
 }  // namespace
