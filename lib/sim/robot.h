@@ -41,7 +41,7 @@ class UnicycleRobot {
   // packet can be cast after the robot has moved on; older times use the
   // oldest state kept.
   Pose2 pose_at(int64_t utime) const;
-  static constexpr size_t kHistorySteps = 64;
+  static constexpr size_t kHistorySteps = 128;  // covers sim.lidar_max_lag_s at 1 ms steps
 
   const Pose2& pose() const { return pose_; }
   double v() const { return v_; }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "base/scout_protocol.h"
 #include "bus/memory_bus.h"
@@ -152,6 +153,23 @@ TEST_F(SimCoreTest, BadFramesAreCountedAndIgnored) {
   send(std::vector<uint8_t>(f.begin(), f.begin() + 5), kT0 + 201'000);
   send(std::vector<uint8_t>(f.begin() + 5, f.end()), kT0 + 202'000);
   EXPECT_EQ(core_.counter("scout_motion_commands"), 1);
+}
+
+TEST_F(SimCoreTest, RandomBytesNeverCrashAndAreCounted) {
+  std::mt19937 rng(7);
+  std::vector<uint8_t> junk(4096);
+  int64_t t = kT0;
+  for (int i = 0; i < 25; ++i) {
+    for (auto& b : junk) b = static_cast<uint8_t>(rng());
+    // Sprinkle frame starts so the parser also sees headers with bad lengths and checksums.
+    for (size_t k = 0; k + 3 < junk.size(); k += 97) junk[k] = 0x5A, junk[k + 1] = 0xA5;
+    t += 10'000;
+    send(junk, t);
+  }
+  EXPECT_GT(core_.counter("scout_noise_bytes"), 50'000);
+  EXPECT_GT(core_.counter("scout_bad_length") + core_.counter("scout_bad_checksum"), 500);
+  // Status frames still go out, clean.
+  EXPECT_FALSE(status_frames().empty());
 }
 
 TEST_F(SimCoreTest, ObstaclesStartWhenTheRobotFirstMoves) {
