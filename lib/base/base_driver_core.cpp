@@ -102,8 +102,11 @@ bool BaseDriverCore::update_watchdog() {
 void BaseDriverCore::command_tick() {
   // Link supervision shares the command clock: a port that is open but has
   // been silent for link_timeout_s is a lost link.
-  if (link_ok_ && now() - last_status_now_ > to_us(params_.link_timeout_s))
-    set_link_ok(false, "no status frame for " + std::to_string(params_.link_timeout_s) + " s");
+  if (link_ok_ && now() - last_status_now_ > to_us(params_.link_timeout_s)) {
+    char why[64];
+    std::snprintf(why, sizeof why, "no status frame for %.2f s", params_.link_timeout_s);
+    set_link_ok(false, why);
+  }
 
   if (update_watchdog()) publish_status();
   if (watchdog_tripped_) {
