@@ -54,12 +54,10 @@ int run_pcap(LidarDriverCore& core, evade::bus::LiveBus& bus, const std::string&
     }
     ++packets;
     const int64_t now = evade::bus::wall_utime();
-    if (std::find(ports.begin(), ports.end(), d.dst_port) == ports.end()) {
-      // e.g. VLP-16 position packets on 8308: not point data.
-      ++other_ports;
-      core.input(now, [&] { core.count_external("pcap_other_port_datagrams"); });
-      continue;
-    }
+    // Every UDP payload goes to the decoder, whatever its port: the capture's
+    // ports are the sensor's, not necessarily the configured ones, and the
+    // decoder tells data from position / DIFOP packets by size and header.
+    if (std::find(ports.begin(), ports.end(), d.dst_port) == ports.end()) ++other_ports;
     if (d.truncated) {
       ++truncated;
       core.input(now, [&] { core.count_external("pcap_truncated_datagrams"); });
@@ -70,7 +68,7 @@ int run_pcap(LidarDriverCore& core, evade::bus::LiveBus& bus, const std::string&
   if (!reader.error().empty()) std::fprintf(stderr, "%s: %s: %s\n", kName, path.c_str(), reader.error().c_str());
   core.input(evade::bus::wall_utime(), [&] { core.flush(); });
   bus.spin_once(0);
-  std::fprintf(stderr, "%s: %s: %lld datagrams, %lld on other ports, %lld truncated, %lld data packets, %lld revolutions\n",
+  std::fprintf(stderr, "%s: %s: %lld datagrams, %lld not on the configured ports, %lld truncated, %lld data packets, %lld revolutions\n",
                kName, path.c_str(), static_cast<long long>(packets), static_cast<long long>(other_ports),
                static_cast<long long>(truncated), static_cast<long long>(core.counter("data_packets")),
                static_cast<long long>(core.counter("revolutions")));
