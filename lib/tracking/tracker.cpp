@@ -150,13 +150,18 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
     const Track& tr = tracks_[size_t(t)];
     double px = tr.cx, py = tr.cy;
     const double gap_s = (g.utime - tr.last_seen_utime) * 1e-6;
-    if (p_.predict_with_velocity && tr.has_velocity && gap_s <= p_.max_prediction_gap_s) {
+    const bool predict = p_.predict_with_velocity && tr.has_velocity && gap_s <= p_.max_prediction_gap_s;
+    if (predict) {
       px += tr.vx * gap_s;
       py += tr.vy * gap_s;
     }
     for (int d = 0; d < nd; ++d) {
       const Ellipse& e = detections_[size_t(d)].ellipse;
-      const double dd = std::hypot(e.cx - px, e.cy - py);
+      // The nearer of the predicted and the last centre: a velocity estimate
+      // corrupted by a partial occlusion (the visible cells, hence the
+      // centre, shift) must not carry a static obstacle's track away.
+      double dd = std::hypot(e.cx - px, e.cy - py);
+      if (predict) dd = std::min(dd, std::hypot(e.cx - tr.cx, e.cy - tr.cy));
       dist[size_t(t) * nd + d] = dd;
       cost[size_t(t) * nd + d] = dd <= p_.gate_m ? dd : kGated;
     }
