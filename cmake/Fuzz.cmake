@@ -23,8 +23,10 @@
 # corpus (build/fuzz/NAME/), crashes saved there too.
 include_guard(GLOBAL)
 
-set(EVADE_FUZZ_DRIVER ${CMAKE_CURRENT_LIST_DIR}/../test/fuzz/fuzz_driver.cpp)
-get_filename_component(EVADE_FUZZ_DRIVER ${EVADE_FUZZ_DRIVER} ABSOLUTE)
+# Cache variables: the guard means only the first includer's scope runs
+# this file, and every later caller of the function must still see them.
+get_filename_component(_evade_fuzz_driver ${CMAKE_CURRENT_LIST_DIR}/../test/fuzz/fuzz_driver.cpp ABSOLUTE)
+set(EVADE_FUZZ_DRIVER ${_evade_fuzz_driver} CACHE INTERNAL "corpus-regression main for fuzz targets")
 
 find_program(EVADE_CLANGXX NAMES clang++-14 clang++)
 if(EVADE_CLANGXX AND NOT DEFINED EVADE_LIBFUZZER_WORKS)
