@@ -47,9 +47,7 @@ class Listener {
 class BaseDriverProcess : public ::testing::Test {
  protected:
   void SetUp() override {
-    char tmpl[] = "/tmp/evade_base_proc_XXXXXX";
-    ASSERT_NE(::mkdtemp(tmpl), nullptr);
-    dir_ = tmpl;
+    dir_ = tmp_.path;
     path_ = dir_ + "/scout";
     ASSERT_TRUE(lcm_.good());
     lcm_.subscribe("ODOMETRY", &Listener::on_odometry, &listener_);
@@ -62,6 +60,7 @@ class BaseDriverProcess : public ::testing::Test {
       ::waitpid(pid_, nullptr, 0);
     }
   }
+  testing::TempDir tmp_;
   void start() {
     pid_ = ::fork();
     ASSERT_GE(pid_, 0);

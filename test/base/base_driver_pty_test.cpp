@@ -22,17 +22,11 @@ namespace evade::base {
 namespace {
 
 using testing::PtyPeer;
+using testing::TempDir;
 using testing::wait_readable;
 
 constexpr int64_t kT0 = 1'000'000'000;
 constexpr int64_t kTick = 20'000;
-
-std::string temp_dir() {
-  char tmpl[] = "/tmp/evade_base_test_XXXXXX";
-  const char* d = ::mkdtemp(tmpl);
-  if (!d) throw std::runtime_error("mkdtemp failed");
-  return d;
-}
 
 evade::cmd_vel_t cmd(double v, double omega) {
   evade::cmd_vel_t m{};
@@ -99,7 +93,8 @@ struct Driver {
 const VelocityLimits kReversible{-1.0, 1.0, 0.5, 1000.0, 1000.0, 1000.0};  // no ramp: one tick reaches the target
 
 TEST(BaseDriverPty, CommandFramesHaveExactBytes) {
-  const std::string dir = temp_dir();
+  TempDir tmp;
+  const std::string& dir = tmp.path;
   PtyPeer base(dir + "/scout");
   Driver d(dir + "/scout", kReversible);
   d.bus.advance_to(kT0);
@@ -125,7 +120,8 @@ TEST(BaseDriverPty, CommandFramesHaveExactBytes) {
 }
 
 TEST(BaseDriverPty, ForwardOnlyRobotNeverCommandsReverse) {
-  const std::string dir = temp_dir();
+  TempDir tmp;
+  const std::string& dir = tmp.path;
   PtyPeer base(dir + "/scout");
   VelocityLimits forward = kReversible;
   forward.min_v_mps = 0.0;  // as in config/robot.yaml
@@ -138,7 +134,8 @@ TEST(BaseDriverPty, ForwardOnlyRobotNeverCommandsReverse) {
 }
 
 TEST(BaseDriverPty, StatusInPiecesAndGarbageBecomesOdometry) {
-  const std::string dir = temp_dir();
+  TempDir tmp;
+  const std::string& dir = tmp.path;
   PtyPeer base(dir + "/scout");
   Driver d(dir + "/scout", kReversible);
   d.bus.advance_to(kT0);
@@ -169,7 +166,8 @@ TEST(BaseDriverPty, StatusInPiecesAndGarbageBecomesOdometry) {
 }
 
 TEST(BaseDriverPty, HangUpThenReconnectAtTheSamePath) {
-  const std::string dir = temp_dir();
+  TempDir tmp;
+  const std::string& dir = tmp.path;
   const std::string path = dir + "/scout";
   auto base = std::make_unique<PtyPeer>(path);
   Driver d(path, kReversible);
@@ -235,7 +233,8 @@ TEST(BaseDriverPty, HangUpThenReconnectAtTheSamePath) {
 }
 
 TEST(BaseDriverPty, WriteAfterHangUpReportsTheLoss) {
-  const std::string dir = temp_dir();
+  TempDir tmp;
+  const std::string& dir = tmp.path;
   PtyPeer base(dir + "/scout");
   SerialLink link(dir + "/scout", 115200, 0.1, 2.0);
   ASSERT_EQ(link.try_open(0, nullptr), SerialLink::OpenResult::kOpened);
@@ -249,7 +248,8 @@ TEST(BaseDriverPty, WriteAfterHangUpReportsTheLoss) {
 }
 
 TEST(BaseDriverPty, MissingDeviceIsRetriedWithBackOff) {
-  const std::string dir = temp_dir();
+  TempDir tmp;
+  const std::string& dir = tmp.path;
   SerialLink link(dir + "/absent", 115200, 0.1, 1.0);
   std::string msg;
   int64_t t = 0;
@@ -271,7 +271,8 @@ TEST(BaseDriverPty, MissingDeviceIsRetriedWithBackOff) {
 }
 
 TEST(BaseDriverPty, NonTerminalDeviceIsRefusedWithoutAborting) {
-  const std::string dir = temp_dir();
+  TempDir tmp;
+  const std::string& dir = tmp.path;
   std::ofstream(dir + "/file") << "not a serial port";
   SerialLink link(dir + "/file", 115200, 0.1, 2.0);
   std::string msg;
@@ -282,8 +283,9 @@ TEST(BaseDriverPty, NonTerminalDeviceIsRefusedWithoutAborting) {
 // The failure this design avoids (FACTS.md): a plain libserial SerialPort
 // destroyed after a hang-up takes the process down.
 TEST(BaseDriverPtyDeathTest, PlainLibSerialAbortsAfterHangUp) {
-  GTEST_FLAG_SET(death_test_style, "threadsafe");
-  const std::string dir = temp_dir();
+  GTEST_FLAG_SET(death_test_style, "fast");  // fork only: the child uses the parent's temp dir
+  TempDir tmp;
+  const std::string& dir = tmp.path;
   EXPECT_DEATH(
       {
         PtyPeer base(dir + "/scout");

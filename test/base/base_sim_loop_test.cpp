@@ -20,6 +20,7 @@
 #include "evade/cmd_vel_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "evade/sim_truth_t.hpp"
+#include "pty_peer.h"
 
 namespace {
 
@@ -55,9 +56,8 @@ struct Collector {
 };
 
 TEST(BaseSimLoop, OdometryFollowsTheSimulatedRobot) {
-  char tmpl[] = "/tmp/evade_base_sim_XXXXXX";
-  ASSERT_NE(::mkdtemp(tmpl), nullptr);
-  const std::string dir = tmpl, device = dir + "/scout";
+  evade::base::testing::TempDir tmp;
+  const std::string dir = tmp.path, device = dir + "/scout";
   const std::string src = EVADE_SOURCE_DIR, bin = EVADE_BIN_DIR;
   const std::string config = src + "/config/robot.yaml";
 

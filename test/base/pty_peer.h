@@ -12,6 +12,8 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -109,6 +111,22 @@ class PtyPeer {
   std::string slave_name_;
   int master_ = -1;
   int slave_ = -1;
+};
+
+// A fresh directory under /tmp, removed with everything in it at scope exit.
+struct TempDir {
+  TempDir() {
+    char tmpl[] = "/tmp/evade_base_test_XXXXXX";
+    if (!::mkdtemp(tmpl)) throw std::runtime_error("mkdtemp failed");
+    path = tmpl;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  std::string path;
 };
 
 // Waits until `fd` is readable (or hung up), up to timeout_ms.
