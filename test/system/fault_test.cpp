@@ -71,7 +71,7 @@ class Faults : public ::testing::Test {
     }
     return false;
   }
-  void run_fault(const std::string& victim, const std::vector<Sample>& Observer::*zero_signal,
+  void run_fault(const std::string& victim, std::vector<Sample> Observer::*zero_signal,
                  const char* signal_name) {
     ASSERT_EQ(std::string(std::getenv("EVADE_IN_NETNS") ? std::getenv("EVADE_IN_NETNS") : ""), "1");
     std::string dir = ::testing::TempDir() + "/fault_" + victim;
