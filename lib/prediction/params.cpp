@@ -19,6 +19,13 @@ PredictorParams PredictorParams::from_config(const config::Node& s) {
   p.filter.orientation_min_elongation_m = f.get_positive("orientation_min_elongation_m");
   f.close();
 
+  const config::Node mv = s.section("maneuver");
+  p.maneuver.enabled = mv.get<bool>("enabled");
+  p.maneuver.jerk_psd_m2ps5 = mv.get_positive("jerk_psd_m2ps5");
+  p.maneuver.mean_quiet_s = mv.get_positive("mean_quiet_s");
+  p.maneuver.mean_maneuver_s = mv.get_positive("mean_maneuver_s");
+  mv.close();
+
   const config::Node a = s.section("adaptive_noise");
   p.adaptive.window_frames = a.get_int("window_frames", 2, 1000);
   p.adaptive.shape_variation_source = a.get_choice("shape_variation_source", {"own", "tracker"});

@@ -17,7 +17,7 @@ struct FilterParams {
   // Process noise Q, continuous-time spectral densities; discretised for the
   // actual frame interval (white jerk drives the (p, v, a) chain of each axis,
   // a random walk drives each shape parameter).
-  double jerk_psd_m2ps5 = 0.0003;
+  double jerk_psd_m2ps5 = 0.00005;
   double axis_psd_m2ps = 0.002;
   double theta_psd_rad2ps = 0.05;
   // Measurement noise R for the shape part of the MBE (the position part is adaptive).
@@ -26,6 +26,18 @@ struct FilterParams {
   // Orientation of a near-circular MBE is noise: its measurement variance
   // grows as (axis std / max(a - b, this))^2.
   double orientation_min_elongation_m = 0.02;
+};
+
+// Manoeuvres: the low jerk noise that gives accurate velocities of steady
+// targets makes one filter slow to follow a turn. Optionally the track runs
+// two copies of the paper's filter (same A, H, R) that differ only in the
+// jerk noise, mixed as an interacting multiple model (IMM); enabled = false
+// is the paper's single filter.
+struct ManeuverParams {
+  bool enabled = true;
+  double jerk_psd_m2ps5 = 0.1;   // jerk PSD of the manoeuvring mode
+  double mean_quiet_s = 60.0;    // expected time in the quiet mode before a manoeuvre
+  double mean_maneuver_s = 1.0;  // expected duration of a manoeuvre
 };
 
 struct AdaptiveNoiseParams {
@@ -55,6 +67,7 @@ struct PredictorParams {
   double prediction_dt_s = 0.1;     // planner step
   double max_frame_gap_s = 1.0;     // a longer gap between frames restarts every track
   FilterParams filter;
+  ManeuverParams maneuver;
   AdaptiveNoiseParams adaptive;
   UncertaintyParams uncertainty;
   LimitParams limits;

@@ -28,7 +28,6 @@ void clip_norm(double* x, double* y, double max_norm) {
 
 Predictor::Predictor(const PredictorParams& params)
     : params_(params),
-      prediction_noise_(process_noise(params.filter, params.prediction_dt_s)),
       chi2_position_(chi_square_2dof_quantile(params.uncertainty.confidence)),
       z_shape_(normal_two_sided_quantile(params.uncertainty.confidence)) {}
 
@@ -102,6 +101,9 @@ void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::trac
 
   State x = filter.state();
   Covariance P = filter.covariance();
+  // Q of one prediction step; with the IMM, the jerk PSD weighted by the mode
+  // probabilities, so that a manoeuvring target's ellipse grows faster.
+  const Covariance Q = process_noise(params_.filter, T, filter.effective_jerk_psd());
   // Caps: a noisy acceleration estimate must not fling the prediction across
   // the map, so the acceleration and speed used for extrapolation are clipped.
   clip_norm(&x(kVx), &x(kVy), lim.max_speed_mps);
@@ -142,7 +144,7 @@ void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::trac
       x(kVx) = vx1;
       x(kVy) = vy1;
       State unused = State::Zero();
-      propagate(&unused, &P, prediction_noise_, T);
+      propagate(&unused, &P, Q, T);
     }
     const double r_p = position_radius(P(kX, kX), P(kX, kY), P(kY, kY), chi2_position_);
     const double r_eta = shape_radius(P(kA, kA), P(kB, kB), P(kTheta, kTheta), a - b, z_shape_);

@@ -38,7 +38,6 @@ class Predictor {
 
  private:
   PredictorParams params_;
-  Covariance prediction_noise_;    // Q for one prediction step
   double chi2_position_ = 0;       // chi-square quantile, 2 dof, at the confidence level
   double z_shape_ = 0;             // two-sided normal quantile at the confidence level
   std::unordered_map<int64_t, TrackFilter> tracks_;

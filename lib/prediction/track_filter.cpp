@@ -1,6 +1,7 @@
 #include "prediction/track_filter.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
@@ -31,12 +32,12 @@ Covariance transition_matrix(double dt) {
   return A;
 }
 
-Covariance process_noise(const FilterParams& p, double dt) {
+Covariance process_noise(const FilterParams& p, double dt, double jerk_psd) {
   Covariance Q = Covariance::Zero();
   const double t2 = dt * dt, t3 = t2 * dt, t4 = t3 * dt, t5 = t4 * dt;
   // Continuous white jerk of PSD q integrated over dt (the standard
   // discretisation of the constant-acceleration model).
-  const double q = p.jerk_psd_m2ps5;
+  const double q = jerk_psd;
   const double blk[3][3] = {{t5 / 20, t4 / 8, t3 / 6}, {t4 / 8, t3 / 3, t2 / 2}, {t3 / 6, t2 / 2, dt}};
   for (const auto& ax : kAxes)
     for (int i = 0; i < 3; ++i)
@@ -95,6 +96,17 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
   P_(kTheta, kTheta) = f.r_theta_rad2 + f.r_axis_m2 / std::pow(std::max(std::fabs(z.a - z.b), f.orientation_min_elongation_m), 2);
   P_(kVx, kVx) = P_(kVy, kVy) = f.init_speed_std_mps * f.init_speed_std_mps;
   P_(kAx, kAx) = P_(kAy, kAy) = f.init_accel_std_mps2 * f.init_accel_std_mps2;
+  num_modes_ = params.maneuver.enabled ? 2 : 1;
+  modes_[0] = {x_, P_, f.jerk_psd_m2ps5};
+  modes_[1] = {x_, P_, params.maneuver.jerk_psd_m2ps5};
+  mu_[0] = 1.0;
+  mu_[1] = 0.0;
+  if (num_modes_ == 2) {
+    // start at the stationary distribution of the mode chain
+    const double tq = params.maneuver.mean_quiet_s, tm = params.maneuver.mean_maneuver_s;
+    mu_[0] = tq / (tq + tm);
+    mu_[1] = tm / (tq + tm);
+  }
   window_.reserve(static_cast<size_t>(params.adaptive.window_frames));
   window_.push_back({z.a, z.b, x_(kTheta)});
   last_theta_ = x_(kTheta);
@@ -103,7 +115,69 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
   updates_ = 0;
 }
 
-void TrackFilter::predict(double dt) { propagate(&x_, &P_, process_noise(params_->filter, dt), dt); }
+namespace {
+
+// a - b with the orientation difference taken pi-periodically.
+State state_difference(const State& a, const State& b) {
+  State d = a - b;
+  d(kTheta) = wrap_half_pi(d(kTheta));
+  return d;
+}
+
+}  // namespace
+
+double TrackFilter::effective_jerk_psd() const {
+  double q = 0;
+  for (int j = 0; j < num_modes_; ++j) q += mu_[j] * modes_[j].jerk_psd;
+  return q;
+}
+
+void TrackFilter::combine() {
+  if (num_modes_ == 1) {
+    x_ = modes_[0].x;
+    P_ = modes_[0].P;
+    return;
+  }
+  const State ref = modes_[0].x;
+  State mean = State::Zero();
+  for (int j = 0; j < num_modes_; ++j) mean += mu_[j] * state_difference(modes_[j].x, ref);
+  x_ = ref + mean;
+  x_(kTheta) = wrap_half_pi(x_(kTheta));
+  P_.setZero();
+  for (int j = 0; j < num_modes_; ++j) {
+    const State d = state_difference(modes_[j].x, x_);
+    P_ += mu_[j] * (modes_[j].P + d * d.transpose());
+  }
+}
+
+void TrackFilter::predict(double dt) {
+  if (num_modes_ == 2) {
+    // IMM mixing with the mode chain over dt: P(leave mode) = 1 - exp(-dt / mean time in it).
+    const double leave_quiet = -std::expm1(-dt / params_->maneuver.mean_quiet_s);
+    const double leave_maneuver = -std::expm1(-dt / params_->maneuver.mean_maneuver_s);
+    const double pi[2][2] = {{1.0 - leave_quiet, leave_quiet}, {leave_maneuver, 1.0 - leave_maneuver}};
+    double c[2];
+    Mode mixed[2];
+    for (int j = 0; j < 2; ++j) {
+      c[j] = pi[0][j] * mu_[0] + pi[1][j] * mu_[1];
+      const double w0 = pi[0][j] * mu_[0] / c[j], w1 = pi[1][j] * mu_[1] / c[j];
+      State x0 = modes_[j].x + w0 * state_difference(modes_[0].x, modes_[j].x) +
+                 w1 * state_difference(modes_[1].x, modes_[j].x);
+      x0(kTheta) = wrap_half_pi(x0(kTheta));
+      const State d0 = state_difference(modes_[0].x, x0), d1 = state_difference(modes_[1].x, x0);
+      mixed[j].x = x0;
+      mixed[j].P = w0 * (modes_[0].P + d0 * d0.transpose()) + w1 * (modes_[1].P + d1 * d1.transpose());
+      mixed[j].jerk_psd = modes_[j].jerk_psd;
+    }
+    for (int j = 0; j < 2; ++j) {
+      modes_[j] = mixed[j];
+      mu_[j] = c[j];
+    }
+  }
+  for (int j = 0; j < num_modes_; ++j)
+    propagate(&modes_[j].x, &modes_[j].P, process_noise(params_->filter, dt, modes_[j].jerk_psd), dt);
+  combine();
+}
 
 double TrackFilter::own_shape_variation() const {
   const size_t m = window_.size();
@@ -138,7 +212,6 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
     ma = z.b; mb = z.a; mt = z.theta + 0.5 * kPi;
     info.swapped_axes = true;
   }
-  const double theta_innovation = wrap_half_pi(mt - pt);
 
   // Shape window, theta unwrapped against the previous entry so that its mean is meaningful.
   const Shape aligned{ma, mb, last_theta_ + wrap_half_pi(mt - last_theta_)};
@@ -150,25 +223,45 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
   info.xi_eta = use_tracker_variation_ ? std::max(0.0, z.tracker_shape_variation) : own_shape_variation();
   info.r_position = adaptive_position_variance(info.xi_eta, params_->adaptive, &info.k);
 
-  Eigen::Matrix<double, kMeasSize, 1> innovation;
-  innovation << z.x - x_(kX), z.y - x_(kY), ma - pa, mb - pb, theta_innovation;
   Eigen::Matrix<double, kMeasSize, 1> r_diag;
   const double elongation = std::max(std::fabs(ma - mb), f.orientation_min_elongation_m);
   r_diag << info.r_position, info.r_position, f.r_axis_m2, f.r_axis_m2,
       f.r_theta_rad2 + f.r_axis_m2 / (elongation * elongation);
 
-  // H = [I_5 0]: H P H^T is the top-left 5x5 block and P H^T the first 5 columns.
-  Eigen::Matrix<double, kMeasSize, kMeasSize> S = P_.topLeftCorner<kMeasSize, kMeasSize>();
-  S.diagonal() += r_diag;
-  const Eigen::Matrix<double, kStateSize, kMeasSize> PHt = P_.leftCols<kMeasSize>();
-  const Eigen::Matrix<double, kStateSize, kMeasSize> K = S.ldlt().solve(PHt.transpose()).transpose();
-  x_ += K * innovation;
-  x_(kTheta) = wrap_half_pi(x_(kTheta));
-  // Joseph form: P = (I - KH) P (I - KH)^T + K R K^T, symmetric and positive by construction.
-  Covariance IKH = Covariance::Identity();
-  IKH.leftCols<kMeasSize>() -= K;
-  P_ = IKH * P_ * IKH.transpose() + K * r_diag.asDiagonal() * K.transpose();
-  P_ = 0.5 * (P_ + P_.transpose());
+  double log_likelihood[2] = {0.0, 0.0};
+  for (int j = 0; j < num_modes_; ++j) {
+    State& x = modes_[j].x;
+    Covariance& P = modes_[j].P;
+    Eigen::Matrix<double, kMeasSize, 1> innovation;
+    innovation << z.x - x(kX), z.y - x(kY), ma - x(kA), mb - x(kB), wrap_half_pi(mt - x(kTheta));
+    // H = [I_5 0]: H P H^T is the top-left 5x5 block and P H^T the first 5 columns.
+    Eigen::Matrix<double, kMeasSize, kMeasSize> S = P.topLeftCorner<kMeasSize, kMeasSize>();
+    S.diagonal() += r_diag;
+    const Eigen::Matrix<double, kStateSize, kMeasSize> PHt = P.leftCols<kMeasSize>();
+    const Eigen::Matrix<double, kStateSize, kMeasSize> K = S.ldlt().solve(PHt.transpose()).transpose();
+    if (num_modes_ == 2) {
+      // Mode likelihood from the centre innovation only: the modes differ in kinematics alone.
+      const Eigen::Matrix2d Sp = S.topLeftCorner<2, 2>();
+      const Eigen::Vector2d nu = innovation.head<2>();
+      log_likelihood[j] = -0.5 * nu.dot(Sp.ldlt().solve(nu)) - 0.5 * std::log(Sp.determinant());
+    }
+    x += K * innovation;
+    x(kTheta) = wrap_half_pi(x(kTheta));
+    // P = (I - KH) P = P - K S K^T for the optimal gain (cheaper than the Joseph
+    // form; symmetrised against round-off).
+    P.noalias() -= K * S * K.transpose();
+    P = 0.5 * (P + P.transpose()).eval();
+  }
+  if (num_modes_ == 2) {
+    const double top = std::max(log_likelihood[0], log_likelihood[1]);
+    const double w0 = mu_[0] * std::exp(log_likelihood[0] - top), w1 = mu_[1] * std::exp(log_likelihood[1] - top);
+    // keep both modes alive (a probability of exactly 0 could never recover)
+    constexpr double kMinProbability = 1e-6;
+    mu_[1] = std::clamp(w1 / (w0 + w1), kMinProbability, 1.0 - kMinProbability);
+    mu_[0] = 1.0 - mu_[1];
+  }
+  combine();
+  info.maneuver_probability = maneuver_probability();
   ++updates_;
   return info;
 }

@@ -29,9 +29,10 @@ using Covariance = Eigen::Matrix<double, kStateSize, kStateSize>;
 // Wraps an ellipse orientation (pi-periodic) into [-pi/2, pi/2).
 double wrap_half_pi(double angle);
 
-// A and Q for a step of dt seconds (Q: white jerk per axis, random walk per shape parameter).
+// A and Q for a step of dt seconds (Q: white jerk of PSD jerk_psd per axis,
+// random walk per shape parameter).
 Covariance transition_matrix(double dt);
-Covariance process_noise(const FilterParams& p, double dt);
+Covariance process_noise(const FilterParams& p, double dt, double jerk_psd);
 
 // x <- A x and P <- A P A^T + Q using the sparsity of A (same result as the dense products).
 void propagate(State* x, Covariance* P, const Covariance& Q, double dt);
@@ -53,6 +54,7 @@ struct UpdateInfo {
   double k = 0;          // adaptive exponent
   double r_position = 0; // R_p, m^2
   bool swapped_axes = false;  // the measurement was matched as (b, a, theta + pi/2)
+  double maneuver_probability = 0;  // IMM probability of the manoeuvring mode after the update
 };
 
 class TrackFilter {
@@ -61,12 +63,19 @@ class TrackFilter {
   // acceleration zero with a wide covariance (no spike from one noisy difference).
   TrackFilter(const PredictorParams& params, const Measurement& z);
 
+  // Time update by dt seconds (with the IMM: mixing, then each mode's A and Q).
   void predict(double dt);
+  // Measurement update with the MBE (with the IMM: each mode, then the mode probabilities).
   UpdateInfo update(const Measurement& z);
 
+  // The (combined) estimate and its covariance.
   const State& state() const { return x_; }
   const Covariance& covariance() const { return P_; }
   int updates() const { return updates_; }
+  // Probability of the manoeuvring mode (0 without the IMM).
+  double maneuver_probability() const { return num_modes_ == 2 ? mu_[1] : 0.0; }
+  // Jerk PSD to roll the estimate forward with: the modes' PSDs weighted by their probabilities.
+  double effective_jerk_psd() const;
 
   // Xi_eta of the paper over the last m aligned shapes: sum ||eta_i - mean||^2 / (m - 1),
   // with the orientation term weighted by the mean (a - b) so that it is in metres
@@ -76,7 +85,17 @@ class TrackFilter {
 
  private:
   struct Shape { double a, b, theta; };
+  struct Mode {
+    State x;
+    Covariance P;
+    double jerk_psd;
+  };
+  void combine();
+
   const PredictorParams* params_;
+  Mode modes_[2];
+  int num_modes_ = 1;
+  double mu_[2] = {1.0, 0.0};  // mode probabilities
   State x_;
   Covariance P_;
   std::vector<Shape> window_;  // ring buffer of the last m aligned shapes

@@ -46,7 +46,7 @@ TEST(Filter, SparsePropagationEqualsDenseProducts) {
   const double dt = 0.083;
   testing::default_params();
   FilterParams fp;
-  const Covariance Q = process_noise(fp, dt);
+  const Covariance Q = process_noise(fp, dt, fp.jerk_psd_m2ps5);
   const Covariance A = transition_matrix(dt);
   const State x_dense = A * x;
   const Covariance P_dense = A * P * A.transpose() + Q;
@@ -57,7 +57,7 @@ TEST(Filter, SparsePropagationEqualsDenseProducts) {
 
 TEST(Filter, ProcessNoiseScalesWithTheInterval) {
   FilterParams fp;
-  const Covariance q1 = process_noise(fp, 0.1), q2 = process_noise(fp, 0.2);
+  const Covariance q1 = process_noise(fp, 0.1, 0.05), q2 = process_noise(fp, 0.2, 0.05);
   EXPECT_NEAR(q2(kVx, kVx) / q1(kVx, kVx), 8.0, 1e-12);   // dt^3 / 3
   EXPECT_NEAR(q2(kX, kX) / q1(kX, kX), 32.0, 1e-12);      // dt^5 / 20
   EXPECT_NEAR(q2(kA, kA) / q1(kA, kA), 2.0, 1e-12);       // random walk
@@ -168,6 +168,57 @@ TEST(Filter, NewTrackStartsAtRestWithWideVelocityCovariance) {
   EXPECT_EQ(f.state()(kVy), 0.0);
   EXPECT_NEAR(f.covariance()(kVx, kVx), std::pow(params.filter.init_speed_std_mps, 2), 1e-12);
   EXPECT_NEAR(f.state()(kX), 3.0, 1e-15);
+}
+
+}  // namespace
+}  // namespace evade::prediction
+
+namespace evade::prediction {
+namespace {
+
+// IMM: a steady target settles in the quiet mode; a sudden change of velocity
+// moves the probability to the manoeuvring mode within a few frames.
+TEST(Filter, ManeuverProbabilityRisesOnlyWhenTheMotionChanges) {
+  const PredictorParams params = testing::default_params();
+  ASSERT_TRUE(params.maneuver.enabled);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.03);
+  Measurement z;
+  z.a = 0.4; z.b = 0.3; z.theta = 0.1;
+  TrackFilter f(params, z);
+  double x = 0, y = 0;
+  for (int i = 1; i <= 40; ++i) {  // 4 s straight at 1 m/s
+    x += 0.1;
+    z.x = x + noise(rng); z.y = y + noise(rng);
+    f.predict(0.1);
+    f.update(z);
+  }
+  EXPECT_LT(f.maneuver_probability(), 0.1);
+  double peak = 0;
+  for (int i = 1; i <= 5; ++i) {  // abrupt turn to +y at 1 m/s
+    y += 0.1;
+    z.x = x + noise(rng); z.y = y + noise(rng);
+    f.predict(0.1);
+    peak = std::max(peak, f.update(z).maneuver_probability);
+  }
+  EXPECT_GT(peak, 0.5);
+  // the combined estimate is the probability-weighted mix, so it is between the modes
+  EXPECT_GT(f.effective_jerk_psd(), params.filter.jerk_psd_m2ps5);
+  EXPECT_LT(f.effective_jerk_psd(), params.maneuver.jerk_psd_m2ps5);
+}
+
+TEST(Filter, SingleFilterWhenTheImmIsOff) {
+  PredictorParams params = testing::default_params();
+  params.maneuver.enabled = false;
+  Measurement z;
+  z.a = 0.4; z.b = 0.3;
+  TrackFilter f(params, z);
+  for (int i = 1; i <= 10; ++i) {
+    z.x = 0.2 * i;
+    f.predict(0.1);
+    EXPECT_EQ(f.update(z).maneuver_probability, 0.0);
+  }
+  EXPECT_EQ(f.effective_jerk_psd(), params.filter.jerk_psd_m2ps5);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <random>
 
 #include "bus/memory_bus.h"
 #include "config/config.h"
@@ -126,15 +127,16 @@ Noise mbe_noise() {
 // With the MBE noise (4 cm centre + 3 cm axis jitter dragging the
 // centre) the paper's constant-acceleration model cannot reach 2 % at 1.2 m/s:
 // even the least-squares quadratic fit over every frame (its information
-// limit) is at ~2.5 %. The filter must come close to that limit, be unbiased,
-// and its 2.5 s prediction must stay within a quarter metre.
+// limit) is at ~2.5 %. The filter must come close to that limit (within 35 %:
+// the manoeuvring IMM mode costs some steady-state accuracy, see the turn
+// test for what it buys), be unbiased, and predict 2.5 s ahead within a quarter metre.
 TEST(Predictor, ConstantVelocityTargetNearTheModelsInformationLimit) {
   Truth truth;
   truth.vx = 1.2 * std::cos(0.5);
   truth.vy = 1.2 * std::sin(0.5);
   const RunStats s = run(default_params(), truth, mbe_noise(), 10.0, 2.0, kSeeds);
   report("CV 1.2 m/s, 4 cm noise", s);
-  EXPECT_LT(s.rms_rel_speed_err, 1.25 * s.ls_rms_rel_speed_err);
+  EXPECT_LT(s.rms_rel_speed_err, 1.35 * s.ls_rms_rel_speed_err);
   EXPECT_LT(std::fabs(s.mean_speed_err), 0.005 * 1.2);
   EXPECT_LT(s.rms_pred_err_2_5s, 0.25);
 }
@@ -147,7 +149,7 @@ TEST(Predictor, ConstantAccelerationTargetNearTheModelsInformationLimit) {
   truth.ay = 0.1;
   const RunStats s = run(default_params(), truth, mbe_noise(), 8.0, 2.0, kSeeds);
   report("CA 0.27 m/s^2 from 0.67 m/s, 4 cm", s);
-  EXPECT_LT(s.rms_rel_speed_err, 1.25 * s.ls_rms_rel_speed_err);
+  EXPECT_LT(s.rms_rel_speed_err, 1.35 * s.ls_rms_rel_speed_err);
   EXPECT_LT(std::fabs(s.mean_speed_err), 0.01);
   EXPECT_LT(s.rms_pred_err_2_5s, 0.3);
 }
@@ -283,6 +285,64 @@ evade::obstacle_list_t list(int64_t utime, std::vector<evade::obstacle_t> obs) {
   l.obstacles = std::move(obs);
   l.num_obstacles = static_cast<int32_t>(l.obstacles.size());
   return l;
+}
+
+// A pedestrian walking at 1.2 m/s turns by 90 degrees in 1 s (4 s to 5 s).
+// The low jerk noise that gives accurate steady velocities makes the paper's
+// single filter slow to follow a turn; the two-mode IMM follows it.
+struct TurnErrors {
+  double during, after1, after2;  // velocity error RMS, m/s: turn + 1 s, 1-3 s after, 3-5 s after
+};
+
+TurnErrors turn_errors(const PredictorParams& params) {
+  const double kPi = 3.14159265358979323846;
+  const double v = 1.2, t_turn = 4.0, turn_s = 1.0, radius = v * turn_s / (kPi / 2);
+  auto truth = [&](double t, double* x, double* y, double* vx, double* vy) {
+    if (t < t_turn) {
+      *x = v * t; *y = 0; *vx = v; *vy = 0;
+    } else if (t < t_turn + turn_s) {
+      const double ph = (t - t_turn) / turn_s * (kPi / 2);
+      *x = v * t_turn + radius * std::sin(ph); *y = radius * (1 - std::cos(ph));
+      *vx = v * std::cos(ph); *vy = v * std::sin(ph);
+    } else {
+      *x = v * t_turn + radius; *y = radius + v * (t - t_turn - turn_s); *vx = 0; *vy = v;
+    }
+  };
+  double e[3] = {0, 0, 0};
+  int n[3] = {0, 0, 0};
+  for (uint32_t seed = 1; seed <= kSeeds; ++seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n01;
+    Predictor p(params);
+    for (int i = 0; i <= 100; ++i) {
+      const double t = 0.1 * i;
+      double x, y, vx, vy;
+      truth(t, &x, &y, &vx, &vy);
+      const evade::obstacle_t o = ob(1, x + 0.04 * n01(rng), y + 0.04 * n01(rng));
+      evade::prediction_list_t out;
+      EXPECT_TRUE(p.process(list(1'000'000 + i * 100'000, {o}), &out, nullptr));
+      const double e2 = std::pow(out.tracks[0].vx - vx, 2) + std::pow(out.tracks[0].vy - vy, 2);
+      const int bin = t < t_turn ? -1 : t < t_turn + turn_s + 1.0 ? 0 : t < t_turn + turn_s + 3.0 ? 1 : 2;
+      if (bin >= 0) {
+        e[bin] += e2;
+        ++n[bin];
+      }
+    }
+  }
+  return {std::sqrt(e[0] / n[0]), std::sqrt(e[1] / n[1]), std::sqrt(e[2] / n[2])};
+}
+
+TEST(Predictor, TurnIsFollowedWithinAFewSeconds) {
+  PredictorParams single = default_params();
+  single.maneuver.enabled = false;
+  const TurnErrors imm = turn_errors(default_params());
+  const TurnErrors one = turn_errors(single);
+  std::printf("[figures] 90 deg turn at 1.2 m/s, velocity error RMS (turn + 1 s | 1-3 s after | 3-5 s after): "
+              "IMM %.3f | %.3f | %.3f m/s, single filter %.3f | %.3f | %.3f m/s\n",
+              imm.during, imm.after1, imm.after2, one.during, one.after1, one.after2);
+  EXPECT_LT(imm.after1, 0.5 * one.after1);
+  EXPECT_LT(imm.after1, 0.25);
+  EXPECT_LT(imm.after2, 0.1);
 }
 
 TEST(Predictor, TracksAreCreatedAndVanishedOnesDropped) {
