@@ -411,6 +411,30 @@ TEST(Tracker, PaperAssociationWithoutPredictionAlsoKeepsSeparatedIds) {
   }
 }
 
+TEST(Tracker, PartialOcclusionDoesNotCarryAStaticTrackAway) {
+  // A static disc whose lower part is hidden for two frames (its centre
+  // seems to move up 0.1 m a frame: smoothed velocity 0.75 m/s), then wholly
+  // hidden for 8 frames, then seen again where it always was: same id. The
+  // velocity-predicted centre is by then 0.875 m away (beyond d_max = 0.8);
+  // the last centre is 0.2 m away.
+  Tracker t(params());
+  auto visible_above = [](double y_min) {
+    Scene s;
+    s.disc(2.0, 1.5, 0.3);
+    for (int row = 0; row < s.h; ++row)
+      for (int c = 0; c < s.w; ++c)
+        if (s.origin_y + (row + 0.5) * s.res < y_min) s.cells[row * s.w + c] = 0;
+    return s;
+  };
+  int64_t utime = 0;
+  int64_t id = -1;
+  for (int f = 0; f < 5; ++f) id = t.update(visible_above(0.0).view(utime += 100'000)).at(0).id;
+  EXPECT_EQ(t.update(visible_above(1.4).view(utime += 100'000)).at(0).id, id);
+  EXPECT_EQ(t.update(visible_above(1.6).view(utime += 100'000)).at(0).id, id);
+  for (int f = 0; f < 8; ++f) EXPECT_TRUE(t.update(Scene{}.view(utime += 100'000)).empty());
+  EXPECT_EQ(t.update(visible_above(0.0).view(utime += 100'000)).at(0).id, id);
+}
+
 TEST(Tracker, TracksDropAfterKMissedFramesAndIdsAreNeverReused) {
   auto p = params();
   p.max_missed_frames = 5;
