@@ -59,8 +59,13 @@ int64_t Core::next_deadline() const {
 }
 
 void Core::arm_timers(int64_t now) {
-  for (auto& t : timers_)
+  for (auto& t : timers_) {
     if (t.next < 0) t.next = now;
+    // Stalled (a gap in a log, a suspended process): the missed ticks are
+    // skipped, and it fires at `now` after the timers that are merely due,
+    // so the bus time seen by callbacks never runs backwards.
+    if (now - t.next > kMaxCatchUp * t.period_us) t.next = now;
+  }
 }
 
 bool Core::fire_next(int64_t now) {
@@ -69,7 +74,6 @@ bool Core::fire_next(int64_t now) {
   for (auto& t : timers_)
     if (t.next <= now && (!due || t.next < due->next)) due = &t;
   if (!due) return false;
-  if (now - due->next > kMaxCatchUp * due->period_us) due->next = now;  // stalled: no burst
   now_ = due->next;
   due->next += due->period_us;
   run_measured(due->fn);

@@ -68,6 +68,30 @@ TEST(MemoryBus, TimersRunOnBusTime) {
   EXPECT_EQ(d.tick_times.back(), 5'000'000);
 }
 
+// Two timers, one far behind after a gap: every callback sees a bus time no
+// earlier than the one before it.
+class TwoTimers : public Core {
+ public:
+  TwoTimers() : Core("two_timers", 50'000) {
+    every(20'000, [this] { times.push_back(now()); });
+    every(1'000'000, [this] { times.push_back(now()); });
+  }
+  std::vector<int64_t> times;
+};
+
+TEST(MemoryBus, BusTimeNeverRunsBackwardsAfterAGap) {
+  MemoryBus bus;
+  TwoTimers t;
+  bus.add(t);
+  bus.advance_to(1'000'000);
+  bus.advance_to(1'100'000);
+  bus.advance_to(1'250'000);  // 20 ms timer: 7 periods behind (catches up); 50 ms health: 3 behind
+  bus.advance_to(9'000'000);  // long gap: 20 ms and 50 ms timers stalled, 1 s timer 7 behind
+  ASSERT_GT(t.times.size(), 10u);
+  for (size_t i = 1; i < t.times.size(); ++i) EXPECT_LE(t.times[i - 1], t.times[i]) << "at " << i;
+  EXPECT_EQ(t.times.back(), 9'000'000);
+}
+
 TEST(MemoryBus, HealthReportsInputsCountersAndMalformed) {
   MemoryBus bus;
   Doubler d;
