@@ -32,7 +32,7 @@ inline void write_u32le(uint8_t* p, uint32_t v) {
 // Elevation and vertical offset per laser id, from the VLP-16 user manual's
 // laser table; ring = rank by elevation.
 constexpr double kElevationDeg[kLasers] = {-15, 1, -13, 3, -11, 5, -9, 7, -7, 9, -5, 11, -3, 13, -1, 15};
-constexpr double kVerticalOffsetMm[kLasers] = {11.2, -0.7, 9.7,  -2.2, 8.1, -3.7, 6.6,  -5.1,
+constexpr double kVerticalOffsetMm[kLasers] = {11.2, -0.7, 9.7, -2.2, 8.1, -3.7, 6.6, -5.1,
                                                5.1,  -6.6, 3.7, -8.1, 2.2, -9.7, 0.7, -11.2};
 
 std::array<Laser, kLasers> make_laser_table() {
@@ -115,17 +115,22 @@ std::array<uint8_t, kPacketSize> PacketEncoder::encode() const {
 
 const char* to_string(PacketStatus s) {
   switch (s) {
-    case PacketStatus::kOk: return "ok";
-    case PacketStatus::kWrongSize: return "wrong_size";
-    case PacketStatus::kBadFlag: return "bad_flag";
-    case PacketStatus::kBadAzimuth: return "bad_azimuth";
-    case PacketStatus::kBadReturnMode: return "bad_return_mode";
+    case PacketStatus::kOk:
+      return "ok";
+    case PacketStatus::kWrongSize:
+      return "wrong_size";
+    case PacketStatus::kBadFlag:
+      return "bad_flag";
+    case PacketStatus::kBadAzimuth:
+      return "bad_azimuth";
+    case PacketStatus::kBadReturnMode:
+      return "bad_return_mode";
   }
   return "unknown";
 }
 
-PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions& options,
-                           std::vector<Return>* out, PacketInfo* info) {
+PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions& options, std::vector<Return>* out,
+                           PacketInfo* info) {
   if (size != kPacketSize || data == nullptr) return PacketStatus::kWrongSize;
   int azimuth[kBlocksPerPacket];
   for (int b = 0; b < kBlocksPerPacket; ++b) {
@@ -170,11 +175,10 @@ PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions
   const Trig& t = trig();
   const float min_r = static_cast<float>(options.min_range_m);
   const float max_r = static_cast<float>(options.max_range_m);
-  for (int b = 0; b < kBlocksPerPacket; ++b) {
-    const int column = b / step;
-    const uint8_t* p = data + b * kBlockSize;
-    const uint8_t* other = nullptr;  // dual: the paired block of the same firing
-    if (dual && (b % 2 == 1)) other = data + (b - 1) * kBlockSize;
+  // Firing order: column (block, or block pair in dual mode), sequence,
+  // echo (dual: block 2k then 2k+1), laser; the two echoes of a firing stay
+  // together, so a revolution cut never separates them.
+  for (int column = 0; column < columns; ++column) {
     const double block_az = azimuth[column * step] * kAzimuthUnitDeg;
     double cos_block, sin_block;
     azimuth_cos_sin(azimuth[column * step], &cos_block, &sin_block);
@@ -183,40 +187,45 @@ PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions
       const double seq_offset_us = column * kBlockPeriodUs + s * kSequencePeriodUs;
       double firing_az = block_az + gap_deg[column] * s * kSequencePeriodUs / kBlockPeriodUs;
       if (firing_az >= 360.0) firing_az -= 360.0;
-      for (int l = 0; l < kLasers; ++l) {
-        const uint8_t* r = p + 4 + 3 * (s * kLasers + l);
-        const uint16_t count = read_u16le(r);
-        if (count == 0) continue;
-        if (other) {
-          const uint8_t* o = other + 4 + 3 * (s * kLasers + l);
-          if (read_u16le(o) == count && o[2] == r[2]) {
-            ++pi.dual_duplicates;
+      for (int echo = 0; echo < step; ++echo) {
+        const int b = column * step + echo;
+        const uint8_t* p = data + b * kBlockSize;
+        const uint8_t* other = echo == 1 ? data + (b - 1) * kBlockSize : nullptr;  // dual: the first echo
+        for (int l = 0; l < kLasers; ++l) {
+          const uint8_t* r = p + 4 + 3 * (s * kLasers + l);
+          const uint16_t count = read_u16le(r);
+          if (count == 0) continue;
+          if (other) {
+            const uint8_t* o = other + 4 + 3 * (s * kLasers + l);
+            if (read_u16le(o) == count && o[2] == r[2]) {
+              ++pi.dual_duplicates;
+              continue;
+            }
+          }
+          const float range = static_cast<float>(count * kDistanceUnitM);
+          if (range < min_r || range > max_r) {
+            ++pi.out_of_range;
             continue;
           }
+          // Azimuth interpolated by firing time within the block.
+          const double frac = (s * kSequencePeriodUs + l * kFiringIntervalUs) / kBlockPeriodUs;
+          double az = block_az + gap_deg[column] * frac;
+          if (az >= 360.0) az -= 360.0;
+          double ca, sa;
+          rotate_by_small_angle(cos_block, sin_block, gap_rad * frac, &ca, &sa);
+          const float horizontal = range * t.cos_el[l];
+          Return ret;
+          ret.x = horizontal * static_cast<float>(ca);
+          ret.y = -horizontal * static_cast<float>(sa);
+          ret.z = range * t.sin_el[l] + (options.vertical_offset_correction ? t.dz[l] : 0.0f);
+          ret.intensity = r[2];
+          ret.azimuth_deg = static_cast<float>(az);
+          ret.firing_azimuth_deg = static_cast<float>(firing_az);
+          ret.time_offset_us = static_cast<float>(seq_offset_us + l * kFiringIntervalUs);
+          ret.ring = static_cast<uint8_t>(kLaserTable[static_cast<size_t>(l)].ring);
+          ret.laser = static_cast<uint8_t>(l);
+          out->push_back(ret);
         }
-        const float range = static_cast<float>(count * kDistanceUnitM);
-        if (range < min_r || range > max_r) {
-          ++pi.out_of_range;
-          continue;
-        }
-        // Azimuth interpolated by firing time within the block.
-        const double frac = (s * kSequencePeriodUs + l * kFiringIntervalUs) / kBlockPeriodUs;
-        double az = block_az + gap_deg[column] * frac;
-        if (az >= 360.0) az -= 360.0;
-        double ca, sa;
-        rotate_by_small_angle(cos_block, sin_block, gap_rad * frac, &ca, &sa);
-        const float horizontal = range * t.cos_el[l];
-        Return ret;
-        ret.x = horizontal * static_cast<float>(ca);
-        ret.y = -horizontal * static_cast<float>(sa);
-        ret.z = range * t.sin_el[l] + (options.vertical_offset_correction ? t.dz[l] : 0.0f);
-        ret.intensity = r[2];
-        ret.azimuth_deg = static_cast<float>(az);
-        ret.firing_azimuth_deg = static_cast<float>(firing_az);
-        ret.time_offset_us = static_cast<float>(seq_offset_us + l * kFiringIntervalUs);
-        ret.ring = static_cast<uint8_t>(kLaserTable[static_cast<size_t>(l)].ring);
-        ret.laser = static_cast<uint8_t>(l);
-        out->push_back(ret);
       }
     }
   }

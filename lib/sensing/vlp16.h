@@ -144,7 +144,8 @@ struct PacketInfo {
 };
 
 // Decodes one data packet and appends its returns (zero distance dropped)
-// to `out`, in firing order (dual mode: block 2k's returns, then 2k+1's). Validates the whole packet before appending
+// to `out`, in firing order (dual mode: for each firing sequence, block 2k's
+// echoes then block 2k+1's). Validates the whole packet before appending
 // anything, so a bad packet leaves `out` untouched.
 PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions& options,
                            std::vector<Return>* out, PacketInfo* info);

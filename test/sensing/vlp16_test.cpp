@@ -157,17 +157,19 @@ TEST(Vlp16Decoder, DualReturnPairsShareFiringAndDropDuplicates) {
   auto r = decode_ok(enc.encode(), &info);
   EXPECT_EQ(info.firings, 12);
   EXPECT_EQ(info.dual_duplicates, 6 * 16);
-  // Per pair: 16 last + 16 single-echo (sequence B) + 16 strongest.
+  // Per pair, in firing order: sequence A's last (16) and strongest (16)
+  // echoes, then sequence B's single echo (its duplicate dropped).
   ASSERT_EQ(r.size(), 6u * 48u);
   for (int k = 0; k < 6; ++k) {
     for (int l = 0; l < 16; ++l) {
       const auto& last = r[static_cast<size_t>(k * 48 + l)];
-      const auto& single = r[static_cast<size_t>(k * 48 + 16 + l)];
-      const auto& strongest = r[static_cast<size_t>(k * 48 + 32 + l)];
+      const auto& strongest = r[static_cast<size_t>(k * 48 + 16 + l)];
+      const auto& single = r[static_cast<size_t>(k * 48 + 32 + l)];
       EXPECT_EQ(last.intensity, 5);
       EXPECT_EQ(single.intensity, 50);
       EXPECT_EQ(strongest.intensity, 200);
       EXPECT_FLOAT_EQ(last.azimuth_deg, strongest.azimuth_deg);
+      EXPECT_FLOAT_EQ(last.firing_azimuth_deg, strongest.firing_azimuth_deg);
       EXPECT_FLOAT_EQ(last.time_offset_us, strongest.time_offset_us);
       EXPECT_NEAR(last.time_offset_us, k * 110.592 + l * 2.304, 1e-3);
       EXPECT_NEAR(single.time_offset_us, k * 110.592 + 55.296 + l * 2.304, 1e-3);
