@@ -415,6 +415,37 @@ TEST(Builder, TransformsWithMountAndRobotPose) {
   EXPECT_EQ(st.points_binned, 1);
 }
 
+TEST(Builder, MountPitchAndRollRotateThePoint) {
+  PoseBuffer poses(2'000'000);
+  poses.add(odo(0, 0, 0, 0));
+  // pitched 0.2 rad nose-down (positive pitch about y tilts x towards -z):
+  // a return 3 m along the sensor's x lies 3 cos 0.2 ahead, 3 sin 0.2 lower
+  const float x[1] = {3.0f}, y[1] = {0.0f}, z[1] = {0.0f};
+  CloudView v;
+  v.n = 1;
+  v.x = x;
+  v.y = y;
+  v.z = z;
+  v.mount_z = 0.8;
+  v.mount_pitch = 0.2;
+  ElevationMapBuilder builder(defaults());
+  ElevationLayers L;
+  Pose2 robot;
+  CloudStats st;
+  ASSERT_TRUE(builder.build(v, poses, &L, &robot, &st));
+  const double px = 3.0 * std::cos(0.2), pz = 0.8 - 3.0 * std::sin(0.2);
+  EXPECT_NEAR(L.z_max[L.index(50, int(std::floor((px - L.origin_x) / 0.1)))], pz, 1e-6);
+  // rolled +90 deg about x (right-hand rule): the sensor's y axis points up
+  const float x2[1] = {0.0f}, y2[1] = {0.6f}, z2[1] = {0.0f};
+  v.x = x2;
+  v.y = y2;
+  v.z = z2;
+  v.mount_pitch = 0.0;
+  v.mount_roll = M_PI / 2;
+  ASSERT_TRUE(builder.build(v, poses, &L, &robot, &st));
+  EXPECT_NEAR(L.z_max[L.index(50, 50)], 1.4f, 1e-6);
+}
+
 TEST(Builder, CropsSelfReturnsHeightBandAndInvalidPoints) {
   PoseBuffer poses(2'000'000);
   poses.add(odo(0, 0, 0, 0));
