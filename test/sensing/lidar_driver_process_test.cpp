@@ -24,6 +24,7 @@
 
 #include "evade/health_t.hpp"
 #include "evade/pointcloud_t.hpp"
+#include "sensing/rs_helios.h"
 #include "synthetic.h"
 
 namespace {
@@ -38,8 +39,12 @@ bool exists(const std::string& p) {
   return ::stat(p.c_str(), &st) == 0;
 }
 
-// robot.yaml with the driver bound to 127.0.0.1:kTestPort.
-std::string test_config() {
+constexpr int kTestMsopPort = 26699;
+constexpr int kTestDifopPort = 27788;
+
+// robot.yaml with the driver bound to 127.0.0.1:kTestPort (RS-Helios:
+// kTestMsopPort, kTestDifopPort).
+std::string test_config(const std::string& model = "vlp16") {
   std::ifstream in(source("config/robot.yaml"));
   std::stringstream ss;
   ss << in.rdbuf();
@@ -51,7 +56,10 @@ std::string test_config() {
   };
   replace("bind_address: 0.0.0.0", "bind_address: 127.0.0.1");
   replace("vlp16_data_port: 2368", "vlp16_data_port: " + std::to_string(kTestPort));
-  std::string path = ::testing::TempDir() + "lidar_driver_test.yaml";
+  replace("rs_helios_msop_port: 6699", "rs_helios_msop_port: " + std::to_string(kTestMsopPort));
+  replace("rs_helios_difop_port: 7788", "rs_helios_difop_port: " + std::to_string(kTestDifopPort));
+  replace("model: vlp16 ", "model: " + model + " ");
+  std::string path = ::testing::TempDir() + "lidar_driver_test_" + model + ".yaml";
   std::ofstream(path) << text;
   return path;
 }
@@ -121,6 +129,13 @@ struct Listener {
   }
 };
 
+// Paces the sender (8 packets per 2 ms, about real time) so that a loaded
+// machine never overflows the driver's socket buffer, and hears LCM meanwhile.
+void pause_sending(Listener& l) {
+  auto until = Clock::now() + std::chrono::milliseconds(2);
+  while (Clock::now() < until) l.lcm.handleTimeout(1);
+}
+
 int64_t health_counter(const Listener& l, const std::string& name) {
   int64_t v = -1;
   for (const auto& h : l.decoded<evade::health_t>("HEALTH"))
@@ -147,7 +162,7 @@ TEST(LidarDriverProcess, UdpPacketsOnLoopbackBecomeLidarPoints) {
     auto p = s.packet(k);
     ASSERT_EQ(::sendto(fd, p.bytes.data(), p.bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof(to)),
               static_cast<ssize_t>(p.bytes.size()));
-    if (k % 8 == 7) l.lcm.handleTimeout(1);
+    if (k % 8 == 7) pause_sending(l);
   }
   const uint8_t junk[100] = {0xFF, 0xEE};
   ::sendto(fd, junk, sizeof(junk), 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
@@ -169,6 +184,58 @@ TEST(LidarDriverProcess, UdpPacketsOnLoopbackBecomeLidarPoints) {
   }
   EXPECT_EQ(health_counter(l, "data_packets"), n);
 
+  ::kill(pid, SIGTERM);
+  EXPECT_EQ(wait_exit(pid, 5.0), 0);
+}
+
+void send_to(int fd, int port, const uint8_t* data, size_t size) {
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<uint16_t>(port));
+  ::inet_pton(AF_INET, "127.0.0.1", &to.sin_addr);
+  ASSERT_EQ(::sendto(fd, data, size, 0, reinterpret_cast<sockaddr*>(&to), sizeof(to)), static_cast<ssize_t>(size));
+}
+
+TEST(LidarDriverProcess, RsHeliosMsopAndDifopOnTheirOwnPorts) {
+  namespace h = evade::sensing::rs_helios;
+  Listener l;
+  pid_t pid = spawn({LIDAR_DRIVER_BIN, "--config", test_config("rs_helios")});
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(l.spin_until([&] { return l.count("HEALTH") > 0; }, 10.0)) << "no HEALTH from lidar_driver";
+  int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  const double deg_per_block = 360.0 * 10.0 * h::kBlockPeriodUs * 1e-6;  // 10 Hz
+  auto msop = [&](int k) {
+    h::MsopEncoder m;
+    for (int b = 0; b < 12; ++b) {
+      m.blocks[b].azimuth_deg = std::fmod(200.0 + (k * 12 + b) * deg_per_block, 360.0);
+      for (int c = 0; c < 32; ++c) m.blocks[b].distance_m[c] = 6.0;
+    }
+    m.utc_us = 1'700'000'000'000'000LL + std::llround(k * 12 * h::kBlockPeriodUs);
+    return m.encode();
+  };
+  for (int k = 0; k < 5; ++k) send_to(fd, kTestMsopPort, msop(k).data(), h::kPacketSize);  // before any DIFOP
+  l.lcm.handleTimeout(50);
+  h::DifopEncoder d;
+  for (int c = 0; c < 32; ++c) d.vertical_deg[c] = -16.0 + c;
+  send_to(fd, kTestDifopPort, d.encode().data(), h::kPacketSize);
+  l.lcm.handleTimeout(50);
+  for (int k = 5; k < 400; ++k) {  // 2.4 deg per packet: cuts near packets 68 and 218, 368
+    send_to(fd, kTestMsopPort, msop(k).data(), h::kPacketSize);
+    if (k % 8 == 7) pause_sending(l);
+  }
+  ::close(fd);
+  EXPECT_TRUE(l.spin_until([&] { return l.count("LIDAR_POINTS") >= 3; }, 10.0));
+  EXPECT_TRUE(l.spin_until([&] { return health_counter(l, "data_packets") == 395; }, 5.0));
+  EXPECT_EQ(health_counter(l, "msop_before_difop"), 5);
+  EXPECT_EQ(health_counter(l, "difop_packets"), 1);
+  auto clouds = l.decoded<evade::pointcloud_t>("LIDAR_POINTS");
+  ASSERT_GE(clouds.size(), 3u);
+  for (const auto& c : clouds) EXPECT_EQ(c.sensor_model, "rs_helios");
+  const auto& full = clouds[1];
+  EXPECT_NEAR(full.n, 1800 * 32, 64);  // 0.2 deg firings, 32 channels
+  std::vector<int> per_ring(32, 0);
+  for (int j = 0; j < full.n; ++j) ++per_ring[static_cast<size_t>(full.ring[j])];
+  for (int r = 0; r < 32; ++r) EXPECT_NEAR(per_ring[r], 1800, 2) << r;
   ::kill(pid, SIGTERM);
   EXPECT_EQ(wait_exit(pid, 5.0), 0);
 }
