@@ -8,12 +8,15 @@
 namespace evade::prediction {
 namespace {
 
-bool valid(const evade::obstacle_t& o) {
+bool valid(const evade::obstacle_t& o, const PredictorParams& p) {
   const double v[] = {o.x, o.y, o.a, o.b, o.theta, o.shape_variation};
   for (double d : v)
     if (!std::isfinite(d)) return false;
-  return o.a > 0.0 && o.b >= 0.0;
+  return std::fabs(o.x) <= p.max_abs_coordinate_m && std::fabs(o.y) <= p.max_abs_coordinate_m && o.a > 0.0 &&
+         o.b >= 0.0 && o.a <= p.max_axis_m && o.b <= p.max_axis_m;
 }
+
+bool finite(const TrackFilter& f) { return f.state().allFinite() && f.covariance().allFinite(); }
 
 // Scales a 2-vector down to a maximum norm.
 void clip_norm(double* x, double* y, double max_norm) {
@@ -27,7 +30,7 @@ void clip_norm(double* x, double* y, double max_norm) {
 }  // namespace
 
 Predictor::Predictor(const PredictorParams& params)
-    : params_(params),
+    : params_(std::make_shared<const PredictorParams>(params)),
       chi2_position_(chi_square_2dof_quantile(params.uncertainty.confidence)),
       z_shape_(normal_two_sided_quantile(params.uncertainty.confidence)) {}
 
@@ -41,7 +44,7 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
   if (last_utime_ >= 0 && in.utime <= last_utime_) return false;
   // dt from the message stamps: frames arrive at 10-20 Hz with jitter.
   const double dt = last_utime_ < 0 ? 0.0 : 1e-6 * static_cast<double>(in.utime - last_utime_);
-  if (last_utime_ >= 0 && dt > params_.max_frame_gap_s) {
+  if (last_utime_ >= 0 && dt > params_->max_frame_gap_s) {
     st.gap_reset = !tracks_.empty();
     st.dropped += static_cast<int>(tracks_.size());
     tracks_.clear();
@@ -49,14 +52,14 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
   last_utime_ = in.utime;
 
   out->utime = in.utime;
-  out->dt = params_.prediction_dt_s;
-  out->horizon = params_.prediction_steps + 1;
+  out->dt = params_->prediction_dt_s;
+  out->horizon = params_->prediction_steps + 1;
   out->tracks.clear();
   out->tracks.reserve(in.obstacles.size());
 
   seen_.clear();
   for (const auto& o : in.obstacles) {
-    if (!valid(o) || !seen_.emplace(o.id, 0).second) {
+    if (!valid(o, *params_) || !seen_.emplace(o.id, 0).second) {
       ++st.malformed;
       continue;
     }
@@ -69,12 +72,16 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
     z.tracker_shape_variation = o.shape_variation;
     auto it = tracks_.find(o.id);
     if (it == tracks_.end()) {
-      it = tracks_.emplace(o.id, TrackFilter(params_, z)).first;
+      it = tracks_.emplace(o.id, TrackFilter(*params_, z)).first;
       ++st.created;
     } else {
       it->second.predict(dt);
       it->second.update(z);
       ++st.updated;
+      if (!finite(it->second)) {  // never publish NaN: restart the track from this MBE
+        it->second = TrackFilter(*params_, z);
+        ++st.diverged;
+      }
     }
     out->tracks.emplace_back();
     predict_track(o.id, it->second, &out->tracks.back());
@@ -94,16 +101,16 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
 }
 
 void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::track_prediction_t* out) const {
-  const int n = params_.prediction_steps + 1;
-  const double T = params_.prediction_dt_s;
-  const LimitParams& lim = params_.limits;
-  const UncertaintyParams& unc = params_.uncertainty;
+  const int n = params_->prediction_steps + 1;
+  const double T = params_->prediction_dt_s;
+  const LimitParams& lim = params_->limits;
+  const UncertaintyParams& unc = params_->uncertainty;
 
   State x = filter.state();
   Covariance P = filter.covariance();
   // Q of one prediction step; with the IMM, the jerk PSD weighted by the mode
   // probabilities, so that a manoeuvring target's ellipse grows faster.
-  const Covariance Q = process_noise(params_.filter, T, filter.effective_jerk_psd());
+  const Covariance Q = process_noise(params_->filter, T, filter.effective_jerk_psd());
   // Caps: a noisy acceleration estimate must not fling the prediction across
   // the map, so the acceleration and speed used for extrapolation are clipped.
   clip_norm(&x(kVx), &x(kVy), lim.max_speed_mps);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 
 #include "evade/obstacle_list_t.hpp"
@@ -17,7 +18,8 @@ struct FrameStats {
   int created = 0;       // new track ids
   int dropped = 0;       // ids no longer in the list
   int updated = 0;       // existing tracks updated
-  int malformed = 0;     // obstacles skipped (non-finite, bad axes, duplicate id)
+  int malformed = 0;     // obstacles skipped (non-finite, out of range, bad axes, duplicate id)
+  int diverged = 0;      // tracks whose filter went non-finite: restarted from the measurement
   bool gap_reset = false;  // frame gap above max_frame_gap_s: all tracks restarted
 };
 
@@ -34,10 +36,12 @@ class Predictor {
 
   const TrackFilter* track(int64_t id) const;
   size_t num_tracks() const { return tracks_.size(); }
-  const PredictorParams& params() const { return params_; }
+  const PredictorParams& params() const { return *params_; }
 
  private:
-  PredictorParams params_;
+  // Shared and immutable: every TrackFilter points at it, so it must not move
+  // when the Predictor does.
+  std::shared_ptr<const PredictorParams> params_;
   double chi2_position_ = 0;       // chi-square quantile, 2 dof, at the confidence level
   double z_shape_ = 0;             // two-sided normal quantile at the confidence level
   std::unordered_map<int64_t, TrackFilter> tracks_;

@@ -18,6 +18,7 @@ void PredictorCore::on_obstacles(const evade::obstacle_list_t& msg) {
   if (st.dropped) count("tracks_dropped", st.dropped);
   if (st.malformed) count("malformed_obstacles", st.malformed);
   if (st.gap_reset) count("frame_gap_resets");
+  if (st.diverged) count("diverged_tracks");
   publish(kPredictionsChannel, out_);
 }
 

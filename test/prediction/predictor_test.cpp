@@ -380,6 +380,73 @@ TEST(Predictor, StaleAndMalformedInputIsSkipped) {
   EXPECT_NEAR(out.tracks[0].x[0], 0.0, 1e-9);  // the duplicate did not update the track
 }
 
+TEST(Predictor, OutOfRangeObstaclesAreMalformed) {
+  const PredictorParams params = default_params();
+  Predictor p(params);
+  evade::prediction_list_t out;
+  FrameStats st;
+  auto far = ob(1, params.max_abs_coordinate_m * 2, 0);
+  auto huge = ob(2, 0, 0);
+  huge.a = params.max_axis_m * 2;
+  ASSERT_TRUE(p.process(list(1'000'000, {far, huge, ob(3, 1, 1)}), &out, &st));
+  EXPECT_EQ(st.malformed, 2);
+  EXPECT_EQ(out.num_tracks, 1);
+}
+
+// Random, extreme but valid obstacle lists (jumps, flips, tiny and large
+// ellipses, irregular stamps): every published number stays finite.
+TEST(Predictor, RandomInputNeverPublishesNonFinite) {
+  const PredictorParams params = default_params();
+  Predictor p(params);
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<double> coord(-params.max_abs_coordinate_m, params.max_abs_coordinate_m);
+  std::uniform_real_distribution<double> axis(1e-6, params.max_axis_m);
+  std::uniform_real_distribution<double> angle(-100, 100);
+  std::uniform_int_distribution<int> ids(1, 8), count(0, 8), step_us(1, 2'000'000);
+  int64_t utime = 1;
+  for (int f = 0; f < 3000; ++f) {
+    utime += step_us(rng);
+    std::vector<evade::obstacle_t> obs;
+    const int n = count(rng);
+    for (int i = 0; i < n; ++i) {
+      auto o = ob(ids(rng), coord(rng), coord(rng));
+      if (rng() % 2) { o.x = 0.01 * (rng() % 100); o.y = 0.0; }  // mostly near: tracks live on
+      o.a = axis(rng);
+      o.b = (rng() % 3 == 0) ? 0.0 : axis(rng);
+      o.theta = angle(rng);
+      o.shape_variation = axis(rng);
+      obs.push_back(o);
+    }
+    evade::prediction_list_t out;
+    ASSERT_TRUE(p.process(list(utime, obs), &out, nullptr));
+    for (const auto& t : out.tracks) {
+      ASSERT_TRUE(std::isfinite(t.vx) && std::isfinite(t.vy) && std::isfinite(t.ax) && std::isfinite(t.ay));
+      for (int k = 0; k < t.horizon; ++k) {
+        ASSERT_TRUE(std::isfinite(t.x[k]) && std::isfinite(t.y[k]) && std::isfinite(t.a[k]) && std::isfinite(t.b[k]) &&
+                    std::isfinite(t.theta[k]) && std::isfinite(t.sigma[k]))
+            << "frame " << f << " track " << t.id << " step " << k;
+        ASSERT_GE(t.b[k], 0.0);
+      }
+    }
+  }
+}
+
+// shape_variation_source: tracker uses the message's Xi_eta instead of our own window.
+TEST(Predictor, TrackerShapeVariationSource) {
+  PredictorParams params = default_params();
+  params.adaptive.shape_variation_source = "tracker";
+  TrackFilter f(params, Measurement{});
+  Measurement z;
+  z.a = 0.4;
+  z.b = 0.3;
+  z.tracker_shape_variation = 0.0123;
+  f.predict(0.1);
+  const UpdateInfo info = f.update(z);
+  EXPECT_DOUBLE_EQ(info.xi_eta, 0.0123);
+  double k = 0;
+  EXPECT_DOUBLE_EQ(info.r_position, adaptive_position_variance(0.0123, params.adaptive, &k));
+}
+
 TEST(Predictor, LongFrameGapRestartsTracks) {
   PredictorParams params = default_params();
   Predictor p(params);
