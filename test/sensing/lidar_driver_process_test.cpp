@@ -255,7 +255,7 @@ TEST(LidarDriverProcess, PcapModeFlushesExitsAndReplaysIdentically) {
       20.0);
   const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
   ASSERT_EQ(rc, 0);
-  l.spin_until([&] { return l.count("LIDAR_POINTS") >= 2; }, 2.0);
+  l.spin_until([&] { return l.count("LIDAR_POINTS") >= 2 && l.count("LIDAR_SCAN") >= 2; }, 2.0);
   // At the recorded pace the 100 datagrams span 0.11 s; it cannot be faster.
   EXPECT_GE(elapsed, 0.10);
   ASSERT_EQ(l.count("LIDAR_POINTS"), 2u);
