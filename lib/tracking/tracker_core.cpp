@@ -18,6 +18,13 @@ void TrackerCore::on_map(const evade::grid_map_t& m) {
     count("map_invalid");
     return;
   }
+  // A map whose cells are so small that eps spans more than kMaxEpsCells
+  // cells would make the neighbourhood list (and DBSCAN) quadratic in eps:
+  // not a map this tracker was configured for.
+  if (tracker_.params().eps_m / m.resolution > kMaxEpsCells) {
+    count("map_resolution_unsupported");
+    return;
+  }
   obstacle_.resize(size_t(m.width) * size_t(m.height));
   for (int r = 0; r < m.height; ++r) {
     if (int64_t(m.obstacle[size_t(r)].size()) != m.width) {

@@ -14,6 +14,7 @@ class TrackerCore : public bus::Core {
   explicit TrackerCore(const TrackerParams& params);
   static std::unique_ptr<bus::Core> from_config(const config::Node& root);
   const Tracker& tracker() const { return tracker_; }
+  static constexpr double kMaxEpsCells = 20.0;
 
  private:
   void on_map(const evade::grid_map_t& m);

@@ -582,6 +582,11 @@ TEST(Core, PublishesObstaclesStampedWithTheMapTime) {
   m.resolution = -1;  // malformed: counted, skipped
   bus.inject("ELEVATION_MAP", m, 20'000);
   EXPECT_EQ(core.counter("map_invalid"), 1);
+  m.resolution = 1e-6;  // eps would span 150,000 cells
+  bus.inject("ELEVATION_MAP", m, 30'000);
+  EXPECT_EQ(core.counter("map_resolution_unsupported"), 1);
+  const uint8_t junk[5] = {9, 9, 9, 9, 9};  // not a grid_map_t at all
+  bus.inject("ELEVATION_MAP", junk, sizeof junk, 40'000);
   EXPECT_EQ(bus.decoded<evade::obstacle_list_t>("OBSTACLES").size(), 1u);
 }
 
