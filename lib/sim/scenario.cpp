@@ -58,9 +58,22 @@ ObstacleSpec parse_obstacle(const config::Node& o, int id) {
   return s;
 }
 
+Scenario read_scenario(const config::Node& root);
+
 }  // namespace
 
 Scenario scenario_from_node(const config::Node& root) {
+  try {
+    return read_scenario(root);
+  } catch (const YAML::Exception& e) {
+    // yaml-cpp's own conversions (e.g. a key that is a list, `? [1, 2]: 3`)
+    // become the same one-line error as every other bad input.
+    throw config::ConfigError(root.file() + ":" + std::to_string(e.mark.line + 1) + ": key '': " + e.msg);
+  }
+}
+
+namespace {
+Scenario read_scenario(const config::Node& root) {
   for (const auto& k : root.keys())
     if (!kTopLevelKeys.count(k)) root.fail(k, "unknown key");
 
@@ -121,6 +134,7 @@ Scenario scenario_from_node(const config::Node& root) {
   }
   return sc;
 }
+}  // namespace
 
 Scenario load_scenario(const std::string& path) { return scenario_from_node(config::load_file(path)); }
 

@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
   try {
     params = evade::sim::SimParams::from_config(root);
     scenario = evade::sim::load_scenario(scenario_path);
-  } catch (const evade::config::ConfigError& e) {
+  } catch (const std::exception& e) {  // ConfigError: file:line: key: reason
     die(e.what(), 2);
   }
   if (!device.empty()) params.device_path = device;

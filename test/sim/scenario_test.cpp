@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <random>
 
 #include "sim/scenario.h"
 
@@ -124,6 +125,42 @@ TEST(Scenario, BadValuesAreRejected) {
   EXPECT_EQ(error_of(replace(kSpecExample, "x: 5.0, y: 4.0}", "x: 5.0, y: 4.0, speed: 1}")),
             "bad.yaml:10: key 'obstacles[0].speed': only meaningful with waypoints");
   EXPECT_EQ(error_of(replace(kSpecExample, "obstacles:\n", "obstacles: 3\nx:\n")).rfind("bad.yaml:", 0), 0u);
+}
+
+TEST(Scenario, NonScalarKeysAreAConfigErrorNotACrash) {
+  EXPECT_EQ(error_of("? [1, 2]\n: 3\nname: x\n").rfind("bad.yaml:1: ", 0), 0u);
+  std::string text = replace(kSpecExample, "x: 5.0, y: 4.0}", "x: 5.0, y: 4.0, ? [1]: 2}");
+  EXPECT_EQ(error_of(text).rfind("bad.yaml:10: ", 0), 0u) << error_of(text);
+}
+
+// Random byte edits of a valid file: each either loads or fails with a
+// ConfigError naming the file; nothing else escapes (no crash, no other
+// exception type).
+TEST(Scenario, MutatedFilesLoadOrFailCleanly) {
+  std::mt19937 rng(42);
+  const std::string alphabet = "{}[]:,-?&*!|>'\"#%@ \n\t0123456789.eEabxyz_";
+  int errors = 0;
+  for (int i = 0; i < 3000; ++i) {
+    std::string text = kSpecExample;
+    int edits = 1 + static_cast<int>(rng() % 4);
+    for (int k = 0; k < edits; ++k) {
+      size_t at = rng() % text.size();
+      switch (rng() % 3) {
+        case 0: text[at] = alphabet[rng() % alphabet.size()]; break;
+        case 1: text.insert(at, 1, alphabet[rng() % alphabet.size()]); break;
+        default: text.erase(at, 1); break;
+      }
+    }
+    try {
+      parse_scenario(text, "m.yaml");
+    } catch (const config::ConfigError& e) {
+      ++errors;
+      ASSERT_EQ(std::string(e.what()).rfind("m.yaml:", 0), 0u) << e.what();
+    } catch (const std::exception& e) {
+      FAIL() << "escaped: " << e.what() << "\n" << text;
+    }
+  }
+  EXPECT_GT(errors, 1000);  // most edits break something
 }
 
 TEST(Scenario, EveryShippedScenarioLoads) {
