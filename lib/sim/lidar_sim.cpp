@@ -90,9 +90,8 @@ Packet Vlp16Simulator::make_packet(const WorldAt& world) {
         double within_block_us = s * v::kSequencePeriodUs + l * v::kFiringIntervalUs;
         double az = block.azimuth_deg + gap_deg[b] * within_block_us / v::kBlockPeriodUs;
         Ray ray = laser_ray(snap.robot, l, az);
-        double range = kNoHit;
+        double range = hit_ground(ray);
         bool ground = true;
-        range = hit_ground(ray);
         for (const Solid& solid : snap.solids) {
           double t = hit_solid(ray, solid);
           if (t < range) {
