@@ -33,12 +33,26 @@ PcapUdpReader::PcapUdpReader(const std::string& path) {
   char err[PCAP_ERRBUF_SIZE] = {};
   pcap_ = pcap_open_offline_with_tstamp_precision(path.c_str(), PCAP_TSTAMP_PRECISION_MICRO, err);
   if (!pcap_) throw std::runtime_error("cannot open capture " + path + ": " + err);
+  check_link_type(path);
+}
+
+PcapUdpReader::PcapUdpReader(FILE* file, const std::string& name) {
+  char err[PCAP_ERRBUF_SIZE] = {};
+  pcap_ = pcap_fopen_offline_with_tstamp_precision(file, PCAP_TSTAMP_PRECISION_MICRO, err);
+  if (!pcap_) {
+    std::fclose(file);
+    throw std::runtime_error("cannot read capture " + name + ": " + err);
+  }
+  check_link_type(name);
+}
+
+void PcapUdpReader::check_link_type(const std::string& name) {
   link_type_ = pcap_datalink(pcap_);
   if (link_type_ != DLT_EN10MB && link_type_ != DLT_LINUX_SLL && link_type_ != DLT_RAW && link_type_ != DLT_NULL) {
-    std::string name = pcap_datalink_val_to_name(link_type_) ? pcap_datalink_val_to_name(link_type_) : "?";
+    const char* n = pcap_datalink_val_to_name(link_type_);
     pcap_close(pcap_);
     pcap_ = nullptr;
-    throw std::runtime_error("capture " + path + ": unsupported link type " + name);
+    throw std::runtime_error("capture " + name + ": unsupported link type " + (n ? n : "?"));
   }
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
@@ -25,6 +26,8 @@ struct UdpDatagram {
 class PcapUdpReader {
  public:
   explicit PcapUdpReader(const std::string& path);  // throws std::runtime_error
+  // Reads an already open capture stream (e.g. fmemopen); takes the FILE.
+  PcapUdpReader(FILE* file, const std::string& name);  // throws std::runtime_error
   ~PcapUdpReader();
   PcapUdpReader(const PcapUdpReader&) = delete;
   PcapUdpReader& operator=(const PcapUdpReader&) = delete;
@@ -35,6 +38,7 @@ class PcapUdpReader {
   const std::string& error() const { return error_; }
 
  private:
+  void check_link_type(const std::string& name);
   pcap_t* pcap_ = nullptr;
   int link_type_ = 0;
   std::map<std::string, int64_t> skipped_;

@@ -73,6 +73,32 @@ def sample_payloads(path):
     return out
 
 
+def pcap(link_type, frames, snaplen=65535):
+    out = struct.pack('<IHHiIII', 0xa1b2c3d4, 2, 4, 0, 0, snaplen, link_type)
+    for i, (frame, orig_len) in enumerate(frames):
+        out += struct.pack('<IIII', 1700000000, 1327 * i, len(frame), max(orig_len, len(frame))) + frame
+    return out
+
+
+def udp_ipv4(payload, dport=2368, frag=0):
+    udp = struct.pack('>HHHH', 2368, dport, 8 + len(payload), 0) + payload
+    ip = struct.pack('>BBHHHBBH4s4s', 0x45, 0, 20 + len(udp), 1, frag, 64, 17, 0,
+                     bytes([192, 168, 1, 201]), bytes([255, 255, 255, 255]))
+    return ip + udp
+
+
+def udp_ipv6(payload, dport=2368):
+    udp = struct.pack('>HHHH', 2368, dport, 8 + len(payload), 0) + payload
+    return struct.pack('>IHBB16s16s', 0x60000000, len(udp), 17, 64, bytes(16), bytes(15) + b'\x01') + udp
+
+
+def ether(ip, ethertype=0x0800, vlan=False):
+    head = bytes(6) + bytes([0x60, 0x76, 0x88, 0, 0, 1])
+    if vlan:
+        head += struct.pack('>HH', 0x8100, 5)
+    return head + struct.pack('>H', ethertype) + ip
+
+
 def write(dirname, name, data):
     os.makedirs(os.path.join(HERE, dirname), exist_ok=True)
     with open(os.path.join(HERE, dirname, name), 'wb') as f:
@@ -90,6 +116,22 @@ def main():
         p = sample_payloads(sample)
         # real packets around the azimuth wrap, with a position packet
         write('lidar_vlp16', 'sample_wrap', stream([0, 0], [p[i] for i in range(26, 31)] + [p[3]]))
+        # the head of the real capture: data and position packets, Ethernet
+        d = open(sample, 'rb').read()
+        off = 24
+        for _ in range(6):
+            incl = struct.unpack('<IIII', d[off:off + 16])[2]
+            off += 16 + incl
+        write('lidar_pcap', 'sample_head.pcap', d[:off])
+    pk = [vlp16_packet(359.0 + 4.78 * k, gap, t0 + 1327 * k) for k in range(3)]
+    write('lidar_pcap', 'vlan_fragment_truncated.pcap', pcap(1, [
+        (ether(udp_ipv4(pk[0]), vlan=True), 0),
+        (ether(udp_ipv4(pk[1], frag=0x2000)), 0),
+        (ether(udp_ipv4(pk[2]))[:600], 0),
+        (ether(udp_ipv4(b'\x00' * 512, dport=8308)), 0)]))
+    cooked = struct.pack('>HHH8sH', 0, 1, 6, bytes(8), 0x86DD)
+    write('lidar_pcap', 'linux_cooked_ipv6.pcap', pcap(113, [(cooked + udp_ipv6(p), 0) for p in pk]))
+    write('lidar_pcap', 'raw_ip.pcap', pcap(101, [(udp_ipv4(p), 0) for p in pk]))
     hgap = 0.2
     u0 = 1700000000000000
     write('lidar_rs_helios', 'difop_then_msop',
