@@ -52,6 +52,7 @@ PredictorParams PredictorParams::from_config(const config::Node& s) {
   const config::Node l = s.section("limits");
   p.limits.max_speed_mps = l.get_positive("max_speed_mps");
   p.limits.max_accel_mps2 = l.get_positive("max_accel_mps2");
+  p.limits.max_accel_time_s = l.get_double("max_accel_time_s", 0.0, 1e3);
   l.close();
 
   s.close();

@@ -60,6 +60,7 @@ struct UncertaintyParams {
 struct LimitParams {
   double max_speed_mps = 5.0;       // predicted speed is clipped to this
   double max_accel_mps2 = 1.5;      // predicted acceleration magnitude is clipped to this
+  double max_accel_time_s = 1.5;    // the acceleration acts for at most this long into the prediction
 };
 
 struct PredictorParams {

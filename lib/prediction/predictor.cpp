@@ -140,6 +140,9 @@ void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::trac
     if (k > 0) {
       // Paper: x_k = A x_(k-1), P_k = A P_(k-1) A^T + Q; the mean with the speed cap
       // (once at the cap the acceleration stops acting), the covariance linear.
+      // Past max_accel_time_s the velocity is held (a constant acceleration
+      // is rarely sustained by people or bikes).
+      if (k * T > lim.max_accel_time_s + 1e-9) x(kAx) = x(kAy) = 0.0;
       const double vx0 = x(kVx), vy0 = x(kVy);
       double vx1 = vx0 + T * x(kAx), vy1 = vy0 + T * x(kAy);
       if (std::hypot(vx1, vy1) > lim.max_speed_mps) {

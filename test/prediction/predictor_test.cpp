@@ -510,6 +510,32 @@ TEST(Predictor, AccelerationAndSpeedCapsHoldInPrediction) {
               params.limits.max_speed_mps * params.prediction_dt_s + 1e-9);
 }
 
+// Past max_accel_time_s the predicted velocity is held: a steady
+// acceleration estimate bends the first part of the prediction only.
+TEST(Predictor, AccelerationActsOnlyUpToItsTimeLimit) {
+  PredictorParams params = default_params();
+  params.limits.max_accel_time_s = 0.5;
+  Predictor p(params);
+  Truth truth;
+  truth.ax = 1.0;
+  Noise quiet;
+  quiet.centre_std_m = 0.005;
+  quiet.axis_std_m = 0.0;
+  quiet.theta_std_rad = 0.0;
+  const auto frames = make_frames(truth, quiet, 3.0, 4);
+  evade::prediction_list_t out;
+  for (const auto& f : frames) ASSERT_TRUE(p.process(f.msg, &out, nullptr));
+  const auto& tr = out.tracks[0];
+  ASSERT_GT(tr.ax, 0.5);
+  const int hold = static_cast<int>(std::lround(0.5 / params.prediction_dt_s));
+  const double step_before = tr.x[hold] - tr.x[hold - 1];
+  const double step_after = tr.x[hold + 1] - tr.x[hold];
+  const double step_last = tr.x[tr.horizon - 1] - tr.x[tr.horizon - 2];
+  EXPECT_GT(step_before, tr.x[1] - tr.x[0]);               // accelerating up to the limit
+  EXPECT_NEAR(step_last, step_after, 1e-9);                 // constant velocity after it
+  EXPECT_NEAR(step_after, step_before + 0.5 * tr.ax * params.prediction_dt_s * params.prediction_dt_s, 1e-6);
+}
+
 TEST(PredictorCore, PublishesStampedPredictionsAndCountsBadInput) {
   bus::MemoryBus bus;
   PredictorCore core(default_params());
