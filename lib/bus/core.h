@@ -116,10 +116,17 @@ std::vector<uint8_t> encode(const Msg& msg) {
   return buf;
 }
 
+// True when the bytes are a structurally valid evade message (see
+// LcmSchema::check); defined in lcm_schema.cpp.
+bool well_formed(const uint8_t* data, size_t size);
+
 // Decodes; false when the bytes are not a valid Msg (wrong fingerprint,
-// truncated, or lengths that cannot be allocated).
+// truncated, or lengths that do not fit the bytes). The structure is
+// checked first, so a malformed length never makes lcm-gen's decoder
+// allocate more than the message holds.
 template <class Msg>
 bool decode(const uint8_t* data, size_t size, Msg* out) {
+  if (size < 8 || !well_formed(data, size)) return false;
   try {
     return out->decode(data, 0, static_cast<int>(size)) == static_cast<int>(size);
   } catch (const std::exception&) {

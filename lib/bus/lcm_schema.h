@@ -42,6 +42,12 @@ class LcmSchema {
   // fingerprint is unknown or the bytes are malformed; `type` gets the name.
   std::optional<Value> decode(const uint8_t* data, size_t size, std::string* type = nullptr) const;
   std::vector<std::string> types() const;
+  // Checks that the bytes are a well-formed message of a known type: every
+  // length fits in what is left, and the sizes add up exactly. Allocates
+  // nothing and skips arrays of primitives in O(1), so it can run before
+  // lcm-gen's decoder, which sizes its arrays from the length fields
+  // before it checks the buffer (a 20-byte message could ask for GBs).
+  bool check(const uint8_t* data, size_t size) const;
 
  private:
   struct Dim {
@@ -62,6 +68,8 @@ class LcmSchema {
   bool decode_field(const std::string& type, const uint8_t* data, size_t size, size_t* pos, Value* out) const;
   bool decode_dims(const Field& f, size_t d, const std::vector<int64_t>& lens, const uint8_t* data,
                    size_t size, size_t* pos, Value* out) const;
+  bool skip_struct(const Struct& s, const uint8_t* data, size_t size, size_t* pos, int depth) const;
+  bool skip_value(const std::string& type, const uint8_t* data, size_t size, size_t* pos, int depth) const;
 
   std::map<std::string, Struct> structs_;
   std::map<int64_t, std::string> by_hash_;

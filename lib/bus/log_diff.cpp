@@ -9,11 +9,6 @@
 namespace evade::bus {
 namespace {
 
-std::string show(const Value& v) {
-  std::string s = to_json(v);
-  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
-}
-
 struct Walker {
   Tolerance tol;
   const std::vector<std::string>* ignore;
