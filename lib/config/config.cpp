@@ -19,6 +19,14 @@ std::string type_name(const YAML::Node& n) {
   }
 }
 
+// A map key as text; keys that are lists or maps (YAML allows them) are
+// not configuration names.
+bool key_text(const YAML::Node& key, std::string* out) {
+  if (!key.IsScalar()) return false;
+  *out = key.Scalar();
+  return true;
+}
+
 }  // namespace
 
 Node::Node(YAML::Node node, std::string file, std::string path)
@@ -40,7 +48,8 @@ void Node::fail(const std::string& key, const std::string& reason) const {
   if (!key.empty() && node_.IsMap()) {
     // Point at the key itself where it exists.
     for (auto it = node_.begin(); it != node_.end(); ++it) {
-      if (it->first.as<std::string>() == key) {
+      std::string k;
+      if (key_text(it->first, &k) && k == key) {
         line = line_of(it->first);
         break;
       }
@@ -193,16 +202,21 @@ std::string Node::get_choice(const std::string& key, const std::vector<std::stri
 std::vector<std::string> Node::keys() const {
   std::vector<std::string> out;
   if (!node_.IsMap()) return out;
-  for (auto it = node_.begin(); it != node_.end(); ++it) out.push_back(it->first.as<std::string>());
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    std::string k;
+    if (!key_text(it->first, &k)) {
+      std::ostringstream os;
+      os << file_ << ":" << line_of(it->first) << ": key '" << path_ << "': a key must be a plain name";
+      throw ConfigError(os.str());
+    }
+    out.push_back(k);
+  }
   return out;
 }
 
 void Node::close() const {
-  if (!node_.IsMap()) return;
-  for (auto it = node_.begin(); it != node_.end(); ++it) {
-    std::string k = it->first.as<std::string>();
+  for (const auto& k : keys())
     if (!used_->count(k)) fail(k, "unknown key");
-  }
 }
 
 namespace {

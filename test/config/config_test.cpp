@@ -45,6 +45,14 @@ TEST(Config, UnknownKeyIsAnError) {
   EXPECT_EQ(error_of([&] { a.close(); }), "robot.yaml:3: key 'a.x_mm': unknown key");
 }
 
+TEST(Config, NonScalarKeyIsAConfigError) {
+  Node root = load_string("a:\n  x_m: 1\n  ? [1, 2]\n  : 3\n", "k.yaml");
+  Node a = root.section("a");
+  a.get<double>("x_m");
+  EXPECT_EQ(error_of([&] { a.close(); }), "k.yaml:3: key 'a': a key must be a plain name");
+  EXPECT_THROW(a.keys(), ConfigError);
+}
+
 TEST(Config, RangeAndChoice) {
   Node root = load_string("v: -1\nmode: fast\n", "r.yaml");
   EXPECT_EQ(error_of([&] { root.get_double("v", 0, 2); }), "r.yaml:1: key 'v': value -1 outside [0, 2]");
