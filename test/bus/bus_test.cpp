@@ -6,6 +6,7 @@
 #include "bus/core.h"
 #include "bus/log_replay.h"
 #include "bus/memory_bus.h"
+#include "echo_core.h"
 #include "evade/cmd_vel_t.hpp"
 #include "evade/health_t.hpp"
 #include "evade/odometry_t.hpp"
@@ -13,18 +14,11 @@
 namespace evade::bus {
 namespace {
 
-// Doubles the velocity of each odometry message onto CMD_VEL, stamped with
-// the input's utime, and counts ticks of a 10 Hz timer.
-class Doubler : public Core {
+// EchoCore (ODOMETRY -> CMD_VEL with doubled velocities, stamped with the
+// input's utime) plus a 10 Hz timer that records its ticks.
+class Doubler : public testing::EchoCore {
  public:
-  Doubler() : Core("doubler") {
-    subscribe<evade::odometry_t>("ODOMETRY", [this](const evade::odometry_t& m) {
-      evade::cmd_vel_t c;
-      c.utime = m.utime;
-      c.v = 2.0 * m.v;
-      c.omega = 2.0 * m.omega;
-      publish("CMD_VEL", c);
-    });
+  Doubler() {
     every(100'000, [this] { tick_times.push_back(now()); });
   }
   std::vector<int64_t> tick_times;
@@ -104,7 +98,7 @@ TEST(MemoryBus, HealthReportsInputsCountersAndMalformed) {
   auto health = bus.decoded<evade::health_t>("HEALTH");
   ASSERT_EQ(health.size(), 2u);  // at 1.0 s (armed) and 2.0 s
   const auto& h = health.back();
-  EXPECT_EQ(h.name, "doubler");
+  EXPECT_EQ(h.name, "bus_echo");
   EXPECT_EQ(h.seq, 1);
   ASSERT_EQ(h.num_inputs, 1);
   EXPECT_EQ(h.inputs[0].channel, "ODOMETRY");
