@@ -15,6 +15,9 @@ namespace {
 // times place that packet instead.
 constexpr int64_t kMaxSensorStepUs = 1'000'000;
 constexpr int64_t kHourUs = vlp16::kMicrosPerHour;
+// Receive times (us since the epoch) beyond year 2286 come from a corrupt
+// LIDAR_SCAN, not a clock: refused, so time arithmetic cannot overflow.
+constexpr int64_t kMaxReceiveUtime = 9'999'999'999'000'000LL;
 // VLP-16 position packets (GPS/PPS status) are 512-byte payloads on port 8308.
 constexpr size_t kVlp16PositionPacketSize = 512;
 
@@ -89,6 +92,10 @@ void LidarDecoder::record_packet(const uint8_t* data, size_t size, int64_t recei
 
 void LidarDecoder::feed(const uint8_t* data, size_t size, int64_t receive_utime, std::vector<Revolution>* out) {
   returns_.clear();
+  if (receive_utime < 0 || receive_utime > kMaxReceiveUtime) {
+    count_("malformed_receive_time", 1);
+    return;
+  }
   PacketTimes times{};
   if (model_ == LidarModel::kVlp16) {
     if (size == kVlp16PositionPacketSize) {
@@ -114,7 +121,7 @@ void LidarDecoder::feed(const uint8_t* data, size_t size, int64_t receive_utime,
     }
     if (info.dual_duplicates) count_("dual_duplicates", info.dual_duplicates);
     if (info.out_of_range) count_("out_of_range", info.out_of_range);
-    if (info.timestamp_us_past_hour >= vlp16::kMicrosPerHour) count_("timestamp_past_hour_invalid", 1);
+    if (info.timestamp_us_past_hour >= vlp16::kMicrosPerHour) count_("timestamp_invalid", 1);
     times.sensor_us = info.timestamp_us_past_hour % kHourUs;
     times.receive_us = receive_utime - std::llround(packet_span_us(model_, info.return_mode == vlp16::kDual));
     times.absolute_us = resolve_past_hour(times.sensor_us, receive_utime);
@@ -150,10 +157,14 @@ void LidarDecoder::feed(const uint8_t* data, size_t size, int64_t receive_utime,
         count_("data_packets", 1);
         if (info.dual_duplicates) count_("dual_duplicates", info.dual_duplicates);
         if (info.out_of_range) count_("out_of_range", info.out_of_range);
-        times.sensor_us = info.utc_us;
         times.receive_us =
             receive_utime - std::llround(packet_span_us(model_, calibration_.return_mode == rs_helios::kDual));
-        times.absolute_us = info.utc_us;
+        if (info.utc_us < 0) {
+          count_("timestamp_invalid", 1);  // placed by its receive time instead
+          times.sensor_us = times.absolute_us = times.receive_us;
+        } else {
+          times.sensor_us = times.absolute_us = info.utc_us;
+        }
         break;
       }
       case rs_helios::PacketKind::kUnknown:

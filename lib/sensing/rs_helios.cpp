@@ -129,7 +129,12 @@ PacketStatus decode_msop(const uint8_t* data, size_t size, const Calibration& ca
   PacketInfo& pi = info ? *info : local;
   pi = PacketInfo{};
   const uint8_t* ts = data + kMsopTimestampOffset;
-  pi.utc_us = static_cast<int64_t>(read_be(ts, 6) * 1'000'000ull + read_be(ts + 6, 4));
+  const uint64_t seconds = read_be(ts, 6), micros = read_be(ts + 6, 4);
+  // A 6-byte second count could overflow microseconds in 64 bits; anything
+  // past kMaxUtcSeconds or with micros >= 1e6 is not a time.
+  pi.utc_us = (seconds <= kMaxUtcSeconds && micros < 1'000'000u)
+                  ? static_cast<int64_t>(seconds * 1'000'000ull + micros)
+                  : -1;
 
   const bool dual = cal.return_mode == kDual;
   const int step = dual ? 2 : 1;

@@ -102,8 +102,11 @@ struct DecodeOptions {
   double max_range_m = kMaxEncodableRangeM;
 };
 
+// Header times beyond this (year 2286) are not times.
+inline constexpr uint64_t kMaxUtcSeconds = 9'999'999'999ull;
+
 struct PacketInfo {
-  int64_t utc_us = 0;         // header time of the first firing, us since the epoch
+  int64_t utc_us = 0;         // header time of the first firing, us since the epoch; -1 = invalid
   int firings = 0;            // distinct firings (12 single, 6 dual)
   int dual_duplicates = 0;    // dual-mode second echoes equal to the first, dropped
   int out_of_range = 0;

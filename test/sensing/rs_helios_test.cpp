@@ -216,3 +216,31 @@ TEST(RsHeliosDecoder, NothingBeforeTheFirstDifopThenRevolutions) {
   EXPECT_NEAR(out[1].cloud.n, 1800 * 32, 64);
   EXPECT_NEAR(static_cast<double>(out[2].cloud.utime - out[1].cloud.utime), 1e5, 60.0);
 }
+
+TEST(RsHeliosMsop, ImpossibleHeaderTimeIsInvalidNotOverflowed) {
+  h::MsopEncoder m;
+  m.blocks[0].distance_m[0] = 5.0;
+  auto b = m.encode();
+  for (int i = 20; i < 26; ++i) b[i] = 0xFF;  // 2^48 - 1 seconds
+  h::PacketInfo info;
+  std::vector<evade::sensing::LidarReturn> out;
+  ASSERT_EQ(h::decode_msop(b.data(), b.size(), calibration(), {}, &out, &info), h::PacketStatus::kOk);
+  EXPECT_EQ(info.utc_us, -1);
+
+  std::map<std::string, int64_t> counts;
+  evade::sensing::LidarDecoderParams p;
+  p.model = evade::sensing::LidarModel::kRsHelios;
+  p.time_source = evade::sensing::TimeSource::kSensor;
+  evade::sensing::LidarDecoder dec(p, [&](const std::string& n, int64_t k) { counts[n] += k; });
+  std::vector<evade::sensing::Revolution> revs;
+  auto difop = test_difop().encode();
+  dec.feed(difop.data(), difop.size(), 1'000'000, &revs);
+  dec.feed(b.data(), b.size(), 2'000'000, &revs);
+  dec.feed(b.data(), b.size(), -1, &revs);  // a corrupt LIDAR_SCAN receive time
+  dec.flush(&revs);
+  EXPECT_EQ(counts["timestamp_invalid"], 1);
+  EXPECT_EQ(counts["malformed_receive_time"], 1);
+  ASSERT_EQ(revs.size(), 1u);
+  // Placed by its receive time: 2 s minus the packet's span.
+  EXPECT_NEAR(static_cast<double>(revs[0].cloud.utime), 2e6 - (11 * 55.56 + 31 * 1.73), 1.0);
+}
