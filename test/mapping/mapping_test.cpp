@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "bus/memory_bus.h"
 #include "mapping/elevation_map.h"
@@ -543,6 +544,61 @@ TEST(Core, PublishesTheMapStampedWithTheCloudTime) {
   const uint8_t junk[7] = {1, 2, 3, 4, 5, 6, 7};
   bus.inject("LIDAR_POINTS", junk, sizeof junk, 1'300'000);
   EXPECT_EQ(bus.decoded<evade::grid_map_t>("ELEVATION_MAP").size(), 1u);
+}
+
+TEST(Core, HostileInputNeitherCrashesNorPoisonsLaterMaps) {
+  bus::MemoryBus bus;
+  ElevationMapCore core(defaults());
+  bus.add(core);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> wild(-1e6f, 1e6f);
+  const float specials[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(), 3.4e38f, -3.4e38f, 0.0f};
+  for (int k = 0; k < 200; ++k) {
+    evade::odometry_t o{};
+    o.utime = 1'000'000 + k * 20'000 - (k % 7 == 0 ? 5'000'000 : 0);  // some go back in time
+    o.x = (k % 11 == 0) ? std::numeric_limits<double>::quiet_NaN() : wild(rng) * 1e-3;
+    o.y = wild(rng) * 1e-3;
+    o.yaw = wild(rng);
+    o.v = wild(rng) * 1e-6;
+    bus.inject("ODOMETRY", o, o.utime);
+    evade::pointcloud_t m;
+    m.utime = 1'000'000 + k * 20'000;
+    m.sensor_model = "?";
+    m.mount = {};
+    m.mount.z = 0.5;
+    m.mount.yaw = wild(rng);
+    m.packets = 0;
+    m.n = 64;
+    for (int i = 0; i < m.n; ++i) {
+      m.x.push_back(i % 3 ? wild(rng) * 1e-5f : specials[rng() % 6]);
+      m.y.push_back(wild(rng) * 1e-5f);
+      m.z.push_back(i % 5 ? wild(rng) * 1e-6f : specials[rng() % 6]);
+      m.intensity.push_back(0);
+      m.ring.push_back(0);
+      m.time_offset.push_back(int32_t(rng()));
+    }
+    bus.inject("LIDAR_POINTS", m, m.utime);
+  }
+  EXPECT_GT(core.counter("odometry_invalid"), 0);
+  EXPECT_GT(core.counter("points_invalid"), 0);
+  // a clean world afterwards still maps correctly
+  bus.clear();
+  for (int64_t t = 20'000'000; t <= 20'300'000; t += 20'000) {
+    evade::odometry_t o{};
+    o.utime = t;
+    bus.inject("ODOMETRY", o, t);
+  }
+  SynthWorld w;
+  w.cylinders.push_back({2.0, 0.0, 0.3, 1.0});
+  bus.inject("LIDAR_POINTS", cloud_msg(20'100'000, synth_vlp16(w, SynthScanOptions{})), 20'300'000);
+  const auto maps = bus.decoded<evade::grid_map_t>("ELEVATION_MAP");
+  ASSERT_EQ(maps.size(), 1u);
+  int obstacles = 0;
+  for (const auto& row : maps[0].obstacle)
+    for (auto o : row) obstacles += o;
+  EXPECT_GT(obstacles, 4);
+  EXPECT_NEAR(maps[0].robot_x, 0.0, 1e-12);
 }
 
 }  // namespace
