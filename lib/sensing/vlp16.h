@@ -18,6 +18,14 @@
 // In dual-return mode, blocks come in pairs (2k: last, 2k+1: strongest or,
 // when that equals the last, second strongest) that share one azimuth and
 // one firing time, so a dual packet covers 6 block times instead of 12.
+// A second echo equal to the first (a single target) is dropped.
+//
+// Azimuth of a firing: the block's azimuth plus the block-to-block azimuth
+// change times (firing time within the block / 110.592 us), the change
+// being taken to the next block (dual: next pair; the last block reuses the
+// previous change; changes above 5 deg, impossible at 20 Hz, count as none).
+// A simulator emitting packets for a sensor turning at w deg/us fires laser l
+// of sequence s of block b at block_az + w * (s * 55.296 + l * 2.304).
 //
 // Azimuth: Velodyne measures azimuth clockwise seen from above, 0 deg
 // along the sensor's forward (+Y in Velodyne's manual, where
