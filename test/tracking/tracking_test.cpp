@@ -456,6 +456,18 @@ TEST(Tracker, TracksDropAfterKMissedFramesAndIdsAreNeverReused) {
   EXPECT_GT(again, first);  // same place, new obstacle, new id
 }
 
+TEST(Tracker, TimeGoingBackwardsStartsOverWithFreshIds) {
+  Tracker t(params());
+  Scene s;
+  s.disc(1.0, 1.0, 0.3);
+  const int64_t first = t.update(s.view(10'000'000)).at(0).id;
+  EXPECT_EQ(t.update(s.view(10'100'000)).at(0).id, first);
+  const int64_t after = t.update(s.view(5'000'000)).at(0).id;  // a log loop
+  EXPECT_EQ(t.stats().time_reset, 1);
+  EXPECT_GT(after, first);
+  EXPECT_EQ(t.update(s.view(5'100'000)).at(0).id, after);
+}
+
 TEST(Tracker, LongClutterRunKeepsMemoryBounded) {
   auto p = params();
   p.max_tracks = 64;
