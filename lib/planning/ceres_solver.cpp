@@ -172,7 +172,7 @@ std::vector<int> held_at_bounds(const Problem& pb, const ceres::CostFunction& co
 // bound held there (see held_at_bounds). Takes ownership of cost. Returns
 // the Ceres iterations used.
 int run_inner(const Problem& pb, const SolverOptions& o, ceres::CostFunction* cost, std::vector<double>* u,
-              int max_iterations) {
+              int max_iterations, double* trust_radius = nullptr) {
   const int n = pb.num_controls();
   ceres::Problem problem;
   problem.AddResidualBlock(cost, nullptr, u->data());
@@ -186,7 +186,14 @@ int run_inner(const Problem& pb, const SolverOptions& o, ceres::CostFunction* co
   if (static_cast<int>(held.size()) >= n) return 0;
   if (!held.empty()) problem.SetManifold(u->data(), new ceres::SubsetManifold(n, held));
   ceres::Solver::Summary summary;
-  ceres::Solve(inner_options(o, max_iterations), &problem, &summary);
+  ceres::Solver::Options opt = inner_options(o, max_iterations);
+  // Carry the trust region over between outer iterations: restarting at
+  // Ceres' default radius takes Gauss-Newton-sized steps across the kinks
+  // of the AL terms, most of them rejected.
+  if (trust_radius && *trust_radius > 0) opt.initial_trust_region_radius = *trust_radius;
+  ceres::Solve(opt, &problem, &summary);
+  if (trust_radius && !summary.iterations.empty())
+    *trust_radius = std::max(o.min_trust_radius, summary.iterations.back().trust_region_radius);
   return summary.num_successful_steps + summary.num_unsuccessful_steps;
 }
 
@@ -225,20 +232,21 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   if (warm_multipliers && static_cast<int>(warm_multipliers->size()) == m) lambda = *warm_multipliers;
 
   double rho = opts_.penalty_initial;
+  double trust_radius = -1;  // Ceres' default at first
   double prev_violation = std::numeric_limits<double>::infinity();
   std::vector<double> states, g;
   evaluate_constraints(pb, res.u.data(), &states, &g);
   for (int outer = 0; outer < opts_.max_outer_iterations; ++outer) {
     std::vector<ActiveConstraint> active;
-    for (int j = 0; j < m; ++j) {
-      const double margin = j < pb.num_rate_constraints() ? 0.5 * std::min(pb.lim.decel, pb.lim.alpha) * pb.dt
-                                                          : opts_.active_margin;
-      if (j < 4) continue;  // the rate limits at k = 0 are bounds on u_0
-      if (lambda[j] > 0 || g[j] < margin) active.push_back({j, false});
-    }
+    // Rate limits (linear, cheap) are always in: left out, the inner solve
+    // chatters between the omega bounds and the next outer iteration starts
+    // from a badly violated point. The rate limits at k = 0 are bounds on u_0.
+    for (int j = 4; j < pb.num_rate_constraints(); ++j) active.push_back({j, false});
+    for (int j = pb.num_rate_constraints(); j < m; ++j)
+      if (lambda[j] > 0 || g[j] < opts_.active_margin) active.push_back({j, false});
     std::vector<double> before = res.u;
     res.iterations += run_inner(pb, opts_, new InnerCost(pb, std::move(active), lambda, rho, /*elastic_penalty=*/1.0),
-                                &res.u, opts_.max_inner_iterations);
+                                &res.u, opts_.max_inner_iterations, &trust_radius);
     res.outer_iterations = outer + 1;
     if (!all_finite(res.u)) {
       res.u = before;
@@ -254,6 +262,15 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   }
   res.multipliers = lambda;
   finish(pb, opts_, &res);
+  if (!res.feasible && res.finite) {
+    // Repair: the leftover violation is mostly in the (linear) rate limits;
+    // clamping the controls onto them moves the states only a little, which
+    // may leave every constraint within tolerance.
+    SolveResult repaired = res;
+    project_controls(pb, &repaired.u);
+    finish(pb, opts_, &repaired);
+    if (repaired.feasible) res = repaired;
+  }
   return res;
 }
 

@@ -1,0 +1,88 @@
+#include "planning/params.h"
+
+#include <stdexcept>
+
+namespace evade::planning {
+
+Mode parse_mode(const std::string& name) {
+  if (name == "dcbf") return Mode::kDcbf;
+  if (name == "mpc") return Mode::kMpc;
+  if (name == "cbf") return Mode::kCbf;
+  if (name == "kf") return Mode::kKf;
+  if (name == "cbf_curvefit") return Mode::kCbfCurvefit;
+  throw std::invalid_argument("unknown planner mode '" + name + "' (dcbf, mpc, cbf, kf, cbf_curvefit)");
+}
+
+const char* mode_name(Mode m) {
+  switch (m) {
+    case Mode::kDcbf: return "dcbf";
+    case Mode::kMpc: return "mpc";
+    case Mode::kCbf: return "cbf";
+    case Mode::kKf: return "kf";
+    case Mode::kCbfCurvefit: return "cbf_curvefit";
+  }
+  return "dcbf";
+}
+
+PlannerParams PlannerParams::from_config(const config::Node& root) {
+  PlannerParams p;
+  // shared robot limits (the robot section belongs to everyone: read, not closed)
+  const config::Node robot = root.section("robot");
+  p.limits.v_max = robot.get_positive("max_v_mps");
+  p.limits.v_min = robot.get_double("min_v_mps", 0.0, p.limits.v_max);
+  p.limits.omega_max = robot.get_positive("max_omega_radps");
+  p.limits.accel = robot.get_positive("max_accel_mps2");
+  p.limits.decel = robot.get_positive("max_decel_mps2");
+  p.limits.alpha = robot.get_positive("max_alpha_radps2");
+
+  const config::Node s = root.section("planner");
+  p.mode = parse_mode(s.get_choice("mode", {"dcbf", "mpc", "cbf", "kf", "cbf_curvefit"}));
+  p.rate_hz = s.get_positive("rate_hz");
+  p.horizon_steps = s.get_int("horizon_steps", 2, 64);
+  p.dt_s = s.get_positive("dt_s");
+  p.gamma = s.get_double("gamma", 1e-6, 1.0);  // 0 < gamma <= 1 (paper, discrete D-CBF)
+  p.d_safe_m = s.get_double("d_safe_m", 0.0, 10.0);
+  p.reference_speed_mps = s.get_double("reference_speed_mps", 0.0, p.limits.v_max);
+  p.route_end_decel_mps2 = s.get_positive("route_end_decel_mps2");
+  p.goal_tolerance_m = s.get_positive("goal_tolerance_m");
+  p.route_search_window_m = s.get_positive("route_search_window_m");
+  p.obstacle_consider_radius_m = s.get_positive("obstacle_consider_radius_m");
+  p.max_obstacles = s.get_int("max_obstacles", 0, 256);
+  p.odometry_max_age_s = s.get_positive("odometry_max_age_s");
+  p.predictions_max_age_s = s.get_positive("predictions_max_age_s");
+  p.require_predictions = s.get<bool>("require_predictions");
+
+  const config::Node w = s.section("weights");
+  p.weights.q_xy = w.get_double("q_xy", 0, 1e6);
+  p.weights.q_yaw = w.get_double("q_yaw", 0, 1e6);
+  p.weights.p_xy = w.get_double("p_xy", 0, 1e6);
+  p.weights.p_yaw = w.get_double("p_yaw", 0, 1e6);
+  p.weights.r_v = w.get_double("r_v", 0, 1e6);
+  p.weights.r_omega = w.get_double("r_omega", 0, 1e6);
+  p.weights.s_v = w.get_double("s_v", 0, 1e6);
+  p.weights.s_omega = w.get_double("s_omega", 0, 1e6);
+  w.close();
+
+  const config::Node c = s.section("curvefit");
+  p.curvefit_degree = c.get_int("degree", 0, 5);
+  p.curvefit_window_s = c.get_positive("window_s");
+  c.close();
+
+  const config::Node o = s.section("solver");
+  p.solver.max_outer_iterations = o.get_int("max_outer_iterations", 1, 1000);
+  p.solver.max_inner_iterations = o.get_int("max_inner_iterations", 1, 1000);
+  p.solver.constraint_tolerance = o.get_positive("constraint_tolerance");
+  p.solver.penalty_initial = o.get_positive("penalty_initial");
+  p.solver.penalty_growth = o.get_double("penalty_growth", 1.0, 1e3);
+  p.solver.penalty_max = o.get_positive("penalty_max");
+  p.solver.violation_shrink = o.get_double("violation_shrink", 0.0, 1.0);
+  p.solver.active_margin = o.get_double("active_margin_m", 0.0, 100.0);
+  p.solver.inner_function_tolerance = o.get_positive("inner_function_tolerance");
+  p.solver.inner_parameter_tolerance = o.get_positive("inner_parameter_tolerance");
+  p.solver.dense_qr = o.get_choice("linear_solver", {"dense_normal_cholesky", "dense_qr"}) == "dense_qr";
+  o.close();
+  s.close();
+  return p;
+}
+
+}  // namespace evade::planning

@@ -1,0 +1,44 @@
+// Planner parameters: the `planner:` section of config/robot.yaml plus the
+// shared limits of the `robot:` section.
+#pragma once
+
+#include <string>
+
+#include "config/config.h"
+#include "planning/ceres_solver.h"
+#include "planning/problem.h"
+
+namespace evade::planning {
+
+// The paper's Table I modes (SPEC "Planner modes").
+enum class Mode { kDcbf, kMpc, kCbf, kKf, kCbfCurvefit };
+Mode parse_mode(const std::string& name);  // throws std::invalid_argument
+const char* mode_name(Mode m);
+
+struct PlannerParams {
+  Mode mode = Mode::kDcbf;
+  double rate_hz = 10;
+  int horizon_steps = 25;
+  double dt_s = 0.1;
+  double gamma = 0.1;
+  double d_safe_m = 0.35;
+  double reference_speed_mps = 0.8;
+  double route_end_decel_mps2 = 0.5;
+  double goal_tolerance_m = 0.3;
+  double route_search_window_m = 3.0;
+  double obstacle_consider_radius_m = 4.0;
+  int max_obstacles = 16;
+  double odometry_max_age_s = 0.3;
+  double predictions_max_age_s = 0.5;
+  bool require_predictions = true;
+  int curvefit_degree = 2;
+  double curvefit_window_s = 1.0;
+  Weights weights;
+  Limits limits;
+  SolverOptions solver;
+
+  // root = the whole configuration (reads `planner:` and the limits in `robot:`).
+  static PlannerParams from_config(const config::Node& root);
+};
+
+}  // namespace evade::planning

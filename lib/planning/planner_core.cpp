@@ -1,0 +1,305 @@
+#include "planning/planner_core.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "evade/cmd_vel_t.hpp"
+#include "evade/path_t.hpp"
+
+namespace evade::planning {
+namespace {
+
+bool finite_odometry(const evade::odometry_t& o) {
+  return std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.yaw) && std::isfinite(o.v) &&
+         std::isfinite(o.omega);
+}
+
+// Controls shifted by `steps`, the tail padded with the last control.
+std::vector<double> shifted(const std::vector<double>& u, int steps) {
+  const int n = static_cast<int>(u.size()) / 2;
+  std::vector<double> out(u.size());
+  for (int k = 0; k < n; ++k) {
+    const int src = std::min(k + steps, n - 1);
+    out[2 * k] = u[2 * src];
+    out[2 * k + 1] = u[2 * src + 1];
+  }
+  return out;
+}
+
+}  // namespace
+
+PlannerCore::PlannerCore(PlannerParams params)
+    : Core("planner"),
+      p_(params),
+      solver_(params.solver),
+      history_(params.curvefit_degree, params.curvefit_window_s),
+      period_us_(std::llround(1e6 / params.rate_hz)) {
+  subscribe<evade::odometry_t>("ODOMETRY", [this](const evade::odometry_t& m) { on_odometry(m); });
+  subscribe<evade::path_t>("ROUTE", [this](const evade::path_t& m) {
+    if (m.n < 2 || !route_.set_route(m.x, m.y)) count("route_invalid");
+  });
+  subscribe<evade::prediction_list_t>("OBSTACLE_PREDICTIONS", [this](const evade::prediction_list_t& m) {
+    if (!(m.dt > 0) || !std::isfinite(m.dt)) {
+      count("predictions_invalid");
+      return;
+    }
+    predictions_ = m;
+    predictions_rx_ = now();
+    history_.add(m);
+  });
+  every(period_us_, [this] { watchdog(); });
+}
+
+std::vector<double> PlannerCore::braking_controls(double v, double omega) const {
+  const int N = p_.horizon_steps;
+  std::vector<double> u(2 * N);
+  v = std::clamp(std::isfinite(v) ? v : 0.0, p_.limits.v_min, p_.limits.v_max);
+  omega = std::clamp(std::isfinite(omega) ? omega : 0.0, -p_.limits.omega_max, p_.limits.omega_max);
+  for (int k = 0; k < N; ++k) {
+    v = std::max(p_.limits.v_min, v - p_.limits.decel * p_.dt_s);
+    const double dw = p_.limits.alpha * p_.dt_s;
+    omega = std::fabs(omega) <= dw ? 0.0 : omega - std::copysign(dw, omega);
+    u[2 * k] = v;
+    u[2 * k + 1] = omega;
+  }
+  return u;
+}
+
+void PlannerCore::on_odometry(const evade::odometry_t& odom) {
+  if (!finite_odometry(odom)) {
+    count("odometry_invalid");
+    return;
+  }
+  odometry_rx_ = now();
+  last_odometry_ = odom;
+  // rate limit on message time: deterministic in replay
+  if (next_plan_utime_ >= 0 && odom.utime < next_plan_utime_) return;
+  next_plan_utime_ = next_plan_utime_ < 0 ? odom.utime + period_us_ : next_plan_utime_ + period_us_;
+  if (next_plan_utime_ <= odom.utime) next_plan_utime_ = odom.utime + period_us_;
+  plan_cycle(odom);
+}
+
+void PlannerCore::watchdog() {
+  // Odometry stopped: keep braking from the last command at the limit.
+  if (!last_odometry_ || now() - odometry_rx_ <= std::llround(p_.odometry_max_age_s * 1e6)) return;
+  count("stale_odometry");
+  const double elapsed = last_cmd_now_ < 0 ? 0.0 : (now() - last_cmd_now_) * 1e-6;
+  const double v = std::max(p_.limits.v_min, last_cmd_v_ - p_.limits.decel * elapsed);
+  const double dw = p_.limits.alpha * elapsed;
+  const double w = std::fabs(last_cmd_omega_) <= dw ? 0.0 : last_cmd_omega_ - std::copysign(dw, last_cmd_omega_);
+  evade::odometry_t at = *last_odometry_;
+  at.v = v;
+  at.omega = w;
+  publish_plan(at, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v, w), 0, 0, 0);
+}
+
+void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
+  const int N = p_.horizon_steps;
+  const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
+  const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
+
+  if (now() - odom.utime > std::llround(p_.odometry_max_age_s * 1e6)) {
+    count("stale_odometry");
+    publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
+    return;
+  }
+  if (!route_.has_route()) {
+    publish_plan(odom, evade::plan_t::STATUS_NO_ROUTE, nullptr, std::vector<double>(2 * N, 0.0), 0, 0, 0);
+    return;
+  }
+  route_.update_progress(odom.x, odom.y, p_.route_search_window_m);
+  const double to_end = std::hypot(odom.x - route_.end_x(), odom.y - route_.end_y());
+  if (to_end <= p_.goal_tolerance_m && route_.length() - route_.progress() <= 2 * p_.goal_tolerance_m) {
+    publish_plan(odom, evade::plan_t::STATUS_GOAL, nullptr, braking_controls(v0, w0), 0, 0, 0);
+    return;
+  }
+  const bool predictions_stale = predictions_
+                                     ? now() - predictions_rx_ > std::llround(p_.predictions_max_age_s * 1e6)
+                                     : p_.require_predictions;
+  if (predictions_stale) {
+    count("stale_predictions");
+    publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
+    return;
+  }
+
+  Problem pb;
+  pb.N = N;
+  pb.dt = p_.dt_s;
+  pb.x0 = odom.x;
+  pb.y0 = odom.y;
+  pb.yaw0 = odom.yaw;
+  pb.v_prev = v0;
+  pb.omega_prev = w0;
+  pb.w = p_.weights;
+  pb.lim = p_.limits;
+  pb.d_safe = p_.d_safe_m;
+  route_.reference(odom.yaw, N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2, &pb.ref_x, &pb.ref_y,
+                   &pb.ref_yaw);
+  if (predictions_) {
+    int invalid = 0;
+    pb.obstacles = constraint_obstacles(p_, *predictions_, history_, odom.utime, odom.x, odom.y, &invalid);
+    if (invalid) count("tracks_invalid", invalid);
+  }
+
+  // warm start: the previous solution shifted by the elapsed steps, and its
+  // multipliers mapped by track id
+  const int R = pb.num_rate_constraints();
+  std::vector<double> warm_u;
+  std::vector<double> warm_lambda(pb.num_constraints(), 0.0);
+  int steps = -1;
+  if (!prev_u_.empty() && static_cast<int>(prev_u_.size()) == 2 * N)
+    steps = static_cast<int>(std::llround((odom.utime - prev_utime_) * 1e-6 / p_.dt_s));
+  if (steps >= 0 && steps < N) {
+    warm_u = shifted(prev_u_, steps);
+    if (static_cast<int>(prev_multipliers_.size()) >= R) {
+      for (int j = 4; j + 4 * steps < R; ++j) warm_lambda[j] = prev_multipliers_[j + 4 * steps];
+      for (size_t i = 0; i < pb.obstacles.size(); ++i) {
+        auto it = std::find(prev_ids_.begin(), prev_ids_.end(), pb.obstacles[i].id);
+        if (it == prev_ids_.end()) continue;
+        const int pi = static_cast<int>(it - prev_ids_.begin());
+        for (int k = 0; k + steps < N; ++k) {
+          const size_t src = static_cast<size_t>(R + pi * N + k + steps);
+          if (src < prev_multipliers_.size()) warm_lambda[R + i * N + k] = prev_multipliers_[src];
+        }
+      }
+    }
+  } else {
+    warm_u.assign(2 * N, 0.0);
+    for (int k = 0; k < N; ++k) warm_u[2 * k] = v0;  // hold the current speed, go straight
+  }
+
+  const auto t0 = std::chrono::steady_clock::now();
+  SolveResult res = solver_.solve(pb, warm_u, &warm_lambda);
+  int iterations = res.iterations;
+  if (!(res.finite && res.feasible) && !pb.obstacles.empty()) {
+    // Before giving up: restart from a swerve to either side. A warm start
+    // that heads straight at a symmetric obstacle sits on a saddle (the
+    // barrier's gradient has no sideways part) that no local method leaves.
+    for (double side : {1.0, -1.0}) {
+      std::vector<double> guess(2 * N);
+      for (int k = 0; k < N; ++k) {
+        guess[2 * k] = v0;
+        guess[2 * k + 1] = (k < N / 2 ? side : -side) * p_.limits.omega_max;
+      }
+      SolveResult alt = solver_.solve(pb, guess);
+      iterations += alt.iterations;
+      count("solver_restart");
+      if (alt.finite && alt.feasible) {
+        res = alt;
+        break;
+      }
+    }
+  }
+  int8_t status = evade::plan_t::STATUS_OK;
+  std::vector<double> u = res.u;
+  if (!(res.finite && res.feasible)) {
+    count("solver_infeasible");
+    double h0_min = kNoObstacleBarrier;
+    for (const auto& o : pb.obstacles) h0_min = std::min(h0_min, barrier_at(o, 0, pb.x0, pb.y0, pb.d_safe).h);
+    SolveResult rec;
+    if (h0_min < 0) {
+      rec = solver_.solve_elastic(pb, braking_controls(v0, w0));
+      iterations += rec.iterations;
+    }
+    const int fsteps = feasible_u_.empty() ? -1
+                                           : static_cast<int>(std::llround((odom.utime - feasible_utime_) * 1e-6 /
+                                                                           p_.dt_s));
+    if (h0_min < 0 && rec.finite && rec.feasible) {
+      status = evade::plan_t::STATUS_RECOVERING;
+      u = rec.u;
+      res = rec;
+    } else if (fsteps >= 1 && fsteps < N) {
+      // the last feasible plan, shifted; its tail brakes to a stop
+      status = evade::plan_t::STATUS_FALLBACK;
+      u = shifted(feasible_u_, fsteps);
+      const std::vector<double> tail = braking_controls(feasible_u_[2 * (N - 1)], feasible_u_[2 * (N - 1) + 1]);
+      for (int k = N - fsteps; k < N; ++k) {
+        u[2 * k] = tail[2 * (k - (N - fsteps))];
+        u[2 * k + 1] = tail[2 * (k - (N - fsteps)) + 1];
+      }
+      project_controls(pb, &u);  // consistent with the measured speed
+      count("fallback");
+    } else {
+      status = evade::plan_t::STATUS_STOPPING;
+      u = braking_controls(v0, w0);
+      count("stopping");
+    }
+  }
+  const double solve_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+
+  if (status == evade::plan_t::STATUS_OK) {
+    feasible_u_ = u;
+    feasible_utime_ = odom.utime;
+  }
+  prev_u_ = u;
+  prev_utime_ = odom.utime;
+  prev_multipliers_ = status == evade::plan_t::STATUS_OK ? res.multipliers : std::vector<double>{};
+  prev_ids_.clear();
+  for (const auto& o : pb.obstacles) prev_ids_.push_back(o.id);
+  publish_plan(odom, status, &pb, u, solve_us, iterations, static_cast<int>(pb.obstacles.size()));
+}
+
+void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb,
+                               const std::vector<double>& u_in, double solve_us, int iterations, int num_obstacles) {
+  const int N = p_.horizon_steps;
+  Problem base;
+  if (pb == nullptr) {
+    base.N = N;
+    base.dt = p_.dt_s;
+    base.x0 = odom.x;
+    base.y0 = odom.y;
+    base.yaw0 = odom.yaw;
+    base.lim = p_.limits;
+    pb = &base;
+  }
+  std::vector<double> u = u_in;
+  std::vector<double> states(3 * (N + 1));
+  rollout(*pb, u.data(), states.data());
+  auto finite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+  };
+  if (!finite(u) || !finite(states)) {  // never publish NaN
+    count("non_finite_plan");
+    status = evade::plan_t::STATUS_STOPPING;
+    u = braking_controls(odom.v, odom.omega);
+    rollout(*pb, u.data(), states.data());
+  }
+  evade::plan_t plan;
+  plan.utime = odom.utime;
+  plan.mode = mode_name(p_.mode);
+  plan.status = status;
+  plan.solve_time_us = static_cast<int64_t>(solve_us);
+  plan.iterations = iterations;
+  plan.cost = pb->ref_x.empty() ? 0.0 : objective(*pb, u.data());
+  plan.horizon = N;
+  plan.num_states = N + 1;
+  for (int k = 0; k <= N; ++k) {
+    plan.x.push_back(states[3 * k]);
+    plan.y.push_back(states[3 * k + 1]);
+    plan.yaw.push_back(wrap_angle(states[3 * k + 2]));
+  }
+  for (int k = 0; k < N; ++k) {
+    plan.v.push_back(u[2 * k]);
+    plan.omega.push_back(u[2 * k + 1]);
+  }
+  plan.min_barrier = min_barrier(*pb, states);
+  plan.max_violation = pb->ref_x.empty() ? 0.0 : max_violation(*pb, u.data());
+  plan.num_obstacles = num_obstacles;
+  if (!std::isfinite(plan.cost)) plan.cost = 0;
+  if (!std::isfinite(plan.min_barrier)) plan.min_barrier = kNoObstacleBarrier;
+  if (!std::isfinite(plan.max_violation)) plan.max_violation = 0;
+  publish("PLAN", plan);
+  last_plan_ = plan;
+
+  evade::cmd_vel_t cmd;
+  cmd.utime = odom.utime;
+  cmd.v = u[0];
+  cmd.omega = u[1];
+  publish("CMD_VEL", cmd);
+  last_cmd_v_ = cmd.v;
+  last_cmd_omega_ = cmd.omega;
+  last_cmd_now_ = now();
+}
+
+}  // namespace evade::planning

@@ -1,0 +1,59 @@
+// The planner process core: ODOMETRY-triggered MPC at rate_hz (on message
+// time), publishing PLAN and CMD_VEL; never stuck (fallback to the last
+// feasible plan shifted, then braking at the deceleration limit), never NaN.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "bus/core.h"
+#include "evade/odometry_t.hpp"
+#include "evade/plan_t.hpp"
+#include "evade/prediction_list_t.hpp"
+#include "planning/ceres_solver.h"
+#include "planning/obstacles.h"
+#include "planning/params.h"
+#include "planning/reference.h"
+
+namespace evade::planning {
+
+class PlannerCore : public bus::Core {
+ public:
+  explicit PlannerCore(PlannerParams params);
+
+  // Exposed for tests: the last plan published.
+  const std::optional<evade::plan_t>& last_plan() const { return last_plan_; }
+
+ private:
+  void on_odometry(const evade::odometry_t& odom);
+  void plan_cycle(const evade::odometry_t& odom);
+  void watchdog();
+  // Braking at the deceleration limits from (v, omega), as plan controls.
+  std::vector<double> braking_controls(double v, double omega) const;
+  void publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb, const std::vector<double>& u,
+                    double solve_us, int iterations, int num_obstacles);
+
+  PlannerParams p_;
+  CeresMpcSolver solver_;
+  RouteFollower route_;
+  CurveFitHistory history_;
+  std::optional<evade::prediction_list_t> predictions_;
+  int64_t predictions_rx_ = -1;        // bus time the predictions arrived
+  int64_t odometry_rx_ = -1;           // bus time of the last odometry
+  std::optional<evade::odometry_t> last_odometry_;
+  int64_t next_plan_utime_ = -1;
+  int64_t period_us_;
+  // warm start: previous solution (any status) and previous feasible plan
+  std::vector<double> prev_u_;
+  int64_t prev_utime_ = -1;
+  std::vector<double> prev_multipliers_;
+  std::vector<int64_t> prev_ids_;
+  std::vector<double> feasible_u_;
+  int64_t feasible_utime_ = -1;
+  std::optional<evade::plan_t> last_plan_;
+  double last_cmd_v_ = 0, last_cmd_omega_ = 0;
+  int64_t last_cmd_now_ = -1;
+};
+
+}  // namespace evade::planning

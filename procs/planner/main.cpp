@@ -1,0 +1,26 @@
+// planner: Ceres MPC with discrete-time D-CBF constraints (and the paper's
+// baseline modes). Reads ODOMETRY, ROUTE, OBSTACLE_PREDICTIONS; writes PLAN
+// and CMD_VEL. `--mode` overrides planner.mode of the configuration.
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "bus/process_main.h"
+#include "planning/params.h"
+#include "planning/planner_core.h"
+
+int main(int argc, char** argv) {
+  std::string mode;
+  return evade::bus::process_main(
+      argc, argv, "planner",
+      [&](CLI::App& app) {
+        app.add_option("--mode", mode, "planner mode: dcbf | mpc | cbf | kf | cbf_curvefit (default: config)")
+            ->check(CLI::IsMember({"dcbf", "mpc", "cbf", "kf", "cbf_curvefit"}));
+      },
+      [&](const evade::config::Node& root) -> std::unique_ptr<evade::bus::Core> {
+        evade::planning::PlannerParams params = evade::planning::PlannerParams::from_config(root);
+        if (!mode.empty()) params.mode = evade::planning::parse_mode(mode);
+        return std::make_unique<evade::planning::PlannerCore>(params);
+      });
+}

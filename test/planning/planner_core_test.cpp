@@ -1,0 +1,329 @@
+// The planner process core in closed loop with a kinematic robot and
+// constant-velocity obstacles on the in-memory bus: static obstacle passed,
+// head-on and crossing movers avoided, modes built as the paper says,
+// stale input and missing route handled, never NaN.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bus/memory_bus.h"
+#include "config/config.h"
+#include "evade/cmd_vel_t.hpp"
+#include "evade/odometry_t.hpp"
+#include "evade/path_t.hpp"
+#include "evade/plan_t.hpp"
+#include "evade/prediction_list_t.hpp"
+#include "planning/obstacles.h"
+#include "planning/params.h"
+#include "planning/planner_core.h"
+#include "planning/reference.h"
+
+namespace evade::planning {
+namespace {
+
+PlannerParams default_params() {
+  return PlannerParams::from_config(config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
+}
+
+struct SimObstacle {
+  double x, y, vx, vy, radius;
+};
+
+evade::path_t straight_route(double x0, double x1) {
+  evade::path_t r;
+  r.utime = 0;
+  r.n = 2;
+  r.x = {x0, x1};
+  r.y = {0.0, 0.0};
+  return r;
+}
+
+evade::prediction_list_t predictions(const std::vector<SimObstacle>& obs, int64_t utime, double t_s) {
+  evade::prediction_list_t m;
+  m.utime = utime;
+  m.dt = 0.1;
+  m.horizon = 26;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    evade::track_prediction_t t;
+    t.id = static_cast<int64_t>(i) + 1;
+    t.vx = obs[i].vx;
+    t.vy = obs[i].vy;
+    t.ax = t.ay = 0;
+    t.horizon = m.horizon;
+    for (int k = 0; k < m.horizon; ++k) {
+      t.x.push_back(obs[i].x + obs[i].vx * (t_s + 0.1 * k));
+      t.y.push_back(obs[i].y + obs[i].vy * (t_s + 0.1 * k));
+      t.a.push_back(obs[i].radius);
+      t.b.push_back(obs[i].radius);
+      t.theta.push_back(0.0);
+      t.sigma.push_back(0.0);
+    }
+    m.tracks.push_back(t);
+  }
+  m.num_tracks = static_cast<int32_t>(m.tracks.size());
+  return m;
+}
+
+struct RunResult {
+  double min_h = 1e9;            // true clearance beyond d_safe over the run
+  double final_x = 0, final_y = 0;
+  double max_abs_y = 0;
+  int plans = 0, ok = 0, nan = 0;
+  std::vector<evade::plan_t> plan_log;
+  std::vector<double> robot_y;   // per plan
+};
+
+// Closed loop: odometry at 50 Hz, predictions at 10 Hz, the robot follows
+// CMD_VEL exactly (unicycle).
+RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double duration_s, double route_end = 12.0) {
+  bus::MemoryBus bus;
+  PlannerCore core(p);
+  bus.add(core);
+  RunResult out;
+  double x = 0, y = 0, yaw = 0, v = 0, w = 0;
+  const int64_t t0 = 1'000'000;
+  bus.inject("ROUTE", straight_route(0.0, route_end), t0);
+  for (int i = 0; i * 0.02 < duration_s; ++i) {
+    const double t = i * 0.02;
+    const int64_t now = t0 + static_cast<int64_t>(std::llround(t * 1e6));
+    if (i % 5 == 0) bus.inject("OBSTACLE_PREDICTIONS", predictions(obs, now, t), now);
+    evade::odometry_t o;
+    o.utime = now;
+    o.x = x;
+    o.y = y;
+    o.yaw = yaw;
+    o.v = v;
+    o.omega = w;
+    bus.inject("ODOMETRY", o, now);
+    for (const auto& e : bus.take_published()) {
+      if (e.channel == "CMD_VEL") {
+        evade::cmd_vel_t c{};
+        bus::decode(e.data.data(), e.data.size(), &c);
+        if (!std::isfinite(c.v) || !std::isfinite(c.omega)) ++out.nan;
+        v = c.v;
+        w = c.omega;
+      } else if (e.channel == "PLAN") {
+        evade::plan_t pl{};
+        bus::decode(e.data.data(), e.data.size(), &pl);
+        ++out.plans;
+        if (pl.status == evade::plan_t::STATUS_OK) ++out.ok;
+        out.plan_log.push_back(pl);
+        out.robot_y.push_back(y);
+      }
+    }
+    // true clearance beyond d_safe
+    for (const auto& ob : obs) {
+      const double ox = ob.x + ob.vx * t, oy = ob.y + ob.vy * t;
+      out.min_h = std::min(out.min_h, std::hypot(x - ox, y - oy) - ob.radius - p.d_safe_m);
+    }
+    x += v * std::cos(yaw) * 0.02;
+    y += v * std::sin(yaw) * 0.02;
+    yaw += w * 0.02;
+    out.max_abs_y = std::max(out.max_abs_y, std::fabs(y));
+  }
+  out.final_x = x;
+  out.final_y = y;
+  return out;
+}
+
+TEST(PlannerCore, StaticObstacleOnThePathIsPassedWithPositiveBarrier) {
+  RunResult r = run(default_params(), {{4.0, 0.1, 0.0, 0.0, 0.3}}, 14.0);
+  EXPECT_EQ(r.nan, 0);
+  EXPECT_GT(r.final_x, 6.0);                // passed the obstacle
+  EXPECT_GE(r.min_h, -0.01) << "clearance";  // h >= 0 at every step (1 cm for the 50 Hz sim vs 10 Hz plans)
+  EXPECT_GT(r.ok, r.plans * 8 / 10);
+}
+
+TEST(PlannerCore, HeadOnMoverIsAvoided) {
+  RunResult r = run(default_params(), {{8.0, 0.05, -0.5, 0.0, 0.3}}, 12.0);
+  EXPECT_EQ(r.nan, 0);
+  EXPECT_GE(r.min_h, -0.05);
+  EXPECT_GT(r.final_x, 5.0);
+}
+
+TEST(PlannerCore, CrossingMoverIsAvoided) {
+  RunResult r = run(default_params(), {{4.0, 3.5, 0.0, -0.6, 0.3}}, 12.0);
+  EXPECT_EQ(r.nan, 0);
+  EXPECT_GE(r.min_h, -0.05);
+  EXPECT_GT(r.final_x, 6.0);
+}
+
+TEST(PlannerCore, ReachesTheGoalAndStops) {
+  RunResult r = run(default_params(), {}, 12.0, 5.0);
+  ASSERT_FALSE(r.plan_log.empty());
+  EXPECT_EQ(r.plan_log.back().status, int8_t{evade::plan_t::STATUS_GOAL});
+  EXPECT_NEAR(r.final_x, 5.0, 0.35);
+  EXPECT_NEAR(r.plan_log.back().v[0], 0.0, 0.15);
+}
+
+TEST(PlannerCore, NoRouteMeansZeroVelocity) {
+  bus::MemoryBus bus;
+  PlannerCore core(default_params());
+  bus.add(core);
+  evade::odometry_t o{};
+  o.utime = 1'000'000;
+  o.v = 0.5;
+  bus.inject("ODOMETRY", o, o.utime);
+  auto cmds = bus.decoded<evade::cmd_vel_t>("CMD_VEL");
+  auto plans = bus.decoded<evade::plan_t>("PLAN");
+  ASSERT_EQ(cmds.size(), 1u);
+  EXPECT_EQ(cmds[0].v, 0.0);
+  EXPECT_EQ(cmds[0].utime, o.utime);
+  EXPECT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_NO_ROUTE});
+}
+
+TEST(PlannerCore, StalePredictionsBrakeAtTheDecelerationLimit) {
+  PlannerParams p = default_params();
+  bus::MemoryBus bus;
+  PlannerCore core(p);
+  bus.add(core);
+  bus.inject("ROUTE", straight_route(0, 10), 1'000'000);
+  bus.inject("OBSTACLE_PREDICTIONS", predictions({}, 1'000'000, 0), 1'000'000);
+  evade::odometry_t o{};
+  o.utime = 3'000'000;  // predictions now 2 s old
+  o.v = 0.8;
+  bus.inject("ODOMETRY", o, o.utime);
+  auto plans = bus.decoded<evade::plan_t>("PLAN");
+  ASSERT_EQ(plans.size(), 1u);
+  EXPECT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_STALE_INPUT});
+  EXPECT_NEAR(plans[0].v[0], 0.8 - p.limits.decel * p.dt_s, 1e-9);
+  EXPECT_EQ(plans[0].v.back(), 0.0);
+}
+
+TEST(PlannerCore, MalformedInputIsCountedAndSkipped) {
+  bus::MemoryBus bus;
+  PlannerCore core(default_params());
+  bus.add(core);
+  std::vector<uint8_t> junk = {1, 2, 3};
+  bus.inject("ODOMETRY", junk, 1'000'000);
+  evade::odometry_t o{};
+  o.utime = 1'000'000;
+  o.x = std::nan("");
+  bus.inject("ODOMETRY", o, 1'000'000);
+  EXPECT_EQ(core.counter("odometry_invalid"), 1);
+  EXPECT_TRUE(bus.decoded<evade::plan_t>("PLAN").empty());
+}
+
+TEST(PlannerCore, InfeasibleProblemFallsBackThenStopsAndNeverNaN) {
+  // A wall of fast obstacles closes in from every side: no plan keeps h >= 0.
+  PlannerParams p = default_params();
+  std::vector<SimObstacle> obs;
+  for (int i = 0; i < 8; ++i) {
+    const double a = i * M_PI / 4;
+    obs.push_back({3.0 * std::cos(a), 3.0 * std::sin(a), -2.0 * std::cos(a), -2.0 * std::sin(a), 0.4});
+  }
+  RunResult r = run(p, obs, 2.0);
+  EXPECT_EQ(r.nan, 0);
+  bool saw_non_ok = false;
+  for (const auto& pl : r.plan_log) {
+    for (double v : pl.v) ASSERT_TRUE(std::isfinite(v));
+    for (double v : pl.x) ASSERT_TRUE(std::isfinite(v));
+    if (pl.status == evade::plan_t::STATUS_FALLBACK || pl.status == evade::plan_t::STATUS_STOPPING ||
+        pl.status == evade::plan_t::STATUS_RECOVERING)
+      saw_non_ok = true;
+  }
+  EXPECT_TRUE(saw_non_ok);
+}
+
+// ---- modes (paper Table I) ----
+
+TEST(Modes, ConstraintObstaclesFollowThePaper) {
+  PlannerParams p = default_params();
+  const int N = p.horizon_steps;
+  const auto msg = predictions({{2.0, 0.0, -1.0, 0.0, 0.3}}, 1'000'000, 0.0);
+  CurveFitHistory hist(p.curvefit_degree, p.curvefit_window_s);
+  const int64_t t_plan = 1'050'000;  // 0.05 s after the predictions
+  auto build = [&](Mode m) {
+    p.mode = m;
+    auto v = constraint_obstacles(p, msg, hist, t_plan, 0, 0, nullptr);
+    EXPECT_EQ(v.size(), 1u);
+    return v[0];
+  };
+  const ObstacleTrack dcbf = build(Mode::kDcbf), kf = build(Mode::kKf), mpc = build(Mode::kMpc),
+                      cbf = build(Mode::kCbf);
+  // dcbf / kf: predictions aligned to the planning time (x = 2 - 1 * (0.05 + 0.1 k))
+  EXPECT_NEAR(dcbf.x[0], 1.95, 1e-9);
+  EXPECT_NEAR(dcbf.x[N], 2.0 - (0.05 + 0.1 * N), 1e-9);
+  EXPECT_DOUBLE_EQ(dcbf.decay, 1 - p.gamma);
+  EXPECT_DOUBLE_EQ(kf.decay, 0.0);
+  EXPECT_NEAR(kf.x[10], 2.0 - 1.05, 1e-9);
+  // mpc / cbf: the current (index 0) position held
+  EXPECT_DOUBLE_EQ(mpc.x[N], 2.0);
+  EXPECT_DOUBLE_EQ(mpc.decay, 0.0);
+  EXPECT_DOUBLE_EQ(cbf.x[N], 2.0);
+  EXPECT_DOUBLE_EQ(cbf.decay, 1 - p.gamma);
+}
+
+TEST(Modes, CurveFitExtrapolatesTheTrackHistory) {
+  PlannerParams p = default_params();
+  p.mode = Mode::kCbfCurvefit;
+  CurveFitHistory hist(2, 1.0);
+  // a track moving as x = 1 + 0.5 t + 0.2 t^2
+  auto pos = [](double t) { return 1 + 0.5 * t + 0.2 * t * t; };
+  evade::prediction_list_t last;
+  for (int i = 0; i <= 5; ++i) {
+    const double t = 0.1 * i;
+    last = predictions({{pos(t), 0.0, 0.0, 0.0, 0.3}}, 1'000'000 + 100'000 * i, 0.0);
+    hist.add(last);
+  }
+  EXPECT_EQ(hist.samples(1), 6u);
+  ObstacleTrack o = hist.extrapolate(last.tracks[0], 1'500'000, p.horizon_steps, p.dt_s);
+  for (int k = 0; k <= p.horizon_steps; ++k) EXPECT_NEAR(o.x[k], pos(0.5 + 0.1 * k), 1e-6) << k;
+}
+
+TEST(Modes, DcbfReactsEarlierThanMpcToAHeadOnMover) {
+  // The paper (Table I): D-CBF over predictions reacts sooner and keeps a
+  // larger margin than the distance constraint on current positions.
+  PlannerParams p = default_params();
+  const std::vector<SimObstacle> obs = {{9.0, 0.05, -0.8, 0.0, 0.3}};
+  auto first_swerve = [&](Mode m) {
+    p.mode = m;
+    RunResult r = run(p, obs, 8.0);
+    for (size_t i = 0; i < r.plan_log.size(); ++i)
+      for (double y : r.plan_log[i].y)
+        if (std::fabs(y) > 0.2) return static_cast<int>(i);
+    return 1 << 30;
+  };
+  EXPECT_LT(first_swerve(Mode::kDcbf), first_swerve(Mode::kMpc));
+}
+
+// ---- reference ----
+
+TEST(Reference, ProgressIsMonotoneOnAUTurnRoute) {
+  RouteFollower f;
+  // out along +x, back along -x one metre to the side
+  ASSERT_TRUE(f.set_route({0, 5, 5, 0}, {0, 0, 1, 1}));
+  f.update_progress(1.0, 0.1, 3.0);
+  EXPECT_NEAR(f.progress(), 1.0, 1e-9);
+  // near the return leg (y = 0.7): must not jump 9 m ahead to it
+  f.update_progress(2.0, 0.7, 3.0);
+  EXPECT_NEAR(f.progress(), 2.0, 1e-9);
+  // moving backwards does not move progress back
+  f.update_progress(0.5, 0.0, 3.0);
+  EXPECT_NEAR(f.progress(), 2.0, 1e-9);
+}
+
+TEST(Reference, HeadingFromTheTangentUnwrappedNearTheRobot) {
+  RouteFollower f;
+  ASSERT_TRUE(f.set_route({0, -10}, {0, 0}));  // heading pi
+  f.update_progress(0, 0, 3.0);
+  std::vector<double> rx, ry, ryaw;
+  f.reference(-3.0, 25, 0.1, 0.8, 0.5, &rx, &ry, &ryaw);  // robot yaw -3.0 ~ -pi
+  EXPECT_NEAR(ryaw[0], -M_PI, 1e-9);                      // unwrapped next to -3.0, not +pi
+  EXPECT_NEAR(rx[1], -0.08, 1e-9);
+  EXPECT_NEAR(rx[25], -2.0, 1e-9);
+}
+
+TEST(Reference, SlowsToAStopAtTheEnd) {
+  RouteFollower f;
+  ASSERT_TRUE(f.set_route({0, 1}, {0, 0}));
+  f.update_progress(0, 0, 3.0);
+  std::vector<double> rx, ry, ryaw;
+  f.reference(0.0, 25, 0.1, 0.8, 0.5, &rx, &ry, &ryaw);
+  EXPECT_LE(rx.back(), 1.0);
+  EXPECT_GT(rx.back(), 0.9);
+  for (int k = 1; k <= 25; ++k) EXPECT_GE(rx[k], rx[k - 1]);
+}
+
+}  // namespace
+}  // namespace evade::planning
