@@ -125,8 +125,11 @@ bool PcapUdpReader::next(UdpDatagram* out) {
 int open_udp_socket(const std::string& address, int port, int receive_buffer_bytes) {
   int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
   if (fd < 0) throw std::runtime_error(std::string("socket: ") + std::strerror(errno));
+  // No SO_REUSEADDR: a second driver on the same port must fail loudly
+  // rather than silently share (or steal) the sensor's unicast packets.
+  // Broadcast packets (a Velodyne's default destination) reach a socket
+  // bound to 0.0.0.0 without any option.
   int one = 1;
-  ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
   ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &one, sizeof(one));
   ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &receive_buffer_bytes, sizeof(receive_buffer_bytes));
   sockaddr_in sa{};

@@ -150,6 +150,8 @@ TEST(LidarDriverProcess, UdpPacketsOnLoopbackBecomeLidarPoints) {
   pid_t pid = spawn({LIDAR_DRIVER_BIN, "--config", test_config()});
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(l.spin_until([&] { return l.count("HEALTH") > 0; }, 10.0)) << "no HEALTH from lidar_driver";
+  // A second driver on the same port cannot bind: it says so and exits 1.
+  EXPECT_EQ(wait_exit(spawn({LIDAR_DRIVER_BIN, "--config", test_config()}), 10.0), 1);
 
   int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
   sockaddr_in to{};
