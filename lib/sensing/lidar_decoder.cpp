@@ -90,6 +90,29 @@ void LidarDecoder::record_packet(const uint8_t* data, size_t size, int64_t recei
   rev_.scan.packets.push_back(std::move(p));
 }
 
+void LidarDecoder::bound_pending(std::vector<Revolution>* out) {
+  auto& pending = rev_.scan.packets;
+  if (static_cast<int>(pending.size()) < params_.max_packets_per_revolution) return;
+  if (!rel_us_.empty()) {
+    count_("forced_cuts", 1);  // the azimuth never wrapped: a stopped motor, a bad cut angle
+    emit(out);
+    return;
+  }
+  // Packets without a single point (a covered sensor, everything out of
+  // range) would pile up forever. They changed nothing a replay needs but
+  // the calibration, so only the last DIFOP is kept.
+  evade::lidar_packet_t last_difop;
+  bool have_difop = false;
+  for (auto& p : pending)
+    if (rs_helios::classify(p.data.data(), p.data.size()) == rs_helios::PacketKind::kDifop) {
+      last_difop = std::move(p);
+      have_difop = true;
+    }
+  count_("empty_packets_dropped", static_cast<int64_t>(pending.size()) - (have_difop ? 1 : 0));
+  pending.clear();
+  if (have_difop) pending.push_back(std::move(last_difop));
+}
+
 void LidarDecoder::feed(const uint8_t* data, size_t size, int64_t receive_utime, std::vector<Revolution>* out) {
   returns_.clear();
   if (receive_utime < 0 || receive_utime > kMaxReceiveUtime) {
@@ -137,6 +160,7 @@ void LidarDecoder::feed(const uint8_t* data, size_t size, int64_t receive_utime,
         count_("difop_packets", 1);
         calibration_ = cal;
         have_calibration_ = true;
+        bound_pending(out);
         record_packet(data, size, receive_utime);
         return;
       }
@@ -177,10 +201,7 @@ void LidarDecoder::feed(const uint8_t* data, size_t size, int64_t receive_utime,
 
 void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* data, size_t size,
                                       int64_t receive_utime, std::vector<Revolution>* out) {
-  if (rev_.cloud.packets >= params_.max_packets_per_revolution && !rel_us_.empty()) {
-    count_("forced_cuts", 1);
-    emit(out);
-  }
+  bound_pending(out);
   record_packet(data, size, receive_utime);
   bool cut_done = false;
   bool packet_counted = false;

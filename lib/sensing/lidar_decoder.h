@@ -6,7 +6,8 @@
 //
 // Revolutions are cut between firings, where the firing azimuth passes
 // `cut_azimuth_deg` (at most one cut per packet; a revolution is also cut
-// when it reaches `max_packets_per_revolution`, e.g. a stopped motor).
+// when it holds `max_packets_per_revolution` packets, e.g. a stopped motor;
+// packets that yield no point at all are not kept beyond that either).
 //
 // Time. Each packet carries the sensor's time of its first firing (VLP-16:
 // microseconds past the hour; RS-Helios: UTC). A revolution is anchored at
@@ -51,7 +52,7 @@ struct LidarDecoderParams {
   double max_range_m = 200.0;
   bool vertical_offset_correction = true;  // VLP-16 per-laser beam origin height (vlp16.h)
   TimeSource time_source = TimeSource::kReceive;
-  int max_packets_per_revolution = 1000;
+  int max_packets_per_revolution = 1000;  // raw packets held for one revolution / LIDAR_SCAN
   evade::pose3d_t mount{};
 };
 
@@ -88,6 +89,9 @@ class LidarDecoder {
   void add_packet_returns(const PacketTimes& times, const uint8_t* data, size_t size, int64_t receive_utime,
                           std::vector<Revolution>* out);
   void emit(std::vector<Revolution>* out);
+  // Keeps the raw packets held for the next LIDAR_SCAN under
+  // max_packets_per_revolution (forced cut, or dropping point-less packets).
+  void bound_pending(std::vector<Revolution>* out);
   void start_revolution();
   void record_packet(const uint8_t* data, size_t size, int64_t receive_utime);
   int64_t sensor_delta_us(int64_t from, int64_t to) const;

@@ -170,6 +170,36 @@ TEST(LidarDecoder, ForcedCutWhenTheAzimuthNeverWraps) {
   for (const auto& r : out) EXPECT_EQ(r.cloud.packets, 10);
 }
 
+TEST(LidarDecoder, PacketsWithoutPointsDoNotPileUp) {
+  LidarDecoderParams p = vlp_params();
+  p.max_packets_per_revolution = 100;
+  Counts counts;
+  LidarDecoder dec(p, counts.fn());
+  std::vector<Revolution> out;
+  testing::SyntheticVlp16 s;
+  s.range_m = 0.0;  // a covered sensor: every distance zero
+  for (int k = 0; k < 5000; ++k) {
+    auto pk = s.packet(k);
+    dec.feed(pk.bytes.data(), pk.bytes.size(), pk.sensor_utime + 2000, &out);
+  }
+  EXPECT_TRUE(out.empty());
+  EXPECT_EQ(counts.c["data_packets"], 5000);
+  EXPECT_GE(counts.c["empty_packets_dropped"], 4900);
+  s.range_m = 10.0;  // uncovered: revolutions again, with bounded scans
+  for (int k = 5000; k < 5300; ++k) {
+    auto pk = s.packet(k);
+    dec.feed(pk.bytes.data(), pk.bytes.size(), pk.sensor_utime + 2000, &out);
+  }
+  ASSERT_GE(out.size(), 2u);
+  for (const auto& r : out) EXPECT_LE(r.scan.num_packets, 100);
+  // Replay of the scans gives the same clouds.
+  LidarDecoder again(p, nullptr);
+  std::vector<Revolution> replayed;
+  for (const auto& r : out) again.feed_scan(r.scan, &replayed);
+  ASSERT_EQ(replayed.size(), out.size());
+  for (size_t i = 0; i < out.size(); ++i) EXPECT_EQ(replayed[i].cloud.x, out[i].cloud.x);
+}
+
 TEST(LidarDecoder, MalformedAndForeignPacketsAreCountedNotDecoded) {
   Counts counts;
   LidarDecoder dec(vlp_params(), counts.fn());
