@@ -218,7 +218,7 @@ void project_controls(const Problem& pb, std::vector<double>* u) {
 }
 
 SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& warm_u,
-                                  const std::vector<double>* warm_multipliers) const {
+                                  const std::vector<double>* warm_multipliers, double warm_penalty) const {
   SolveResult res;
   const int n = pb.num_controls(), m = pb.num_constraints();
   res.u.resize(n);
@@ -229,9 +229,12 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
     res.u[i] = std::clamp(w, lo, hi);
   }
   std::vector<double> lambda(m, 0.0);
-  if (warm_multipliers && static_cast<int>(warm_multipliers->size()) == m) lambda = *warm_multipliers;
-
   double rho = opts_.penalty_initial;
+  if (warm_multipliers && static_cast<int>(warm_multipliers->size()) == m) {
+    lambda = *warm_multipliers;
+    if (warm_penalty > 0) rho = std::clamp(warm_penalty, opts_.penalty_initial, opts_.penalty_max);
+  }
+
   double trust_radius = -1;  // Ceres' default at first
   double prev_violation = std::numeric_limits<double>::infinity();
   std::vector<double> states, g;
@@ -255,12 +258,15 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
     evaluate_constraints(pb, res.u.data(), &states, &g);
     double violation = 0;
     for (double v : g) violation = std::max(violation, -v);
-    if (violation <= opts_.constraint_tolerance) break;
+    // Aim below the tolerance: in a D-CBF chain a violation at the tolerance
+    // at every step adds up to a visibly cheaper (and less safe) plan.
+    if (violation <= opts_.target_violation) break;
     for (int j = 0; j < m; ++j) lambda[j] = std::max(0.0, lambda[j] - rho * g[j]);
     if (violation > opts_.violation_shrink * prev_violation) rho = std::min(rho * opts_.penalty_growth, opts_.penalty_max);
     prev_violation = violation;
   }
   res.multipliers = lambda;
+  res.penalty = rho;
   finish(pb, opts_, &res);
   if (!res.feasible && res.finite) {
     // Repair: the leftover violation is mostly in the (linear) rate limits;

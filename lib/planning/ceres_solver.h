@@ -26,6 +26,7 @@ struct SolverOptions {
   int max_outer_iterations = 20;
   int max_inner_iterations = 6;
   double constraint_tolerance = 1e-3;    // m (barriers), m/s and rad/s (rate limits)
+  double target_violation = 1e-4;        // the outer loop stops below this (<= constraint_tolerance)
   double penalty_initial = 100.0;        // rho at the first outer iteration
   double penalty_growth = 3.0;           // rho factor when the violation stalls
   double penalty_max = 1e6;
@@ -41,6 +42,7 @@ struct SolveResult {
   std::vector<double> u;        // 2N controls
   std::vector<double> states;   // 3(N+1)
   std::vector<double> multipliers;
+  double penalty = 0;           // rho at the end (goes with the multipliers)
   bool finite = false;          // no NaN / inf anywhere
   bool feasible = false;        // max_violation <= constraint_tolerance
   double cost = 0;              // paper's J
@@ -57,8 +59,10 @@ class CeresMpcSolver {
 
   // Hard constraints; `warm_u` (2N, clamped into the bounds) starts the
   // solve, `warm_multipliers` (optional, num_constraints) too.
+  // `warm_penalty` (> 0) is the penalty the warm multipliers were found
+  // with: lambda / rho shifts each constraint, so the two go together.
   SolveResult solve(const Problem& pb, const std::vector<double>& warm_u,
-                    const std::vector<double>* warm_multipliers = nullptr) const;
+                    const std::vector<double>* warm_multipliers = nullptr, double warm_penalty = 0.0) const;
 
   // For a start inside d_safe of some obstacle (h(X_0) < 0), where the
   // hard problem asks h to grow faster than the robot can: the barrier of

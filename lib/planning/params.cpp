@@ -72,6 +72,8 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.max_outer_iterations = o.get_int("max_outer_iterations", 1, 1000);
   p.solver.max_inner_iterations = o.get_int("max_inner_iterations", 1, 1000);
   p.solver.constraint_tolerance = o.get_positive("constraint_tolerance");
+  p.solver.target_violation = o.get_double("target_violation", 0.0, p.solver.constraint_tolerance);
+  p.solver.min_trust_radius = o.get_positive("min_trust_radius");
   p.solver.penalty_initial = o.get_positive("penalty_initial");
   p.solver.penalty_growth = o.get_double("penalty_growth", 1.0, 1e3);
   p.solver.penalty_max = o.get_positive("penalty_max");
@@ -79,6 +81,7 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.active_margin = o.get_double("active_margin_m", 0.0, 100.0);
   p.solver.inner_function_tolerance = o.get_positive("inner_function_tolerance");
   p.solver.inner_parameter_tolerance = o.get_positive("inner_parameter_tolerance");
+  p.warm_multipliers = o.get<bool>("warm_multipliers");
   p.solver.dense_qr = o.get_choice("linear_solver", {"dense_normal_cholesky", "dense_qr"}) == "dense_qr";
   o.close();
   s.close();

@@ -31,6 +31,7 @@ struct PlannerParams {
   double odometry_max_age_s = 0.3;
   double predictions_max_age_s = 0.5;
   bool require_predictions = true;
+  bool warm_multipliers = false;
   int curvefit_degree = 2;
   double curvefit_window_s = 1.0;
   Weights weights;

@@ -170,7 +170,9 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   }
 
   const auto t0 = std::chrono::steady_clock::now();
-  SolveResult res = solver_.solve(pb, warm_u, &warm_lambda);
+  // Controls only: with the previous multipliers (and their penalty) the
+  // solves measured slower and costlier in bench_planner, so they start at 0.
+  SolveResult res = solver_.solve(pb, warm_u, p_.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_);
   int iterations = res.iterations;
   if (!(res.finite && res.feasible) && !pb.obstacles.empty()) {
     // Before giving up: restart from a swerve to either side. A warm start
@@ -235,6 +237,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   prev_u_ = u;
   prev_utime_ = odom.utime;
   prev_multipliers_ = status == evade::plan_t::STATUS_OK ? res.multipliers : std::vector<double>{};
+  prev_penalty_ = status == evade::plan_t::STATUS_OK ? res.penalty : 0.0;
   prev_ids_.clear();
   for (const auto& o : pb.obstacles) prev_ids_.push_back(o.id);
   publish_plan(odom, status, &pb, u, solve_us, iterations, static_cast<int>(pb.obstacles.size()));

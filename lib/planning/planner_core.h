@@ -48,6 +48,7 @@ class PlannerCore : public bus::Core {
   std::vector<double> prev_u_;
   int64_t prev_utime_ = -1;
   std::vector<double> prev_multipliers_;
+  double prev_penalty_ = 0;
   std::vector<int64_t> prev_ids_;
   std::vector<double> feasible_u_;
   int64_t feasible_utime_ = -1;

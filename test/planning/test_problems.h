@@ -80,27 +80,28 @@ inline Problem bench_problem(int num_obstacles, double time_offset_s = 0.0) {
   for (int i = 0; i < num_obstacles; ++i) {
     const double t = time_offset_s;
     double x, y, vx, vy;
+    const int row = i / 4;
     switch (i % 4) {
-      case 0:  // static, slightly off the path ahead
-        x = 2.0 + 1.7 * (i / 4);
-        y = (i / 4) % 2 == 0 ? 0.15 : -0.2;
+      case 0:  // static, close beside the path, alternating sides (a slalom)
+        x = 1.4 + 0.5 * row;
+        y = row % 2 == 0 ? 0.55 : -0.55;
         vx = vy = 0.0;
         break;
-      case 1:  // head-on mover
-        x = 5.0 + 1.3 * (i / 4);
-        y = 0.6 - 0.3 * (i / 4);
-        vx = -0.6;
+      case 1:  // oncoming, offset from the path
+        x = 3.5 + 0.6 * row;
+        y = row % 2 == 0 ? -0.65 : 0.65;
+        vx = -0.5;
         vy = 0.0;
         break;
-      case 2:  // crossing from the left
-        x = 3.0 + 0.9 * (i / 4);
-        y = 2.5;
+      case 2:  // crossing ahead from the left
+        x = 2.2 + 0.4 * row;
+        y = 2.0 + 0.3 * row;
         vx = 0.0;
-        vy = -0.7;
+        vy = -0.6;
         break;
-      default:  // static, far off to the side (near enough to be considered)
-        x = 1.0 + 2.0 * (i / 4);
-        y = -1.6;
+      default:  // static, off to the side
+        x = 1.0 + 0.5 * row;
+        y = row % 2 == 0 ? -0.75 : 0.75;
         vx = vy = 0.0;
         break;
     }
