@@ -43,8 +43,13 @@ bool Core::deliver(const std::string& channel, const uint8_t* data, size_t size,
   return ok;
 }
 
-void Core::input(int64_t now, const std::function<void()>& fn) {
+void Core::input(int64_t now, const std::function<void()>& fn, const std::string& source) {
   now_ = now;
+  if (!source.empty()) {
+    Input& in = external_[source];
+    in.received++;
+    in.last_now = now;
+  }
   run_measured(fn);
 }
 
@@ -106,7 +111,7 @@ void Core::publish_health() {
   h.output_rate_hz = elapsed_s > 0.0 ? outputs_since_ / elapsed_s : 0.0;
   h.latency_us_mean = latency_n_ > 0 ? latency_sum_us_ / latency_n_ : 0.0;
   h.latency_us_max = latency_max_us_;
-  for (const auto& [ch, in] : inputs_) {
+  for (const auto* inputs : {&inputs_, &external_}) for (const auto& [ch, in] : *inputs) {
     evade::health_channel_t c;
     c.channel = ch;
     c.received = in.received;

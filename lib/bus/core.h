@@ -58,8 +58,10 @@ class Core {
   // Timers start at the first bus time the core sees: they fire then.
   void arm_timers(int64_t now);
   // Runs external input (a UDP packet, serial bytes) at bus time `now`,
-  // counted in the latency figures like a message handler.
-  void input(int64_t now, const std::function<void()>& fn);
+  // counted in the latency figures like a message handler. A non-empty
+  // `source` (e.g. "udp:2368", "serial") is reported in HEALTH among the
+  // inputs, with its count and age, like a channel.
+  void input(int64_t now, const std::function<void()>& fn, const std::string& source = "");
   // Latency uses a steady clock; off for deterministic log replay.
   void set_measure_latency(bool on) { measure_latency_ = on; }
   // Bus time of the callback being run.
@@ -95,6 +97,7 @@ class Core {
   std::string name_;
   Sink* sink_ = nullptr;
   std::map<std::string, Input> inputs_;
+  std::map<std::string, Input> external_;  // non-LCM inputs: reported, never subscribed
   std::vector<Timer> timers_;
   std::map<std::string, int64_t> counters_;
   int64_t now_ = 0;

@@ -67,7 +67,7 @@ int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
     rx.clear();
     std::string why;
     const bool ok = link.read_available(now, &rx, &why);
-    if (!rx.empty()) core.input(now, [&] { core.on_serial_bytes(rx.data(), rx.size()); });
+    if (!rx.empty()) core.input(now, [&] { core.on_serial_bytes(rx.data(), rx.size()); }, "serial");
     if (!ok) lost(now, why);
   };
 

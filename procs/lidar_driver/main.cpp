@@ -81,10 +81,12 @@ int run_live(LidarDriverCore& core, evade::bus::LiveBus& bus) {
   for (int port : p.ports()) fds.push_back(evade::sensing::open_udp_socket(p.bind_address, port, p.socket_receive_buffer_bytes));
   std::vector<uint8_t> buffer(kMaxDatagram);
   evade::sensing::UdpDatagram d;
-  for (int fd : fds) {
-    bus.add_fd(fd, [&core, &buffer, &d, fd](int64_t now) {
+  for (size_t i = 0; i < fds.size(); ++i) {
+    const int fd = fds[i];
+    const std::string source = "udp:" + std::to_string(p.ports()[i]);  // reported in HEALTH with its age
+    bus.add_fd(fd, [&core, &buffer, &d, fd, source](int64_t now) {
       while (evade::sensing::receive_datagram(fd, buffer, &d, now)) {
-        core.input(d.utime, [&] { core.on_packet(d.payload.data(), d.payload.size()); });
+        core.input(d.utime, [&] { core.on_packet(d.payload.data(), d.payload.size()); }, source);
       }
     });
   }

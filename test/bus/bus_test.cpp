@@ -111,6 +111,24 @@ TEST(MemoryBus, HealthReportsInputsCountersAndMalformed) {
   EXPECT_EQ(bus.decoded<evade::cmd_vel_t>("CMD_VEL").size(), 2u);
 }
 
+TEST(MemoryBus, ExternalInputsAppearInHealth) {
+  MemoryBus bus;
+  Doubler d;
+  bus.add(d);
+  int packets = 0;
+  bus.input(d, 1'000'000, [&] { ++packets; });  // unnamed: not reported
+  d.input(1'200'000, [&] { ++packets; }, "udp:2368");
+  d.input(1'300'000, [&] { ++packets; }, "udp:2368");
+  bus.advance_to(2'000'000);
+  auto h = bus.decoded<evade::health_t>("HEALTH").back();
+  EXPECT_EQ(packets, 3);
+  ASSERT_EQ(h.num_inputs, 2);
+  EXPECT_EQ(h.inputs[1].channel, "udp:2368");
+  EXPECT_EQ(h.inputs[1].received, 2);
+  EXPECT_EQ(h.inputs[1].age_us, 700'000);
+  EXPECT_EQ(d.channels(), std::vector<std::string>{"ODOMETRY"});  // never subscribed on LCM
+}
+
 TEST(LogReplay, SameOutputsTwiceAndSameAsMemoryBus) {
   std::vector<LogEvent> input;
   for (int i = 0; i < 50; ++i)
