@@ -235,10 +235,26 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
     if (warm_penalty > 0) rho = std::clamp(warm_penalty, opts_.penalty_initial, opts_.penalty_max);
   }
 
-  double trust_radius = -1;  // Ceres' default at first
+  double trust_radius = opts_.initial_trust_radius;
   double prev_violation = std::numeric_limits<double>::infinity();
   std::vector<double> states, g;
   evaluate_constraints(pb, res.u.data(), &states, &g);
+  // The best feasible iterate seen (the start included): when the AL loop
+  // ends outside the tolerance (it can jump through an obstacle early and
+  // not find its way back), a feasible if less optimal plan still beats none.
+  std::vector<double> best_feasible;
+  double best_cost = std::numeric_limits<double>::infinity();
+  auto keep_if_feasible = [&] {
+    double violation = 0;
+    for (double v : g) violation = std::max(violation, -v);
+    if (violation > opts_.target_violation) return;
+    const double c = objective(pb, res.u.data());
+    if (c < best_cost) {
+      best_cost = c;
+      best_feasible = res.u;
+    }
+  };
+  keep_if_feasible();
   for (int outer = 0; outer < opts_.max_outer_iterations; ++outer) {
     std::vector<ActiveConstraint> active;
     // Rate limits (linear, cheap) are always in: left out, the inner solve
@@ -256,6 +272,7 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
       break;
     }
     evaluate_constraints(pb, res.u.data(), &states, &g);
+    keep_if_feasible();
     double violation = 0;
     for (double v : g) violation = std::max(violation, -v);
     // Aim below the tolerance: in a D-CBF chain a violation at the tolerance
@@ -268,6 +285,10 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   res.multipliers = lambda;
   res.penalty = rho;
   finish(pb, opts_, &res);
+  if (!res.feasible && !best_feasible.empty()) {
+    res.u = best_feasible;
+    finish(pb, opts_, &res);
+  }
   if (!res.feasible && res.finite) {
     // Repair: the leftover violation is mostly in the (linear) rate limits;
     // clamping the controls onto them moves the states only a little, which
@@ -298,9 +319,36 @@ SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vecto
     for (int k = 0; k < pb.N; ++k)
       pb.relax[pb.num_rate_constraints() + static_cast<int>(i) * pb.N + k] = -(1.0 - o.decay) * h0;
   }
-  std::vector<double> u = start_u;
-  project_controls(pb, &u);
-  SolveResult out = solve(pb, u);
+  // Starts: the given one (braking, feasible for static obstacles) and a
+  // turn on the spot to either side followed by driving off; braking alone
+  // would leave the robot standing inside d_safe (feasible, as h stays put,
+  // but never out). The cheapest feasible plan wins, else the least
+  // violating one.
+  std::vector<std::vector<double>> starts = {start_u};
+  for (double side : {1.0, -1.0}) {
+    std::vector<double> guess(pb.num_controls());
+    for (int k = 0; k < pb.N; ++k) {
+      const bool turning = k < pb.N / 2;
+      guess[2 * k] = turning ? 0.0 : pb.lim.v_max;
+      guess[2 * k + 1] = turning ? side * pb.lim.omega_max : 0.0;
+    }
+    starts.push_back(guess);
+  }
+  SolveResult out;
+  bool have = false;
+  int iterations = 0;
+  for (auto& u : starts) {
+    project_controls(pb, &u);
+    SolveResult r = solve(pb, u);
+    iterations += r.iterations;
+    const bool better = !have || (r.feasible && (!out.feasible || r.cost < out.cost)) ||
+                        (!r.feasible && !out.feasible && r.max_violation < out.max_violation);
+    if (r.finite && better) {
+      out = r;
+      have = true;
+    }
+  }
+  out.iterations = iterations;
   const bool shifted_feasible = out.feasible;
   // report against the original constraints
   finish(pb_in, opts_, &out);

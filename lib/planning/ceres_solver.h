@@ -34,6 +34,7 @@ struct SolverOptions {
   double active_margin = 0.3;            // m: constraints with g above this and lambda = 0 are left out
   double inner_function_tolerance = 1e-6;  // relative cost change that ends an inner solve
   double inner_parameter_tolerance = 1e-4; // relative step that ends an inner solve
+  double initial_trust_radius = 1e4;     // Ceres' trust region at the first outer iteration
   double min_trust_radius = 1e-2;        // floor of the trust region carried between outer iterations
   bool dense_qr = false;                 // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
 };
