@@ -77,8 +77,35 @@ class InnerCost : public ceres::CostFunction {
     std::vector<J> r(nc + active_.size());
     cost_residuals(pb_, xs.data(), uj.data(), r.data());
     for (int i = 0; i < nc; ++i) r[i] *= cost_scale_;
-    for (size_t i = 0; i < active_.size(); ++i)
-      r[nc + i] = constraint_residual(active_[i], constraint(pb_, xs.data(), uj.data(), active_[i].j));
+    // Barrier values h_i(X_k) as Jets, each computed once although two
+    // constraints (k-1 -> k and k -> k+1) use it.
+    const int R = pb_.num_rate_constraints(), N = pb_.N;
+    std::vector<J> h(pb_.obstacles.size() * (N + 1));
+    std::vector<char> have(h.size(), 0);
+    auto barrier_jet = [&](int i, int k) -> const J& {
+      const size_t idx = static_cast<size_t>(i) * (N + 1) + k;
+      if (!have[idx]) {
+        const J& px = xs[3 * k];
+        const J& py = xs[3 * k + 1];
+        h[idx] = lift_barrier(barrier_at(pb_.obstacles[i], k, px.a, py.a, pb_.d_safe), px, py);
+        have[idx] = 1;
+      }
+      return h[idx];
+    };
+    for (size_t a = 0; a < active_.size(); ++a) {
+      const int j = active_[a].j;
+      J g;
+      if (j < R) {
+        g = constraint(pb_, xs.data(), uj.data(), j);
+      } else {
+        const int i = (j - R) / N, k = (j - R) % N;
+        const ObstacleTrack& o = pb_.obstacles[i];
+        g = barrier_jet(i, k + 1);
+        if (o.decay != 0.0) g -= o.decay * barrier_jet(i, k);
+        if (!pb_.relax.empty()) g += pb_.relax[j];
+      }
+      r[nc + a] = constraint_residual(active_[a], g);
+    }
     for (size_t row = 0; row < r.size(); ++row) {
       residuals[row] = r[row].a;
       double* jr = jac + row * n;
