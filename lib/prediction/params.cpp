@@ -47,6 +47,7 @@ PredictorParams PredictorParams::from_config(const config::Node& s) {
   p.uncertainty.confidence = u.get_double("confidence", 0.5, 0.999999);
   p.uncertainty.min_axis_m = u.get_positive("min_axis_m");
   p.uncertainty.root_tolerance_m = u.get_double("root_tolerance_m", 1e-15, 1e-3);
+  p.uncertainty.max_inflation_m = u.get_double("max_inflation_m", 0.0, 100.0);
   u.close();
 
   const config::Node l = s.section("limits");

@@ -55,6 +55,11 @@ struct UncertaintyParams {
   double confidence = 0.95;         // probability mass covered by r_p and r_eta
   double min_axis_m = 0.05;         // axes are floored at this before inflation
   double root_tolerance_m = 1e-9;   // sigma_min bracket width at convergence
+  // Upper bound of the inflation added to both axes. The paper lets the
+  // ellipse grow with k; a constant-acceleration covariance grows like k^4,
+  // and unbounded it makes every moving obstacle cover the road by k = 25,
+  // which leaves the planner no feasible plan.
+  double max_inflation_m = 0.5;
 };
 
 struct LimitParams {

@@ -159,12 +159,13 @@ void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::trac
     const double r_p = position_radius(P(kX, kX), P(kX, kY), P(kY, kY), chi2_position_);
     const double r_eta = shape_radius(P(kA, kA), P(kB, kB), P(kTheta, kTheta), a - b, z_shape_);
     const Inflation inf = solve_inflation(a, b, r_p + r_eta, unc.root_tolerance_m);
+    const double sigma = std::min(inf.total, unc.max_inflation_m);
     out->x[k] = x(kX);
     out->y[k] = x(kY);
-    out->a[k] = a + inf.total;
-    out->b[k] = b + inf.total;
+    out->a[k] = a + sigma;
+    out->b[k] = b + sigma;
     out->theta[k] = theta;
-    out->sigma[k] = inf.total;
+    out->sigma[k] = sigma;
   }
 }
 
