@@ -11,6 +11,9 @@
 #include <stdexcept>
 
 namespace evade::bus {
+namespace {
+constexpr int kMaxDrain = 1000;  // messages handled in one go before timers and fds get a turn
+}  // namespace
 
 std::string default_lcm_url() {
   const char* env = std::getenv("LCM_DEFAULT_URL");
@@ -73,7 +76,13 @@ void LiveBus::spin_once(int timeout_ms) {
   now = wall_utime();
   if (wake_at_ <= now) wake_at_ = kNever;
   if (r > 0) {
-    if (pfds[0].revents & POLLIN) lcm_->handle();
+    // Everything already queued is handled before the timers run, so that
+    // a core that fell behind (a long solve) acts on the newest inputs.
+    if (pfds[0].revents & POLLIN) {
+      lcm_->handle();
+      for (int n = 1; n < kMaxDrain && lcm_->handleTimeout(0) > 0; ++n) {
+      }
+    }
     for (size_t i = 1; i < pfds.size(); ++i) {
       if (!(pfds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
       auto it = fds_.find(pfds[i].fd);  // a handler may have removed it
