@@ -58,7 +58,7 @@ void BM_Ceres(benchmark::State& state) {
   const Warm w = warm_start(k, solver);
   SolveResult r;
   for (auto _ : state) {
-    r = solver.solve(pb, w.u);  // controls only: warm multipliers measured worse here (see report)
+    r = getenv("WARML") ? solver.solve(pb, w.u, &w.lambda, getenv("WARMP") ? w.penalty : 0.0) : solver.solve(pb, w.u);
     benchmark::DoNotOptimize(r.cost);
   }
   state.counters["cost"] = r.cost;
