@@ -45,9 +45,21 @@ void LiveBus::add(Core& core) {
   }
 }
 
-void LiveBus::on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+void LiveBus::conflate(const std::string& channel) { conflated_[channel]; }
+
+void LiveBus::deliver(const std::string& channel, const uint8_t* data, size_t size) {
   int64_t now = wall_utime();
-  for (Core* c : cores_) c->deliver(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size, now);
+  for (Core* c : cores_) c->deliver(channel, data, size, now);
+}
+
+void LiveBus::on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  const auto* data = static_cast<const uint8_t*>(rbuf->data);
+  auto it = conflated_.find(channel);
+  if (it != conflated_.end() && draining_) {
+    it->second.assign(data, data + rbuf->data_size);  // newer replaces older
+    return;
+  }
+  deliver(channel, data, rbuf->data_size);
 }
 
 void LiveBus::publish(const std::string& channel, int64_t, std::vector<uint8_t> data) {
@@ -79,8 +91,16 @@ void LiveBus::spin_once(int timeout_ms) {
     // Everything already queued is handled before the timers run, so that
     // a core that fell behind (a long solve) acts on the newest inputs.
     if (pfds[0].revents & POLLIN) {
+      draining_ = true;
       lcm_->handle();
       for (int n = 1; n < kMaxDrain && lcm_->handleTimeout(0) > 0; ++n) {
+      }
+      draining_ = false;
+      for (auto& [channel, held] : conflated_) {
+        if (held.empty()) continue;
+        std::vector<uint8_t> msg;
+        msg.swap(held);
+        deliver(channel, msg.data(), msg.size());
       }
     }
     for (size_t i = 1; i < pfds.size(); ++i) {

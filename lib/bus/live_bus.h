@@ -35,6 +35,12 @@ class LiveBus : public Sink {
   ~LiveBus() override;
 
   void add(Core& core);
+  // Messages on this channel that queue up while a core is busy are
+  // conflated: of those handled in one go, only the newest is delivered
+  // (a queue of one). For inputs where only the latest matters, e.g. the
+  // planner's ODOMETRY after a long solve: acting on each queued pose would
+  // plan from the past and judge every one of them stale.
+  void conflate(const std::string& channel);
   // Calls fn(now) whenever fd is readable.
   void add_fd(int fd, std::function<void(int64_t now)> fn);
   void remove_fd(int fd);
@@ -51,6 +57,9 @@ class LiveBus : public Sink {
   void on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   std::unique_ptr<lcm::LCM> lcm_;
   std::vector<Core*> cores_;
+  std::map<std::string, std::vector<uint8_t>> conflated_;  // channel -> newest message held back
+  bool draining_ = false;
+  void deliver(const std::string& channel, const uint8_t* data, size_t size);
   std::map<int, std::function<void(int64_t)>> fds_;
   int64_t wake_at_ = kNever;
 };

@@ -26,7 +26,8 @@ config::Node load_config_or_exit(const std::string& process, const CommonOptions
 }
 
 int process_main(int argc, char** argv, const std::string& name,
-                 const std::function<void(CLI::App&)>& add_flags, const CoreFactory& make) {
+                 const std::function<void(CLI::App&)>& add_flags, const CoreFactory& make,
+                 const ProcessOptions& options) {
   CLI::App app{"evade " + name};
   CommonOptions opts;
   add_common_options(app, opts);
@@ -65,6 +66,7 @@ int process_main(int argc, char** argv, const std::string& name,
   try {
     LiveBus bus(url);
     bus.add(*core);
+    for (const auto& ch : options.conflate) bus.conflate(ch);
     std::fprintf(stderr, "%s: running on %s\n", name.c_str(), url.c_str());
     bus.run(stop_on_signals());
   } catch (const std::exception& e) {

@@ -30,10 +30,17 @@ config::Node load_config_or_exit(const std::string& process, const CommonOptions
 
 using CoreFactory = std::function<std::unique_ptr<Core>(const config::Node& root)>;
 
+struct ProcessOptions {
+  // Live only: channels whose queued messages are conflated to the newest
+  // (see LiveBus::conflate). A log replay delivers every message.
+  std::vector<std::string> conflate;
+};
+
 // Parses the command line (flags added by `add_flags` too), builds the core
 // from the configuration and runs it live on LCM, or over a log with
 // --replay. Returns the process exit status.
 int process_main(int argc, char** argv, const std::string& name,
-                 const std::function<void(CLI::App&)>& add_flags, const CoreFactory& make);
+                 const std::function<void(CLI::App&)>& add_flags, const CoreFactory& make,
+                 const ProcessOptions& options = {});
 
 }  // namespace evade::bus

@@ -22,5 +22,8 @@ int main(int argc, char** argv) {
         evade::planning::PlannerParams params = evade::planning::PlannerParams::from_config(root);
         if (!mode.empty()) params.mode = evade::planning::parse_mode(mode);
         return std::make_unique<evade::planning::PlannerCore>(params);
-      });
+      },
+      // After a long solve only the newest inputs matter: planning from each
+      // queued pose would plan from the past (and judge it stale).
+      evade::bus::ProcessOptions{{"ODOMETRY", "OBSTACLE_PREDICTIONS", "ROUTE"}});
 }

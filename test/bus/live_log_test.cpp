@@ -168,3 +168,52 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
 
 }  // namespace
 }  // namespace evade::bus
+
+namespace evade::bus {
+namespace {
+
+// A slow core on a conflated channel hears only the newest of what queued
+// up while it was busy.
+class Slow : public Core {
+ public:
+  Slow() : Core("slow") {
+    subscribe<evade::odometry_t>("ODOMETRY", [this](const evade::odometry_t& m) {
+      heard.push_back(m.utime);
+      if (heard.size() == 1) usleep(300'000);  // busy while the next ones queue up
+    });
+  }
+  std::vector<int64_t> heard;
+};
+
+TEST(LiveBus, ConflatedChannelDeliversTheNewestAfterABusyHandler) {
+  const std::string url = default_lcm_url();
+  LiveBus rx(url), tx(url);
+  Slow slow;
+  rx.add(slow);
+  rx.conflate("ODOMETRY");
+  evade::odometry_t o{};
+  o.utime = 1;
+  tx.publish("ODOMETRY", 0, encode(o));
+  // The first message arrives and the handler blocks for 0.3 s ...
+  auto t0 = std::chrono::steady_clock::now();
+  while (slow.heard.empty() && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5)) {
+    std::thread sender([&] {
+      usleep(50'000);
+      for (int i = 2; i <= 6; ++i) {  // ... while five more queue up
+        evade::odometry_t m{};
+        m.utime = i;
+        tx.publish("ODOMETRY", 0, encode(m));
+      }
+    });
+    rx.spin_once(100);
+    sender.join();
+  }
+  ASSERT_GE(slow.heard.size(), 1u);
+  for (int i = 0; i < 10 && slow.heard.size() < 2; ++i) rx.spin_once(100);
+  for (int i = 0; i < 3; ++i) rx.spin_once(50);  // nothing else may arrive
+  ASSERT_EQ(slow.heard.size(), 2u);
+  EXPECT_EQ(slow.heard[1], 6) << "the queued messages 2..5 are skipped";
+}
+
+}  // namespace
+}  // namespace evade::bus
