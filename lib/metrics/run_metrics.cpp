@@ -198,6 +198,40 @@ RunMetrics compute_metrics(const std::vector<bus::LogEvent>& events, const Metri
     if (p.status == evade::plan_t::STATUS_FALLBACK || p.status == evade::plan_t::STATUS_STOPPING)
       ++m.solver_failures;
   }
+  // Reaction: the first plan at or after t_enter in which a track matched
+  // to the obstacle has an active constraint (see metrics_rules()).
+  std::vector<int64_t> truth_t;
+  for (const auto& t : truth) truth_t.push_back(t.utime);
+  double reaction_sum = 0;
+  int reactions = 0;
+  for (auto& tr : m.obstacles) {
+    if (!tr.dynamic || !tr.t_enter_s) continue;
+    const int64_t t_enter = t0 + static_cast<int64_t>(*tr.t_enter_s * 1e6);
+    for (const auto& p : plans) {
+      if (p.utime < t_enter) continue;
+      size_t k = std::lower_bound(truth_t.begin(), truth_t.end(), p.utime) - truth_t.begin();
+      if (k >= truth.size()) break;
+      if (k >= tr.path.size()) break;
+      const Vec2 truth_centre = tr.path[k];
+      bool reacts = false;
+      for (int i = 0; i < p.num_obstacles && !reacts; ++i)
+        reacts = p.obstacle_slack[i] <= params.react_active_tol_m &&
+                 std::hypot(p.obstacle_x[i] - truth_centre.x, p.obstacle_y[i] - truth_centre.y) <=
+                     params.react_match_radius_m;
+      if (reacts) {
+        tr.t_react_s = (p.utime - t0) * 1e-6;
+        break;
+      }
+    }
+    if (tr.t_react_s) {
+      reaction_sum += *tr.t_react_s - *tr.t_enter_s;
+      ++reactions;
+    } else {
+      ++m.reaction_missed;
+    }
+  }
+  if (reactions > 0) m.reaction_time_s = reaction_sum / reactions;
+
   if (!solve_ms.empty()) {
     m.planner_solve_ms_p50 = percentile(solve_ms, 0.5);
     m.planner_solve_ms_p99 = percentile(solve_ms, 0.99);

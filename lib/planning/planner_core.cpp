@@ -1,6 +1,7 @@
 #include "planning/planner_core.h"
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 
@@ -288,7 +289,20 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
   }
   plan.min_barrier = min_barrier(*pb, states);
   plan.max_violation = pb->ref_x.empty() ? 0.0 : max_violation(*pb, u.data());
-  plan.num_obstacles = num_obstacles;
+  (void)num_obstacles;  // the constraint set itself is what is reported
+  for (const ObstacleTrack& o : pb->obstacles) {
+    double slack = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < N; ++k) {
+      const double h0 = barrier_at(o, k, states[3 * k], states[3 * k + 1], pb->d_safe).h;
+      const double h1 = barrier_at(o, k + 1, states[3 * (k + 1)], states[3 * (k + 1) + 1], pb->d_safe).h;
+      slack = std::min(slack, h1 - o.decay * h0);
+    }
+    plan.obstacle_id.push_back(o.id);
+    plan.obstacle_x.push_back(o.x.empty() ? 0.0 : o.x[0]);
+    plan.obstacle_y.push_back(o.y.empty() ? 0.0 : o.y[0]);
+    plan.obstacle_slack.push_back(std::isfinite(slack) ? slack : kNoObstacleBarrier);
+  }
+  plan.num_obstacles = static_cast<int32_t>(plan.obstacle_id.size());
   if (!std::isfinite(plan.cost)) plan.cost = 0;
   if (!std::isfinite(plan.min_barrier)) plan.min_barrier = kNoObstacleBarrier;
   if (!std::isfinite(plan.max_violation)) plan.max_violation = 0;

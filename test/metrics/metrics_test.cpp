@@ -119,6 +119,40 @@ TEST(RunMetrics, SpeedVarianceWhileADynamicObstacleIsNear) {
   EXPECT_NEAR(*m.speed_var, 0.04, 0.002);  // speeds 0.8 and 1.2 in equal shares
 }
 
+TEST(RunMetrics, ReactionTimeFromTheFirstActiveConstraintOfAMatchedTrack) {
+  auto ev = straight_run();
+  // The crossing obstacle enters the local map at t = 4.0 s: put it at
+  // x = 2 (robot at x = -1.5 then, |dx| = 3.5 <= 5) with y from -5 upward.
+  for (auto& e : ev) {
+    if (e.channel == "SIM_TRUTH") {
+      evade::sim_truth_t s;
+      ASSERT_TRUE(bus::decode(e.data.data(), e.data.size(), &s));
+      double t = (s.utime - 1'000'000) * 1e-6;
+      s.obstacles[1].x = 2.0;
+      s.obstacles[1].y = t < 4.0 ? -30.0 : -5.0 + (t - 4.0);
+      e.data = bus::encode(s);
+    } else if (e.channel == "PLAN") {
+      evade::plan_t p;
+      ASSERT_TRUE(bus::decode(e.data.data(), e.data.size(), &p));
+      double t = (p.utime - 1'000'000) * 1e-6;
+      // A track of it from t = 4.5 s, 0.3 m off its true centre; its
+      // constraint becomes active at t = 5.5 s. A far track is always active.
+      if (t >= 4.5) {
+        p.obstacle_id = {7, 9};
+        p.obstacle_x = {2.3, 20.0};
+        p.obstacle_y = {-5.0 + (t - 4.0), 20.0};
+        p.obstacle_slack = {t >= 5.5 ? 0.001 : 0.5, 0.0};
+        p.num_obstacles = 2;
+      }
+      e.data = bus::encode(p);
+    }
+  }
+  auto m = compute_metrics(ev, MetricsParams{});
+  ASSERT_TRUE(m.reaction_time_s);
+  EXPECT_NEAR(*m.reaction_time_s, 1.5, 0.011);  // 4.0 s -> 5.5 s (plans at 10 Hz)
+  EXPECT_EQ(m.reaction_missed, 0);
+}
+
 TEST(RunMetrics, CollisionAndPicture) {
   auto ev = straight_run();
   for (auto& e : ev) {
