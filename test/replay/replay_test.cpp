@@ -6,7 +6,10 @@
 // and commit them with the change.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "bus/log.h"
 #include "process_replay.h"
