@@ -7,6 +7,7 @@
 #include "bus/log_replay.h"
 #include "evade/pointcloud_t.hpp"
 #include "mapping/elevation_map_core.h"
+#include "planning/planner_core.h"
 #include "prediction/predictor_core.h"
 #include "sensing/lidar_driver_core.h"
 #include "tracking/tracker_core.h"
@@ -87,6 +88,13 @@ const std::vector<ProcessCase>& process_cases() {
     c.push_back({"tracker", {"ELEVATION_MAP"}, tolerances(1e-6, 1e-9), "logged ELEVATION_MAP; OBSTACLES compared"});
     c.push_back({"predictor", {"OBSTACLES"}, tolerances(1e-6, 1e-9),
                  "logged OBSTACLES; OBSTACLE_PREDICTIONS compared"});
+    // The planner's outputs come out of an iterative solver: a last-bit
+    // difference can move an iterate, so its tolerance is 1 mm / 1 mrad;
+    // solve_time_us is wall time and never compared.
+    ProcessCase planner{"planner", {"ODOMETRY", "ROUTE", "OBSTACLE_PREDICTIONS"}, tolerances(1e-3, 1e-6),
+                        "logged ODOMETRY, ROUTE, OBSTACLE_PREDICTIONS; PLAN and CMD_VEL compared"};
+    planner.diff.ignore_fields = {"PLAN.solve_time_us"};
+    c.push_back(planner);
     return c;
   }();
   return cases;
@@ -107,6 +115,9 @@ std::vector<bus::LogEvent> run_process(const ProcessCase& pc, const std::vector<
     out = run_core(*core, only(input, pc.inputs));
   } else if (pc.process == "predictor") {
     prediction::PredictorCore core(prediction::PredictorParams::from_config(root.section("predictor")));
+    out = run_core(core, only(input, pc.inputs));
+  } else if (pc.process == "planner") {
+    planning::PlannerCore core(planning::PlannerParams::from_config(root));
     out = run_core(core, only(input, pc.inputs));
   } else {
     throw std::runtime_error("process-replay: unknown process " + pc.process);
