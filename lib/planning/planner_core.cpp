@@ -74,11 +74,20 @@ void PlannerCore::on_odometry(const evade::odometry_t& odom) {
   }
   odometry_rx_ = now();
   last_odometry_ = odom;
+  // Perception that has just gone stale is acted on at the odometry rate,
+  // not at the next plan cycle: the stop must not wait up to one period.
+  const bool just_stale = predictions_stale() &&
+                          !(last_plan_ && last_plan_->status == evade::plan_t::STATUS_STALE_INPUT);
   // rate limit on message time: deterministic in replay
-  if (next_plan_utime_ >= 0 && odom.utime < next_plan_utime_) return;
+  if (!just_stale && next_plan_utime_ >= 0 && odom.utime < next_plan_utime_) return;
   next_plan_utime_ = next_plan_utime_ < 0 ? odom.utime + period_us_ : next_plan_utime_ + period_us_;
   if (next_plan_utime_ <= odom.utime) next_plan_utime_ = odom.utime + period_us_;
   plan_cycle(odom);
+}
+
+bool PlannerCore::predictions_stale() const {
+  return predictions_ ? now() - predictions_rx_ > std::llround(p_.predictions_max_age_s * 1e6)
+                      : p_.require_predictions;
 }
 
 void PlannerCore::watchdog() {
@@ -115,10 +124,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     publish_plan(odom, evade::plan_t::STATUS_GOAL, nullptr, braking_controls(v0, w0), 0, 0, 0);
     return;
   }
-  const bool predictions_stale = predictions_
-                                     ? now() - predictions_rx_ > std::llround(p_.predictions_max_age_s * 1e6)
-                                     : p_.require_predictions;
-  if (predictions_stale) {
+  if (predictions_stale()) {
     count("stale_predictions");
     publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
     return;
@@ -313,6 +319,13 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
   cmd.utime = odom.utime;
   cmd.v = u[0];
   cmd.omega = u[1];
+  if (status == evade::plan_t::STATUS_STALE_INPUT) {
+    // Lost perception or odometry: ask for a stop at once. The PLAN shows
+    // the braking the limits allow; the base driver's limiter (and the
+    // base) bring the robot to rest at the deceleration limit.
+    cmd.v = 0.0;
+    cmd.omega = 0.0;
+  }
   publish("CMD_VEL", cmd);
   last_cmd_v_ = cmd.v;
   last_cmd_omega_ = cmd.omega;

@@ -53,6 +53,7 @@ class PlannerCore : public bus::Core {
   std::vector<double> feasible_u_;
   int64_t feasible_utime_ = -1;
   std::optional<evade::plan_t> last_plan_;
+  bool predictions_stale() const;  // no predictions (when required) or older than predictions_max_age_s
   double last_cmd_v_ = 0, last_cmd_omega_ = 0;
   int64_t last_cmd_now_ = -1;
 };

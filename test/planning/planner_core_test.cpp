@@ -190,6 +190,43 @@ TEST(PlannerCore, StalePredictionsBrakeAtTheDecelerationLimit) {
   EXPECT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_STALE_INPUT});
   EXPECT_NEAR(plans[0].v[0], 0.8 - p.limits.decel * p.dt_s, 1e-9);
   EXPECT_EQ(plans[0].v.back(), 0.0);
+  // The command is a stop at once; the base brakes at its limit.
+  auto cmds = bus.decoded<evade::cmd_vel_t>("CMD_VEL");
+  ASSERT_EQ(cmds.size(), 1u);
+  EXPECT_EQ(cmds[0].v, 0.0);
+  EXPECT_EQ(cmds[0].omega, 0.0);
+}
+
+TEST(PlannerCore, PerceptionGoingStaleStopsAtTheNextOdometryNotTheNextPlanCycle) {
+  PlannerParams p = default_params();
+  bus::MemoryBus bus;
+  PlannerCore core(p);
+  bus.add(core);
+  bus.inject("ROUTE", straight_route(0, 10), 1'000'000);
+  bus.inject("OBSTACLE_PREDICTIONS", predictions({}, 1'000'000, 0), 1'000'000);
+  evade::odometry_t o{};
+  o.v = 0.5;
+  o.utime = 1'000'000;
+  bus.inject("ODOMETRY", o, o.utime);  // plans (fresh predictions)
+  const int64_t period = static_cast<int64_t>(1e6 / p.rate_hz);
+  const int64_t stale_at = 1'000'000 + static_cast<int64_t>(p.predictions_max_age_s * 1e6);
+  // A regular cycle just before the predictions go stale ...
+  o.utime = stale_at - 50'000;
+  bus.inject("ODOMETRY", o, o.utime);
+  const size_t plans_before = bus.decoded<evade::plan_t>("PLAN").size();
+  ASSERT_EQ(bus.decoded<evade::plan_t>("PLAN").back().status, int8_t{evade::plan_t::STATUS_OK});
+  // ... then the next 50 Hz odometry after they went stale, inside the
+  // rate-limited window where no regular cycle would run.
+  o.utime = stale_at + 20'000;
+  ASSERT_LT(o.utime, stale_at - 50'000 + period);
+  bus.inject("ODOMETRY", o, o.utime);
+  ASSERT_EQ(bus.decoded<evade::plan_t>("PLAN").size(), plans_before + 1);
+  auto cmds = bus.decoded<evade::cmd_vel_t>("CMD_VEL");
+  auto plans = bus.decoded<evade::plan_t>("PLAN");
+  ASSERT_GE(plans.size(), 2u);
+  EXPECT_EQ(plans.back().status, int8_t{evade::plan_t::STATUS_STALE_INPUT});
+  EXPECT_EQ(cmds.back().v, 0.0);
+  EXPECT_EQ(cmds.back().utime, o.utime);
 }
 
 TEST(PlannerCore, MalformedInputIsCountedAndSkipped) {
