@@ -1,7 +1,6 @@
 #include "planning/ceres_solver.h"
 
 #include <ceres/ceres.h>
-#include <ceres/jet.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,9 +16,51 @@ struct ActiveConstraint {
   bool elastic;  // quadratic penalty on the violation instead of the AL term
 };
 
-// All residuals of one inner problem in one block over the 2N controls,
-// differentiated in forward mode with ceres::Jet (one pass, one derivative
-// slot per control).
+// The rollout of the unicycle and its forward sensitivities, from which
+// every residual's Jacobian row follows by the chain rule (no autodiff).
+// With th_k = yaw0 + dt sum_{j<k} w_j and p_k = p_0 + dt sum_{i<k} v_i (cos th_i, sin th_i):
+//   dp_k/dv_j  = dt (cos th_j, sin th_j)                         j < k
+//   dth_k/dw_j = dt                                              j < k
+//   dp_k/dw_j  = sum_{i=j+1}^{k-1} v_i dt^2 (-sin th_i, cos th_i) = S_k - S_{j+1}   j < k
+// with the prefix sums S_m = sum_{i<m} v_i dt^2 (-sin th_i, cos th_i).
+// All derivatives are zero for j >= k (causality).
+struct Rollout {
+  std::vector<double> states;        // 3 (N + 1): x, y, yaw
+  std::vector<double> cos_th, sin_th;  // N: at steps 0..N-1
+  std::vector<double> sx, sy;        // N + 1: prefix sums S_m
+
+  void compute(const Problem& pb, const double* u, bool with_sensitivities) {
+    const int N = pb.N;
+    states.resize(3 * (N + 1));
+    rollout(pb, u, states.data());
+    if (!with_sensitivities) return;
+    cos_th.resize(N);
+    sin_th.resize(N);
+    sx.assign(N + 1, 0.0);
+    sy.assign(N + 1, 0.0);
+    const double dt2 = pb.dt * pb.dt;
+    for (int i = 0; i < N; ++i) {
+      cos_th[i] = std::cos(states[3 * i + 2]);
+      sin_th[i] = std::sin(states[3 * i + 2]);
+      sx[i + 1] = sx[i] - u[2 * i] * dt2 * sin_th[i];
+      sy[i + 1] = sy[i] + u[2 * i] * dt2 * cos_th[i];
+    }
+  }
+
+  // row += scale * d(gx x_k + gy y_k + gth th_k)/du
+  void add_state_row(const Problem& pb, int k, double gx, double gy, double gth, double* row) const {
+    const double dt = pb.dt;
+    for (int j = 0; j < k; ++j) {
+      row[2 * j] += dt * (gx * cos_th[j] + gy * sin_th[j]);
+      row[2 * j + 1] += gx * (sx[k] - sx[j + 1]) + gy * (sy[k] - sy[j + 1]) + gth * dt;
+    }
+  }
+};
+
+// All residuals of one inner problem in one block over the 2N controls:
+// the cost residuals of problem.h and one AL (or elastic) residual per
+// active constraint, with analytic Jacobians (the rollout sensitivities
+// above chained with the barrier gradient of problem.h). One O(N^2) pass.
 class InnerCost : public ceres::CostFunction {
  public:
   InnerCost(const Problem& pb, std::vector<ActiveConstraint> active, const std::vector<double>& lambda, double rho,
@@ -32,94 +73,115 @@ class InnerCost : public ceres::CostFunction {
 
   bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
     const double* u = params[0];
-    if (jacobians == nullptr || jacobians[0] == nullptr) return evaluate_plain(u, residuals);
-    const int n = pb_.num_controls();
-    if (n <= 16) return evaluate_jet<16>(u, residuals, jacobians[0]);
-    if (n <= 32) return evaluate_jet<32>(u, residuals, jacobians[0]);
-    if (n <= 50) return evaluate_jet<50>(u, residuals, jacobians[0]);
-    if (n <= 64) return evaluate_jet<64>(u, residuals, jacobians[0]);
-    if (n <= 128) return evaluate_jet<128>(u, residuals, jacobians[0]);
-    return false;  // horizon beyond what the config allows
-  }
+    double* jac = jacobians != nullptr ? jacobians[0] : nullptr;
+    const int n = pb_.num_controls(), N = pb_.N, R = pb_.num_rate_constraints();
+    ro_.compute(pb_, u, jac != nullptr);
+    const double* xs = ro_.states.data();
+    if (jac) std::fill(jac, jac + static_cast<size_t>(num_residuals()) * n, 0.0);
+    auto row = [&](int r) { return jac + static_cast<size_t>(r) * n; };
 
- private:
-  // The residual of constraint value g: AL term or elastic penalty.
-  template <class T>
-  T constraint_residual(const ActiveConstraint& c, const T& g) const {
-    if (c.elastic) {
-      if (value_of(g) >= 0) return T(0.0);
-      return -std::sqrt(mu_) * g;
-    }
-    const T t = lambda_[c.j] / rho_ - g;
-    if (value_of(t) <= 0) return T(0.0);
-    return std::sqrt(rho_) * t;
-  }
-
-  bool evaluate_plain(const double* u, double* residuals) const {
-    std::vector<double> xs(3 * (pb_.N + 1));
-    rollout(pb_, u, xs.data());
-    cost_residuals(pb_, xs.data(), u, residuals);
-    for (int i = 0; i < num_cost_residuals(pb_); ++i) residuals[i] *= cost_scale_;
-    double* r = residuals + num_cost_residuals(pb_);
-    for (size_t i = 0; i < active_.size(); ++i)
-      r[i] = constraint_residual(active_[i], constraint(pb_, xs.data(), u, active_[i].j));
-    return std::isfinite(residuals[0]);
-  }
-
-  template <int S>
-  bool evaluate_jet(const double* u, double* residuals, double* jac) const {
-    using J = ceres::Jet<double, S>;
-    const int n = pb_.num_controls();
-    std::vector<J> uj(n), xs(3 * (pb_.N + 1));
-    for (int i = 0; i < n; ++i) uj[i] = J(u[i], i);
-    rollout(pb_, uj.data(), xs.data());
-    const int nc = num_cost_residuals(pb_);
-    std::vector<J> r(nc + active_.size());
-    cost_residuals(pb_, xs.data(), uj.data(), r.data());
-    for (int i = 0; i < nc; ++i) r[i] *= cost_scale_;
-    // Barrier values h_i(X_k) as Jets, each computed once although two
-    // constraints (k-1 -> k and k -> k+1) use it.
-    const int R = pb_.num_rate_constraints(), N = pb_.N;
-    std::vector<J> h(pb_.obstacles.size() * (N + 1));
-    std::vector<char> have(h.size(), 0);
-    auto barrier_jet = [&](int i, int k) -> const J& {
-      const size_t idx = static_cast<size_t>(i) * (N + 1) + k;
-      if (!have[idx]) {
-        const J& px = xs[3 * k];
-        const J& py = xs[3 * k + 1];
-        h[idx] = lift_barrier(barrier_at(pb_.obstacles[i], k, px.a, py.a, pb_.d_safe), px, py);
-        have[idx] = 1;
+    // cost residuals, in the order of cost_residuals() in problem.h
+    int r = 0;
+    const double sq_xy = std::sqrt(pb_.w.q_xy), sq_yaw = std::sqrt(pb_.w.q_yaw);
+    for (int k = 1; k <= N; ++k) {
+      const bool terminal = k == N;
+      const double wxy = cost_scale_ * (terminal ? std::sqrt(pb_.w.p_xy) : sq_xy);
+      const double wyaw = cost_scale_ * (terminal ? std::sqrt(pb_.w.p_yaw) : sq_yaw);
+      residuals[r] = wxy * (xs[3 * k] - pb_.ref_x[k]);
+      residuals[r + 1] = wxy * (xs[3 * k + 1] - pb_.ref_y[k]);
+      residuals[r + 2] = wyaw * wrap_angle(xs[3 * k + 2] - pb_.ref_yaw[k]);  // d wrap(e)/de = 1
+      if (jac) {
+        ro_.add_state_row(pb_, k, wxy, 0, 0, row(r));
+        ro_.add_state_row(pb_, k, 0, wxy, 0, row(r + 1));
+        ro_.add_state_row(pb_, k, 0, 0, wyaw, row(r + 2));
       }
-      return h[idx];
+      r += 3;
+    }
+    const double sr[2] = {cost_scale_ * std::sqrt(pb_.w.r_v), cost_scale_ * std::sqrt(pb_.w.r_omega)};
+    for (int i = 0; i < n; ++i, ++r) {
+      residuals[r] = sr[i % 2] * u[i];
+      if (jac) row(r)[i] = sr[i % 2];
+    }
+    const double ss[2] = {cost_scale_ * std::sqrt(pb_.w.s_v), cost_scale_ * std::sqrt(pb_.w.s_omega)};
+    for (int i = 0; i + 2 < n; ++i, ++r) {
+      residuals[r] = ss[i % 2] * (u[i + 2] - u[i]);
+      if (jac) {
+        row(r)[i + 2] = ss[i % 2];
+        row(r)[i] = -ss[i % 2];
+      }
+    }
+
+    // barrier values and gradients h_i(X_k), each computed once although
+    // two constraints (k-1 -> k and k -> k+1) use it
+    const size_t M = pb_.obstacles.size();
+    bar_.resize(M * (N + 1));
+    have_.assign(bar_.size(), 0);
+    auto barrier_of = [&](int i, int k) -> const BarrierValue& {
+      const size_t idx = static_cast<size_t>(i) * (N + 1) + k;
+      if (!have_[idx]) {
+        bar_[idx] = barrier_at(pb_.obstacles[i], k, xs[3 * k], xs[3 * k + 1], pb_.d_safe);
+        have_[idx] = 1;
+      }
+      return bar_[idx];
     };
-    for (size_t a = 0; a < active_.size(); ++a) {
+
+    for (size_t a = 0; a < active_.size(); ++a, ++r) {
       const int j = active_[a].j;
-      J g;
+      double g;
+      // dg/du = sum of (coefficient, state step, gradient) terms, or linear in u
       if (j < R) {
-        g = constraint(pb_, xs.data(), uj.data(), j);
+        g = constraint(pb_, xs, u, j);
       } else {
         const int i = (j - R) / N, k = (j - R) % N;
         const ObstacleTrack& o = pb_.obstacles[i];
-        g = barrier_jet(i, k + 1);
-        if (o.decay != 0.0) g -= o.decay * barrier_jet(i, k);
+        g = barrier_of(i, k + 1).h;
+        if (o.decay != 0.0) g -= o.decay * barrier_of(i, k).h;
         if (!pb_.relax.empty()) g += pb_.relax[j];
       }
-      r[nc + a] = constraint_residual(active_[a], g);
+      // residual = coef * g + offset when switched on, 0 otherwise
+      double coef = 0, offset = 0;
+      if (active_[a].elastic) {
+        if (g < 0) coef = -std::sqrt(mu_);
+      } else if (lambda_[j] / rho_ - g > 0) {
+        coef = -std::sqrt(rho_);
+        offset = std::sqrt(rho_) * lambda_[j] / rho_;
+      }
+      residuals[r] = coef == 0 ? 0.0 : coef * g + offset;
+      if (!jac || coef == 0) continue;
+      double* jr = row(r);
+      if (j < R) {
+        const int k = j / 4, which = j % 4;
+        const int c = which < 2 ? 0 : 1;
+        const double s = which % 2 == 0 ? -1.0 : 1.0;  // g = up - (now - prev) or (now - prev) + down
+        jr[2 * k + c] += coef * s;
+        if (k > 0) jr[2 * (k - 1) + c] -= coef * s;
+      } else {
+        const int i = (j - R) / N, k = (j - R) % N;
+        const ObstacleTrack& o = pb_.obstacles[i];
+        const BarrierValue& b1 = barrier_of(i, k + 1);
+        ro_.add_state_row(pb_, k + 1, coef * b1.gx, coef * b1.gy, 0, jr);
+        if (o.decay != 0.0) {
+          const BarrierValue& b0 = barrier_of(i, k);
+          ro_.add_state_row(pb_, k, -coef * o.decay * b0.gx, -coef * o.decay * b0.gy, 0, jr);
+        }
+      }
     }
-    for (size_t row = 0; row < r.size(); ++row) {
-      residuals[row] = r[row].a;
-      double* jr = jac + row * n;
-      for (int i = 0; i < n; ++i) jr[i] = r[row].v[i];
-    }
+    for (int q = 0; q < r; ++q)
+      if (!std::isfinite(residuals[q])) return false;
     return true;
   }
 
+ private:
   const Problem& pb_;
   std::vector<ActiveConstraint> active_;
   const std::vector<double>& lambda_;
   double rho_;
   double mu_;
   double cost_scale_;
+  // scratch (Ceres evaluates one cost function from one thread here)
+  mutable Rollout ro_;
+  mutable std::vector<BarrierValue> bar_;
+  mutable std::vector<char> have_;
 };
 
 // A control within this fraction of its range from a bound counts as on it.
@@ -225,6 +287,21 @@ int run_inner(const Problem& pb, const SolverOptions& o, ceres::CostFunction* co
 }
 
 }  // namespace
+
+bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vector<double>& lambda, double rho,
+                              std::vector<double>* residuals, std::vector<double>* jacobian) {
+  std::vector<ActiveConstraint> active;
+  for (int j = 0; j < pb.num_constraints(); ++j) active.push_back({j, false});
+  InnerCost cost(pb, std::move(active), lambda, rho, /*elastic_penalty=*/1.0);
+  residuals->assign(cost.num_residuals(), 0.0);
+  double* jacs[] = {nullptr};
+  if (jacobian) {
+    jacobian->assign(static_cast<size_t>(cost.num_residuals()) * pb.num_controls(), 0.0);
+    jacs[0] = jacobian->data();
+  }
+  const double* params[] = {u};
+  return cost.Evaluate(params, residuals->data(), jacobian ? jacs : nullptr);
+}
 
 void project_controls(const Problem& pb, std::vector<double>* u) {
   u->resize(pb.num_controls(), 0.0);

@@ -76,6 +76,12 @@ class CeresMpcSolver {
   SolverOptions opts_;
 };
 
+// The inner least-squares problem with every constraint in it (AL terms
+// for multipliers lambda and penalty rho), residuals and row-major Jacobian
+// (analytic); exposed for tests against finite differences.
+bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vector<double>& lambda, double rho,
+                              std::vector<double>* residuals, std::vector<double>* jacobian);
+
 // Clamps controls into the bounds and rate limits (from the measured
 // controls forward), in place.
 void project_controls(const Problem& pb, std::vector<double>* u);

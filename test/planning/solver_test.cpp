@@ -48,6 +48,41 @@ TEST(Barrier, GradientAndHessianMatchFiniteDifferences) {
   }
 }
 
+TEST(CeresSolver, AnalyticJacobianMatchesFiniteDifferences) {
+  // every residual kind: tracking, controls, rates, rate limits and
+  // barriers (CBF and distance form) switched on by large multipliers
+  Problem pb = bench_problem(8);
+  pb.obstacles[1].decay = 0.0;
+  const int n = pb.num_controls(), m = pb.num_constraints();
+  std::vector<double> u(n);
+  for (int k = 0; k < pb.N; ++k) {
+    u[2 * k] = 0.5 + 0.3 * std::sin(0.7 * k);
+    u[2 * k + 1] = 0.4 * std::cos(0.5 * k);
+  }
+  const double rho = 50.0;
+  const std::vector<double> lambda(m, 1e3);  // lambda / rho = 20 > g: every AL residual on
+  std::vector<double> r, jac;
+  ASSERT_TRUE(evaluate_inner_residuals(pb, u.data(), lambda, rho, &r, &jac));
+  const int nr = static_cast<int>(r.size());
+  ASSERT_EQ(nr, num_cost_residuals(pb) + m);
+  const double e = 1e-6;
+  int nonzero = 0;
+  for (int i = 0; i < n; ++i) {
+    std::vector<double> up = u, um = u, rp, rm;
+    up[i] += e;
+    um[i] -= e;
+    ASSERT_TRUE(evaluate_inner_residuals(pb, up.data(), lambda, rho, &rp, nullptr));
+    ASSERT_TRUE(evaluate_inner_residuals(pb, um.data(), lambda, rho, &rm, nullptr));
+    for (int row = 0; row < nr; ++row) {
+      const double fd = (rp[row] - rm[row]) / (2 * e);
+      const double an = jac[static_cast<size_t>(row) * n + i];
+      EXPECT_NEAR(an, fd, 1e-5 * std::max(1.0, std::fabs(fd))) << "row " << row << " control " << i;
+      if (std::fabs(an) > 1e-9) ++nonzero;
+    }
+  }
+  EXPECT_GT(nonzero, nr);  // the check covered real derivatives
+}
+
 TEST(CeresSolver, FreePathTracksTheReference) {
   Problem pb = straight_problem(0, 0, 0, 0.8, 0.8);
   CeresMpcSolver solver(opts());
