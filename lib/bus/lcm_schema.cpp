@@ -62,6 +62,21 @@ std::string strip_package(const std::string& t) {
   return dot == std::string::npos ? t : t.substr(dot + 1);
 }
 
+// Elements of a field with these dimension lengths, or -1 when malformed: a
+// negative length, or more elements than bytes (every element takes at
+// least one byte). An empty outer dimension ends the count: inner lengths
+// are then never read (lcm-gen's decoder does the same).
+int64_t element_count(const std::vector<int64_t>& lens, size_t size) {
+  uint64_t count = 1;
+  for (int64_t len : lens) {
+    if (count == 0) break;
+    if (len < 0) return -1;
+    count *= static_cast<uint64_t>(len);
+    if (count > size) return -1;
+  }
+  return static_cast<int64_t>(count);
+}
+
 bool read_be(const uint8_t* data, size_t size, size_t* pos, size_t n, uint64_t* out) {
   if (*pos + n > size) return false;
   uint64_t v = 0;
@@ -274,9 +289,7 @@ bool LcmSchema::decode_dims(const Field& f, size_t d, const std::vector<int64_t>
                             size_t size, size_t* pos, Value* out) const {
   if (d == f.dims.size()) return decode_field(f.type, data, size, pos, out);
   out->kind = Value::Kind::Array;
-  int64_t n = lens[d];
-  // Every element takes at least one byte: a length beyond the buffer is malformed.
-  if (n < 0 || static_cast<uint64_t>(n) > size - *pos + 1) return false;
+  const int64_t n = lens[d];  // bounded by element_count() before any recursion
   out->items.resize(static_cast<size_t>(n));
   for (auto& item : out->items)
     if (!decode_dims(f, d + 1, lens, data, size, pos, &item)) return false;
@@ -301,6 +314,7 @@ bool LcmSchema::decode_struct(const Struct& s, const uint8_t* data, size_t size,
           lens.push_back(lv->i);
         }
       }
+      if (element_count(lens, size) < 0) return false;
       if (!decode_dims(f, 0, lens, data, size, pos, &v)) return false;
     }
     out->fields.emplace_back(f.name, std::move(v));
@@ -319,6 +333,8 @@ size_t primitive_size(const std::string& t) {
 }
 constexpr int kMaxNesting = 16;
 }  // namespace
+
+
 
 bool LcmSchema::skip_value(const std::string& type, const uint8_t* data, size_t size, size_t* pos,
                            int depth) const {
@@ -356,19 +372,19 @@ bool LcmSchema::skip_struct(const Struct& s, const uint8_t* data, size_t size, s
       }
       continue;
     }
-    uint64_t count = 1;
+    std::vector<int64_t> lens;
     for (const Dim& d : f.dims) {
-      if (count == 0) break;  // an empty outer dimension: inner lengths are never read
       int64_t len = d.size;
       if (!d.is_const) {
         auto it = ints.find(d.field);
         if (it == ints.end()) return false;
         len = it->second;
       }
-      if (len < 0) return false;
-      count *= static_cast<uint64_t>(len);
-      if (count > size) return false;  // every element takes at least one byte
+      lens.push_back(len);
     }
+    const int64_t n_elements = element_count(lens, size);
+    if (n_elements < 0) return false;
+    const uint64_t count = static_cast<uint64_t>(n_elements);
     if (size_t n = primitive_size(f.type)) {
       if (count * n > size - *pos) return false;
       *pos += count * n;
