@@ -38,7 +38,8 @@ const char* metrics_rules() {
   reaction_missed.
 - path_length_m: robot path length from first motion to the goal (or end).
 - planner_solve_ms_p50/p99: over PLAN messages with a solve (iterations > 0).
-- solver_failures: PLAN messages with status FALLBACK or STOPPING.
+- solver_failures: PLAN messages with status FALLBACK, STOPPING or RECOVERING
+  (no plan met every constraint).
 )";
 }
 
@@ -195,7 +196,8 @@ RunMetrics compute_metrics(const std::vector<bus::LogEvent>& events, const Metri
     ++m.plans;
     if (m.mode.empty()) m.mode = p.mode;
     if (p.iterations > 0) solve_ms.push_back(p.solve_time_us * 1e-3);
-    if (p.status == evade::plan_t::STATUS_FALLBACK || p.status == evade::plan_t::STATUS_STOPPING)
+    if (p.status == evade::plan_t::STATUS_FALLBACK || p.status == evade::plan_t::STATUS_STOPPING ||
+        p.status == evade::plan_t::STATUS_RECOVERING)
       ++m.solver_failures;
   }
   // Reaction: the first plan at or after t_enter in which a track matched

@@ -17,6 +17,21 @@ bool finite_odometry(const evade::odometry_t& o) {
 }
 
 // Controls shifted by `steps`, the tail padded with the last control.
+// The largest amount by which a control sequence misses a barrier
+// constraint h(X_k+1) >= decay h(X_k) over the horizon (0 when it meets all).
+double barrier_shortfall(const Problem& pb, const std::vector<double>& u) {
+  std::vector<double> states(3 * (pb.N + 1));
+  rollout(pb, u.data(), states.data());
+  double worst = 0.0;
+  for (const ObstacleTrack& o : pb.obstacles)
+    for (int k = 0; k < pb.N; ++k) {
+      const double h0 = barrier_at(o, k, states[3 * k], states[3 * k + 1], pb.d_safe).h;
+      const double h1 = barrier_at(o, k + 1, states[3 * (k + 1)], states[3 * (k + 1) + 1], pb.d_safe).h;
+      worst = std::max(worst, o.decay * h0 - h1);
+    }
+  return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+}
+
 std::vector<double> shifted(const std::vector<double>& u, int steps) {
   const int n = static_cast<int>(u.size()) / 2;
   std::vector<double> out(u.size());
@@ -181,6 +196,8 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   // solves measured slower and costlier in bench_planner, so they start at 0.
   SolveResult res = solver_.solve(pb, warm_u, p_.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_);
   int iterations = res.iterations;
+  std::vector<std::vector<double>> attempts;  // failed solves, candidates if nothing is feasible
+  if (res.finite) attempts.push_back(res.u);
   if (!(res.finite && res.feasible) && !pb.obstacles.empty()) {
     // Before giving up: restart from a swerve to either side. A warm start
     // that heads straight at a symmetric obstacle sits on a saddle (the
@@ -194,6 +211,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       SolveResult alt = solver_.solve(pb, guess);
       iterations += alt.iterations;
       count("solver_restart");
+      if (alt.finite) attempts.push_back(alt.u);
       if (alt.finite && alt.feasible) {
         res = alt;
         break;
@@ -218,21 +236,44 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       status = evade::plan_t::STATUS_RECOVERING;
       u = rec.u;
       res = rec;
-    } else if (fsteps >= 1 && fsteps < N) {
-      // the last feasible plan, shifted; its tail brakes to a stop
-      status = evade::plan_t::STATUS_FALLBACK;
-      u = shifted(feasible_u_, fsteps);
-      const std::vector<double> tail = braking_controls(feasible_u_[2 * (N - 1)], feasible_u_[2 * (N - 1) + 1]);
-      for (int k = N - fsteps; k < N; ++k) {
-        u[2 * k] = tail[2 * (k - (N - fsteps))];
-        u[2 * k + 1] = tail[2 * (k - (N - fsteps)) + 1];
-      }
-      project_controls(pb, &u);  // consistent with the measured speed
-      count("fallback");
     } else {
-      status = evade::plan_t::STATUS_STOPPING;
-      u = braking_controls(v0, w0);
-      count("stopping");
+      // Nothing meets every constraint: of the plans at hand (the failed
+      // solves, the last feasible plan shifted, braking), take the one that
+      // falls least short of the barrier constraints under the current
+      // predictions. Replaying an old plan blindly can drive into an
+      // obstacle that is sweeping across the path; braking can be worse
+      // than getting out of its way.
+      struct Candidate {
+        std::vector<double> u;
+        int8_t status;
+        const char* counter;
+      };
+      std::vector<Candidate> candidates;
+      if (fsteps >= 1 && fsteps < N) {
+        std::vector<double> f = shifted(feasible_u_, fsteps);  // its tail brakes to a stop
+        const std::vector<double> tail =
+            braking_controls(feasible_u_[2 * (N - 1)], feasible_u_[2 * (N - 1) + 1]);
+        for (int k = N - fsteps; k < N; ++k) {
+          f[2 * k] = tail[2 * (k - (N - fsteps))];
+          f[2 * k + 1] = tail[2 * (k - (N - fsteps)) + 1];
+        }
+        candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
+      }
+      for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "least_violation"});
+      candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
+      double best = std::numeric_limits<double>::infinity();
+      const Candidate* chosen = &candidates.back();
+      for (auto& c : candidates) {
+        project_controls(pb, &c.u);  // consistent with the measured speed and the limits
+        const double shortfall = barrier_shortfall(pb, c.u);
+        if (shortfall < best - 1e-9) {
+          best = shortfall;
+          chosen = &c;
+        }
+      }
+      status = chosen->status;
+      u = chosen->u;
+      count(chosen->counter);
     }
   }
   const double solve_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
