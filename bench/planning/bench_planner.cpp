@@ -1,8 +1,11 @@
 // Ceres (warm-started augmented Lagrangian, the planner's solver) against
 // IPOPT (exact Hessian, cold from zeros, as the paper's code) on the same
 // fixed MPC problems with k = 0, 4, 8, 16 obstacles.
-//   solve/ceres/<k>       warm start from the previous cycle's solution (shifted), as the planner runs
-//   solve/ceres_warm_multipliers/<k>  the same plus the previous multipliers (not used by the planner)
+//   solve/ceres/<k>       as the planner runs (planner.solver.warm_multipliers: false): the
+//                         previous cycle's (0.1 s earlier) controls shifted one step; the
+//                         solver estimates the multipliers at that warm start
+//   solve/ceres_warm_multipliers/<k>  also the previous cycle's multipliers (shifted) with its
+//                         penalty (capped by warm_penalty_max), for the record
 //   solve/ceres_cold/<k>  from zeros, for reference
 //   solve/ipopt/<k>       IPOPT from zeros
 // After the runs a table compares the costs (goal: Ceres within 1 % of IPOPT).
@@ -64,13 +67,15 @@ void BM_Ceres(benchmark::State& state) {
   state.counters["cost"] = r.cost;
   state.counters["viol"] = r.max_violation;
   state.counters["iters"] = r.iterations;
+  state.counters["outer"] = r.outer_iterations;
   state.counters["feasible"] = r.feasible;
   g_ceres_cost[k] = r.cost;
   g_ceres_viol[k] = r.max_violation;
 }
 
-// For the record: also warm-starting the multipliers (with their penalty)
-// measured slower and costlier than controls only, so the planner does not.
+// planner.solver.warm_multipliers: true. Measured no faster overall and
+// less predictable (the previous cycle's multipliers may belong to another
+// active set), so the planner's default is false.
 void BM_CeresWarmMultipliers(benchmark::State& state) {
   const int k = static_cast<int>(state.range(0));
   const Problem pb = evade::planning::testing::bench_problem(k);
@@ -84,6 +89,7 @@ void BM_CeresWarmMultipliers(benchmark::State& state) {
   state.counters["cost"] = r.cost;
   state.counters["viol"] = r.max_violation;
   state.counters["iters"] = r.iterations;
+  state.counters["outer"] = r.outer_iterations;
   state.counters["feasible"] = r.feasible;
 }
 

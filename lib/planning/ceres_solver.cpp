@@ -2,6 +2,8 @@
 
 #include <ceres/ceres.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,6 +17,10 @@ struct ActiveConstraint {
   int j;
   bool elastic;  // quadratic penalty on the violation instead of the AL term
 };
+
+// Relative ridge added to J^T J before its Cholesky factorization in the
+// compressed inner cost (only matters when J^T J is singular).
+constexpr double kCompressionRidge = 1e-12;
 
 // The rollout of the unicycle and its forward sensitivities, from which
 // every residual's Jacobian row follows by the chain rule (no autodiff).
@@ -64,20 +70,90 @@ struct Rollout {
 class InnerCost : public ceres::CostFunction {
  public:
   InnerCost(const Problem& pb, std::vector<ActiveConstraint> active, const std::vector<double>& lambda, double rho,
-            double elastic_penalty, double cost_weight = 1.0)
+            double elastic_penalty, double cost_weight = 1.0, bool compressed = true)
       : pb_(pb), active_(std::move(active)), lambda_(lambda), rho_(rho), mu_(elastic_penalty),
         cost_scale_(std::sqrt(cost_weight)) {
-    set_num_residuals(num_cost_residuals(pb) + static_cast<int>(active_.size()));
+    full_rows_ = num_cost_residuals(pb) + static_cast<int>(active_.size());
+    set_num_residuals(compressed ? pb.num_controls() + 1 : full_rows_);
+    compressed_ = compressed;
     mutable_parameter_block_sizes()->push_back(pb.num_controls());
   }
 
   bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
-    const double* u = params[0];
     double* jac = jacobians != nullptr ? jacobians[0] : nullptr;
+    if (!compressed_) return evaluate_full(params[0], residuals, jac);
+    // Ceres' Levenberg-Marquardt uses only |r|^2, J^T J and J^T r (and the
+    // column norms of J for its Jacobi scaling, the diagonal of J^T J). With
+    // J^T J = L L^T the n + 1 rows [L^T; 0] and residuals
+    // [L^-1 J^T r; sqrt(|r|^2 - |L^-1 J^T r|^2)] give exactly these, so Ceres
+    // works on a 51-row problem instead of several hundred rows, most of them
+    // zero (constraints whose AL term is off).
+    const int n = pb_.num_controls();
+    full_r_.resize(full_rows_);
+    if (jac) full_j_.resize(static_cast<size_t>(full_rows_) * n);
+    if (!evaluate_full(params[0], full_r_.data(), jac ? full_j_.data() : nullptr)) return false;
+    const Eigen::Map<const Eigen::VectorXd> r(full_r_.data(), full_rows_);
+    const double rr = r.squaredNorm();
+    std::fill(residuals, residuals + n + 1, 0.0);
+    if (!jac) {
+      residuals[n] = std::sqrt(rr);
+      return true;
+    }
+    // J^T J and J^T r over the live rows only: the sparse ones (controls,
+    // control changes, rate limits: at most two entries) added directly,
+    // the dense ones (tracking, barriers) gathered for one rank update.
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+    int live = 0;
+    int nz[2];
+    for (int row = 0; row < full_rows_; ++row) {
+      if (live_[row] == kRowSparse) {
+        const double* jr = full_j_.data() + static_cast<size_t>(row) * n;
+        int cnt = 0;
+        for (int i = 0; i < n && cnt < 2; ++i)
+          if (jr[i] != 0.0) nz[cnt++] = i;
+        for (int x = 0; x < cnt; ++x) {
+          b[nz[x]] += jr[nz[x]] * full_r_[row];
+          for (int y = 0; y < cnt; ++y) A(nz[x], nz[y]) += jr[nz[x]] * jr[nz[y]];
+        }
+      } else if (live_[row] == kRowDense) {
+        if (live != row) {
+          std::copy(full_j_.begin() + static_cast<size_t>(row) * n, full_j_.begin() + static_cast<size_t>(row + 1) * n,
+                    full_j_.begin() + static_cast<size_t>(live) * n);
+          full_r_[live] = full_r_[row];
+        }
+        ++live;
+      }
+    }
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const Eigen::Map<const RowMajor> J(full_j_.data(), live, n);
+    const Eigen::Map<const Eigen::VectorXd> rl(full_r_.data(), live);
+    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
+    D.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
+    D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
+    A += D;
+    b.noalias() += J.transpose() * rl;
+    // A tiny ridge keeps the factorization defined when some weights are zero.
+    const double ridge = kCompressionRidge * std::max(1.0, A.diagonal().maxCoeff());
+    A.diagonal().array() += ridge;
+    const Eigen::LLT<Eigen::MatrixXd> llt(A);
+    if (llt.info() != Eigen::Success) return false;
+    const Eigen::MatrixXd U = llt.matrixU();  // A = U^T U
+    const Eigen::VectorXd rc = llt.matrixL().solve(b);
+    Eigen::Map<RowMajor>(jac, n + 1, n).setZero();
+    Eigen::Map<RowMajor>(jac, n, n) = U;
+    for (int i = 0; i < n; ++i) residuals[i] = rc[i];
+    residuals[n] = std::sqrt(std::max(0.0, rr - rc.squaredNorm()));
+    return std::isfinite(residuals[n]);
+  }
+
+ private:
+  bool evaluate_full(const double* u, double* residuals, double* jac) const {
     const int n = pb_.num_controls(), N = pb_.N, R = pb_.num_rate_constraints();
     ro_.compute(pb_, u, jac != nullptr);
     const double* xs = ro_.states.data();
-    if (jac) std::fill(jac, jac + static_cast<size_t>(num_residuals()) * n, 0.0);
+    if (jac) std::fill(jac, jac + static_cast<size_t>(full_rows_) * n, 0.0);
+    live_.assign(full_rows_, kRowDense);
     auto row = [&](int r) { return jac + static_cast<size_t>(r) * n; };
 
     // cost residuals, in the order of cost_residuals() in problem.h
@@ -98,6 +174,7 @@ class InnerCost : public ceres::CostFunction {
       r += 3;
     }
     const double sr[2] = {cost_scale_ * std::sqrt(pb_.w.r_v), cost_scale_ * std::sqrt(pb_.w.r_omega)};
+    std::fill(live_.begin() + r, live_.begin() + r + n + (n - 2), kRowSparse);
     for (int i = 0; i < n; ++i, ++r) {
       residuals[r] = sr[i % 2] * u[i];
       if (jac) row(r)[i] = sr[i % 2];
@@ -147,6 +224,8 @@ class InnerCost : public ceres::CostFunction {
         offset = std::sqrt(rho_) * lambda_[j] / rho_;
       }
       residuals[r] = coef == 0 ? 0.0 : coef * g + offset;
+      if (coef == 0) live_[r] = kRowDead;
+      else if (j < R) live_[r] = kRowSparse;
       if (!jac || coef == 0) continue;
       double* jr = row(r);
       if (j < R) {
@@ -171,7 +250,6 @@ class InnerCost : public ceres::CostFunction {
     return true;
   }
 
- private:
   const Problem& pb_;
   std::vector<ActiveConstraint> active_;
   const std::vector<double>& lambda_;
@@ -182,7 +260,23 @@ class InnerCost : public ceres::CostFunction {
   mutable Rollout ro_;
   mutable std::vector<BarrierValue> bar_;
   mutable std::vector<char> have_;
+  // per full row: zero, at most two nonzero Jacobian entries, or dense
+  static constexpr char kRowDead = 0, kRowSparse = 1, kRowDense = 2;
+  mutable std::vector<char> live_;
+  mutable std::vector<double> full_r_, full_j_;
+  int full_rows_ = 0;
+  bool compressed_ = true;
 };
+
+// Inner solves repeated at most this often while the set of controls held
+// at their bounds changes.
+constexpr int kMaxHeldRounds = 3;
+
+// Multiplier estimate: AL residuals switched on by this lambda (rho = 1),
+// active-set rounds, and relative ridge of the least-squares fit.
+constexpr double kEstimateSwitchOn = 1e9;
+constexpr int kEstimateRounds = 5;
+constexpr double kEstimateRidge = 1e-8;
 
 // A control within this fraction of its range from a bound counts as on it.
 constexpr double kAtBound = 1e-9;
@@ -260,30 +354,115 @@ std::vector<int> held_at_bounds(const Problem& pb, const ceres::CostFunction& co
 // One inner solve: bounds as parameter bounds, controls pushed against a
 // bound held there (see held_at_bounds). Takes ownership of cost. Returns
 // the Ceres iterations used.
-int run_inner(const Problem& pb, const SolverOptions& o, ceres::CostFunction* cost, std::vector<double>* u,
+int run_inner(const Problem& pb, const SolverOptions& o, ceres::CostFunction* cost_in, std::vector<double>* u,
               int max_iterations, double* trust_radius = nullptr) {
   const int n = pb.num_controls();
-  ceres::Problem problem;
-  problem.AddResidualBlock(cost, nullptr, u->data());
-  set_bounds(pb, &problem, u->data());
+  const std::unique_ptr<ceres::CostFunction> cost(cost_in);
+  int iterations = 0;
+  std::vector<int> held_before;
   // Controls on a bound that the gradient pushes outward are held there
-  // for this inner solve (an active set): Ceres' projected trust-region
-  // steps on such coordinates make the model's predicted decrease wrong
-  // and the steps collapse. Coordinates freed or caught later are
-  // re-examined at the next call.
-  const std::vector<int> held = held_at_bounds(pb, *cost, *u);
-  if (static_cast<int>(held.size()) >= n) return 0;
-  if (!held.empty()) problem.SetManifold(u->data(), new ceres::SubsetManifold(n, held));
-  ceres::Solver::Summary summary;
-  ceres::Solver::Options opt = inner_options(o, max_iterations);
-  // Carry the trust region over between outer iterations: restarting at
-  // Ceres' default radius takes Gauss-Newton-sized steps across the kinks
-  // of the AL terms, most of them rejected.
-  if (trust_radius && *trust_radius > 0) opt.initial_trust_region_radius = *trust_radius;
-  ceres::Solve(opt, &problem, &summary);
-  if (trust_radius && !summary.iterations.empty())
-    *trust_radius = std::max(o.min_trust_radius, summary.iterations.back().trust_region_radius);
-  return summary.num_successful_steps + summary.num_unsuccessful_steps;
+  // (an active set): Ceres' projected trust-region steps on such
+  // coordinates make the model's predicted decrease wrong and the steps
+  // collapse. After a solve the set is re-examined: a held control whose
+  // gradient now points into the box is released and the solve repeated
+  // (else a control pinned at the start, e.g. u_0 at its rate bound from
+  // a poor warm start, would stay there when the loop ends at once).
+  for (int round = 0; round < kMaxHeldRounds; ++round) {
+    const std::vector<int> held = held_at_bounds(pb, *cost, *u);
+    if (round > 0 && held == held_before) break;
+    if (static_cast<int>(held.size()) >= n) break;
+    ceres::Problem::Options popt;
+    popt.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(popt);
+    problem.AddResidualBlock(cost.get(), nullptr, u->data());
+    set_bounds(pb, &problem, u->data());
+    if (!held.empty()) problem.SetManifold(u->data(), new ceres::SubsetManifold(n, held));
+    ceres::Solver::Summary summary;
+    ceres::Solver::Options opt = inner_options(o, max_iterations);
+    // Carry the trust region over between outer iterations: restarting at
+    // Ceres' default radius takes Gauss-Newton-sized steps across the kinks
+    // of the AL terms, most of them rejected.
+    if (trust_radius && *trust_radius > 0) opt.initial_trust_region_radius = *trust_radius;
+    ceres::Solve(opt, &problem, &summary);
+    if (trust_radius && !summary.iterations.empty())
+      *trust_radius = std::max(o.min_trust_radius, summary.iterations.back().trust_region_radius);
+    iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+    if (held.empty()) break;
+    held_before = held;
+  }
+  return iterations;
+}
+
+// First-order multiplier estimate at u (the warm start): the lambda >= 0
+// that best explains the gradient of J/2 by the gradients of the nearly
+// active constraints (g_j < margin), grad(J/2) = sum_j lambda_j grad g_j,
+// over the controls not on a bound, in the least-squares sense, negative
+// ones dropped and the rest refitted (a few active-set rounds). With the
+// previous plan as the warm start this puts the first inner problem next to
+// the answer instead of at the unconstrained optimum (lambda = 0), which
+// the AL loop would otherwise approach from far away.
+void estimate_multipliers(const Problem& pb, const std::vector<double>& u, double margin, std::vector<double>* lambda) {
+  const int n = pb.num_controls(), m = pb.num_constraints();
+  std::vector<double> states, g;
+  evaluate_constraints(pb, u.data(), &states, &g);
+  std::vector<int> near;
+  for (int j = 4; j < m; ++j)  // j < 4: the rate limits at k = 0 are bounds on u_0
+    if (g[j] < margin) near.push_back(j);
+  if (near.empty()) return;
+  // gradient of J/2 and of every near constraint (rows of the full inner
+  // Jacobian: AL residual lambda/rho - g with rho = 1 and lambda large)
+  std::vector<ActiveConstraint> active;
+  for (int j : near) active.push_back({j, false});
+  const std::vector<double> on(m, kEstimateSwitchOn);
+  InnerCost cost(pb, std::move(active), on, 1.0, 1.0, 1.0, /*compressed=*/false);
+  std::vector<double> r(cost.num_residuals()), jac(static_cast<size_t>(cost.num_residuals()) * n);
+  const double* params[] = {u.data()};
+  double* jacs[] = {jac.data()};
+  if (!cost.Evaluate(params, r.data(), jacs)) return;
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const int nc = num_cost_residuals(pb), nn = static_cast<int>(near.size());
+  const Eigen::Map<const RowMajor> J(jac.data(), cost.num_residuals(), n);
+  const Eigen::VectorXd grad = J.topRows(nc).transpose() * Eigen::Map<const Eigen::VectorXd>(r.data(), nc);
+  // grad g_j = -(row of constraint j); only controls strictly inside their box
+  std::vector<int> free;
+  for (int i = 0; i < n; ++i) {
+    double lo, hi;
+    control_bounds(pb, i, &lo, &hi);
+    const double eps = kAtBound * std::max(1.0, hi - lo);
+    if (u[i] > lo + eps && u[i] < hi - eps) free.push_back(i);
+  }
+  std::vector<char> keep(nn, 1);
+  Eigen::VectorXd est = Eigen::VectorXd::Zero(nn);
+  for (int round = 0; round < kEstimateRounds; ++round) {
+    std::vector<int> cols;
+    for (int c = 0; c < nn; ++c)
+      if (keep[c]) cols.push_back(c);
+    if (cols.empty()) break;
+    Eigen::MatrixXd A(free.size(), cols.size());
+    Eigen::VectorXd b(free.size());
+    for (size_t fi = 0; fi < free.size(); ++fi) {
+      b[fi] = grad[free[fi]];
+      for (size_t c = 0; c < cols.size(); ++c) A(fi, c) = -J(nc + cols[c], free[fi]);
+    }
+    // ridge: nearly dependent constraints (two obstacles' CBF chains) get
+    // shared multipliers rather than huge opposite ones
+    Eigen::MatrixXd AtA = A.transpose() * A;
+    AtA.diagonal().array() += kEstimateRidge * std::max(1.0, AtA.diagonal().maxCoeff());
+    const Eigen::VectorXd x = AtA.ldlt().solve(A.transpose() * b);
+    est.setZero();
+    bool negative = false;
+    for (size_t c = 0; c < cols.size(); ++c) {
+      if (!std::isfinite(x[c])) return;
+      if (x[c] < 0) {
+        keep[cols[c]] = 0;
+        negative = true;
+      } else {
+        est[cols[c]] = x[c];
+      }
+    }
+    if (!negative) break;
+  }
+  for (int c = 0; c < nn; ++c) (*lambda)[near[c]] = est[c];
 }
 
 }  // namespace
@@ -292,7 +471,7 @@ bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vec
                               std::vector<double>* residuals, std::vector<double>* jacobian) {
   std::vector<ActiveConstraint> active;
   for (int j = 0; j < pb.num_constraints(); ++j) active.push_back({j, false});
-  InnerCost cost(pb, std::move(active), lambda, rho, /*elastic_penalty=*/1.0);
+  InnerCost cost(pb, std::move(active), lambda, rho, /*elastic_penalty=*/1.0, 1.0, /*compressed=*/false);
   residuals->assign(cost.num_residuals(), 0.0);
   double* jacs[] = {nullptr};
   if (jacobian) {
@@ -336,7 +515,12 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   double rho = opts_.penalty_initial;
   if (warm_multipliers && static_cast<int>(warm_multipliers->size()) == m) {
     lambda = *warm_multipliers;
-    if (warm_penalty > 0) rho = std::clamp(warm_penalty, opts_.penalty_initial, opts_.penalty_max);
+    // Bounded: the previous cycle may have ended at a large penalty, which
+    // makes the first inner problem stiff; with good multipliers a moderate
+    // penalty suffices (the loop raises it again when needed).
+    if (warm_penalty > 0) rho = std::clamp(warm_penalty, opts_.penalty_initial, opts_.warm_penalty_max);
+  } else if (opts_.estimate_multipliers) {
+    estimate_multipliers(pb, res.u, opts_.estimate_margin, &lambda);
   }
 
   double trust_radius = opts_.initial_trust_radius;

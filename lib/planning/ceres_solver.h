@@ -14,6 +14,14 @@
 // out of the inner problem (their residual would be zero anyway); every outer
 // iteration re-checks all of them, so the final answer is checked against the
 // full set.
+//
+// Speed: the inner cost is one CostFunction over the 2N controls with
+// analytic Jacobians (the unicycle's forward sensitivities chained with the
+// barrier gradient, O(N^2) per evaluation). Ceres sees it compressed to
+// 2N + 1 rows with the same J^T J, J^T r and |r|^2 (see InnerCost), so its
+// dense normal-equation work does not grow with the number of obstacles.
+// Warm multipliers (the planner shifts the previous cycle's by one step)
+// start the loop near the answer; their penalty is capped (warm_penalty_max).
 #pragma once
 
 #include <vector>
@@ -24,19 +32,23 @@ namespace evade::planning {
 
 struct SolverOptions {
   int max_outer_iterations = 20;
-  int max_inner_iterations = 6;
+  int max_inner_iterations = 50;         // an inner solve runs to convergence: multiplier updates
+                                         // from half-solved inner problems measured slower overall
   double constraint_tolerance = 1e-3;    // m (barriers), m/s and rad/s (rate limits)
   double target_violation = 1e-4;        // the outer loop stops below this (<= constraint_tolerance)
-  double penalty_initial = 100.0;        // rho at the first outer iteration
+  double penalty_initial = 3e4;          // rho at the first outer iteration
+  double warm_penalty_max = 3e4;         // cap on the penalty that comes with warm multipliers
   double penalty_growth = 3.0;           // rho factor when the violation stalls
   double penalty_max = 1e6;
   double violation_shrink = 0.25;        // violation must shrink by this factor or rho grows
   double active_margin = 0.3;            // m: constraints with g above this and lambda = 0 are left out
-  double inner_function_tolerance = 1e-6;  // relative cost change that ends an inner solve
-  double inner_parameter_tolerance = 1e-4; // relative step that ends an inner solve
+  double inner_function_tolerance = 1e-5;  // relative cost change that ends an inner solve
+  double inner_parameter_tolerance = 1e-8; // relative step that ends an inner solve
   double initial_trust_radius = 1e4;     // Ceres' trust region at the first outer iteration
   double min_trust_radius = 1e-2;        // floor of the trust region carried between outer iterations
   bool dense_qr = false;                 // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
+  bool estimate_multipliers = true;      // without warm multipliers: estimate them at the warm start
+  double estimate_margin = 0.01;         // m: constraints with g below this enter the estimate
 };
 
 struct SolveResult {

@@ -76,6 +76,7 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.min_trust_radius = o.get_positive("min_trust_radius");
   p.solver.penalty_initial = o.get_positive("penalty_initial");
   p.solver.penalty_growth = o.get_double("penalty_growth", 1.0, 1e3);
+  p.solver.warm_penalty_max = o.get_double("warm_penalty_max", p.solver.penalty_initial, 1e12);
   p.solver.penalty_max = o.get_positive("penalty_max");
   p.solver.violation_shrink = o.get_double("violation_shrink", 0.0, 1.0);
   p.solver.active_margin = o.get_double("active_margin_m", 0.0, 100.0);
@@ -83,6 +84,8 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.inner_parameter_tolerance = o.get_positive("inner_parameter_tolerance");
   p.warm_multipliers = o.get<bool>("warm_multipliers");
   p.solver.dense_qr = o.get_choice("linear_solver", {"dense_normal_cholesky", "dense_qr"}) == "dense_qr";
+  p.solver.estimate_multipliers = o.get<bool>("estimate_multipliers");
+  p.solver.estimate_margin = o.get_double("estimate_margin_m", 0.0, 10.0);
   o.close();
   s.close();
   return p;
