@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 
 #include "planning/ceres_solver.h"
@@ -137,7 +138,9 @@ constexpr int kLoopCycles = 30;
 
 void BM_CeresClosedLoop(benchmark::State& state) {
   const int k = static_cast<int>(state.range(0));
-  CeresMpcSolver solver{SolverOptions{}};
+  SolverOptions opts;
+  if (const char* budget = std::getenv("EVADE_BENCH_MAX_TOTAL_ITERATIONS")) opts.max_total_iterations = std::atoi(budget);
+  CeresMpcSolver solver{opts};
   double worst_ms = 0, total_ms = 0;
   int infeasible = 0, cycles = 0, total_iters = 0;
   int missed = 0;  // cycles Ceres found infeasible but IPOPT solved (a miss, not an infeasible problem)

@@ -544,6 +544,11 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   };
   keep_if_feasible();
   for (int outer = 0; outer < opts_.max_outer_iterations; ++outer) {
+    // A budget on the Ceres iterations of one solve bounds its time (the
+    // problems that use it up are nearly always infeasible ones, which the
+    // planner's fallbacks handle).
+    const int budget = opts_.max_total_iterations - res.iterations;
+    if (budget <= 0) break;
     std::vector<ActiveConstraint> active;
     // Rate limits (linear, cheap) are always in: left out, the inner solve
     // chatters between the omega bounds and the next outer iteration starts
@@ -553,7 +558,7 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
       if (lambda[j] > 0 || g[j] < opts_.active_margin) active.push_back({j, false});
     std::vector<double> before = res.u;
     res.iterations += run_inner(pb, opts_, new InnerCost(pb, std::move(active), lambda, rho, /*elastic_penalty=*/1.0),
-                                &res.u, opts_.max_inner_iterations, &trust_radius);
+                                &res.u, std::min(opts_.max_inner_iterations, budget), &trust_radius);
     res.outer_iterations = outer + 1;
     if (!all_finite(res.u)) {
       res.u = before;

@@ -34,6 +34,7 @@ struct SolverOptions {
   int max_outer_iterations = 20;
   int max_inner_iterations = 50;         // an inner solve runs to convergence: multiplier updates
                                          // from half-solved inner problems measured slower overall
+  int max_total_iterations = 300;       // Ceres iterations of one solve, all outer iterations together
   double constraint_tolerance = 1e-3;    // m (barriers), m/s and rad/s (rate limits)
   double target_violation = 1e-4;        // the outer loop stops below this (<= constraint_tolerance)
   double penalty_initial = 3e4;          // rho at the first outer iteration
@@ -48,7 +49,7 @@ struct SolverOptions {
   double min_trust_radius = 1e-2;        // floor of the trust region carried between outer iterations
   bool dense_qr = false;                 // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
   bool estimate_multipliers = true;      // without warm multipliers: estimate them at the warm start
-  double estimate_margin = 0.01;         // m: constraints with g below this enter the estimate
+  double estimate_margin = 1e-3;         // m: constraints with g below this enter the estimate
 };
 
 struct SolveResult {
