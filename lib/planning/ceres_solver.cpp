@@ -133,6 +133,16 @@ class InnerCost : public ceres::CostFunction {
     D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
     A += D;
     b.noalias() += J.transpose() * rl;
+    // Controls held at a bound (see run_inner): decoupled with zero
+    // gradient, so every LM step leaves them exactly where they are. This
+    // does what a SubsetManifold would without Ceres multiplying every
+    // Jacobian by the manifold's.
+    for (int i : held_) {
+      A.row(i).setZero();
+      A.col(i).setZero();
+      A(i, i) = 1.0;
+      b[i] = 0.0;
+    }
     // A tiny ridge keeps the factorization defined when some weights are zero.
     const double ridge = kCompressionRidge * std::max(1.0, A.diagonal().maxCoeff());
     A.diagonal().array() += ridge;
@@ -266,6 +276,10 @@ class InnerCost : public ceres::CostFunction {
   mutable std::vector<double> full_r_, full_j_;
   int full_rows_ = 0;
   bool compressed_ = true;
+  std::vector<int> held_;  // controls held at their bound (compressed form only)
+
+ public:
+  void set_held(const std::vector<int>& held) { held_ = held; }
 };
 
 // Inner solves repeated at most this often while the set of controls held
@@ -354,10 +368,10 @@ std::vector<int> held_at_bounds(const Problem& pb, const ceres::CostFunction& co
 // One inner solve: bounds as parameter bounds, controls pushed against a
 // bound held there (see held_at_bounds). Takes ownership of cost. Returns
 // the Ceres iterations used.
-int run_inner(const Problem& pb, const SolverOptions& o, ceres::CostFunction* cost_in, std::vector<double>* u,
+int run_inner(const Problem& pb, const SolverOptions& o, InnerCost* cost_in, std::vector<double>* u,
               int max_iterations, double* trust_radius = nullptr) {
   const int n = pb.num_controls();
-  const std::unique_ptr<ceres::CostFunction> cost(cost_in);
+  const std::unique_ptr<InnerCost> cost(cost_in);
   int iterations = 0;
   std::vector<int> held_before;
   // Controls on a bound that the gradient pushes outward are held there
@@ -368,6 +382,7 @@ int run_inner(const Problem& pb, const SolverOptions& o, ceres::CostFunction* co
   // (else a control pinned at the start, e.g. u_0 at its rate bound from
   // a poor warm start, would stay there when the loop ends at once).
   for (int round = 0; round < kMaxHeldRounds; ++round) {
+    cost->set_held({});
     const std::vector<int> held = held_at_bounds(pb, *cost, *u);
     if (round > 0 && held == held_before) break;
     if (static_cast<int>(held.size()) >= n) break;
@@ -376,7 +391,7 @@ int run_inner(const Problem& pb, const SolverOptions& o, ceres::CostFunction* co
     ceres::Problem problem(popt);
     problem.AddResidualBlock(cost.get(), nullptr, u->data());
     set_bounds(pb, &problem, u->data());
-    if (!held.empty()) problem.SetManifold(u->data(), new ceres::SubsetManifold(n, held));
+    cost->set_held(held);
     ceres::Solver::Summary summary;
     ceres::Solver::Options opt = inner_options(o, max_iterations);
     // Carry the trust region over between outer iterations: restarting at
