@@ -18,7 +18,7 @@ void add_common_options(CLI::App& app, CommonOptions& opts) {
 
 config::Node load_config_or_exit(const std::string& process, const CommonOptions& opts) {
   try {
-    return config::load_file(opts.config_path.empty() ? config::default_config_path() : opts.config_path);
+    return config::load_robot_config(opts.config_path.empty() ? config::default_config_path() : opts.config_path);
   } catch (const config::ConfigError& e) {
     std::fprintf(stderr, "%s: %s\n", process.c_str(), e.what());
     std::exit(2);

@@ -1,5 +1,6 @@
 #include "config/config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -246,6 +247,21 @@ Node load_file(const std::string& path) {
 }
 
 Node load_string(const std::string& text, const std::string& name) { return parse(text, name); }
+
+const std::vector<std::string>& robot_sections() {
+  static const std::vector<std::string> sections = {"robot",   "lidar",       "sim",           "lidar_driver",
+                                                    "base_driver", "elevation_map", "tracker", "predictor",
+                                                    "planner", "route",       "metrics"};
+  return sections;
+}
+
+Node load_robot_config(const std::string& path) {
+  Node root = load_file(path);
+  const auto& known = robot_sections();
+  for (const auto& k : root.keys())
+    if (std::find(known.begin(), known.end(), k) == known.end()) root.fail(k, "unknown section");
+  return root;
+}
 
 std::string default_config_path() {
   if (const char* env = std::getenv("EVADE_CONFIG"); env && *env) return env;

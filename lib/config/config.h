@@ -70,6 +70,15 @@ Node load_file(const std::string& path);
 // Loads YAML text (tests, fuzzers); `name` stands in for the file name.
 Node load_string(const std::string& text, const std::string& name);
 
+// The top-level sections of a robot configuration (config/robot.yaml): the
+// robot's limits, the LiDAR, and one per program. Each program reads only
+// the sections it needs, so a misspelt section would go unnoticed by all of
+// them; load_robot_config rejects any other top-level key.
+const std::vector<std::string>& robot_sections();
+// load_file, then a ConfigError (file, line, key) for a top-level key that
+// is not one of robot_sections().
+Node load_robot_config(const std::string& path);
+
 // The default robot configuration: $EVADE_CONFIG, else config/robot.yaml
 // relative to the current directory, else the source tree's copy.
 std::string default_config_path();

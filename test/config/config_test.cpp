@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+
 #include "config/config.h"
 
 namespace evade::config {
@@ -43,6 +46,23 @@ TEST(Config, UnknownKeyIsAnError) {
   Node a = root.section("a");
   a.get<double>("x_m");
   EXPECT_EQ(error_of([&] { a.close(); }), "robot.yaml:3: key 'a.x_mm': unknown key");
+}
+
+// Every program reads only its own sections: a misspelt section is caught
+// when the robot configuration is loaded, by any of them.
+TEST(Config, UnknownTopLevelSectionIsAnError) {
+  const std::string path = ::testing::TempDir() + "/sections.yaml";
+  std::ofstream(path) << "robot:\n  v_max_mps: 1.0\nplaner:\n  mode: dcbf\n";
+  EXPECT_EQ(error_of([&] { load_robot_config(path); }), path + ":3: key 'planer': unknown section");
+  std::ofstream(path) << "robot:\n  v_max_mps: 1.0\nplanner:\n  mode: dcbf\n";
+  EXPECT_NO_THROW(load_robot_config(path));
+  std::remove(path.c_str());
+}
+
+TEST(Config, TheRepositoryConfigHasEveryRobotSectionAndNoOther) {
+  Node root = load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  for (const auto& s : robot_sections()) EXPECT_TRUE(root.has(s)) << s;
+  EXPECT_EQ(root.keys().size(), robot_sections().size());
 }
 
 TEST(Config, NonScalarKeyIsAConfigError) {

@@ -31,7 +31,7 @@ std::vector<std::string> cases() {
   return out;
 }
 
-config::Node repo_config() { return config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"); }
+config::Node repo_config() { return config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"); }
 
 TEST(ProcessReplay, GoldenCasesExist) {
   auto c = cases();

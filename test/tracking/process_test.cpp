@@ -113,6 +113,13 @@ TEST(Processes, BadConfigurationExitsWithStatus2) {
   t2.replace(at2, 21, "  large_cluster: melt");
   std::ofstream(cfg) << t2;
   EXPECT_EQ(run(std::string(TRACKER_BIN) + " --config " + cfg + " --replay /nonexistent --replay-out /dev/null"), 2);
+  // a misspelt section that neither program reads
+  std::string t3 = slurp(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  const auto at3 = t3.find("\nroute:");
+  ASSERT_NE(at3, std::string::npos);
+  t3.replace(at3, 7, "\nroutes:");
+  std::ofstream(cfg) << t3;
+  EXPECT_EQ(run(std::string(TRACKER_BIN) + " --config " + cfg + " --replay /nonexistent --replay-out /dev/null"), 2);
   std::remove(cfg.c_str());
 }
 

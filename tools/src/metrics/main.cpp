@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
 
   evade::metrics::MetricsParams params;
   try {
-    auto root = evade::config::load_file(config_path.empty() ? evade::config::default_config_path() : config_path);
+    auto root = evade::config::load_robot_config(config_path.empty() ? evade::config::default_config_path() : config_path);
     params = evade::metrics::MetricsParams::from_config(root.section("metrics"));
   } catch (const evade::config::ConfigError& e) {
     std::fprintf(stderr, "metrics: %s\n", e.what());

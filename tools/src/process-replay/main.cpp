@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   if (config_path.empty()) config_path = std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml";
 
   try {
-    auto root = evade::config::load_file(config_path);
+    auto root = evade::config::load_robot_config(config_path);
     if (!cut.empty()) {
       if (only_case.empty()) throw std::runtime_error("--cut needs --case NAME");
       std::vector<std::string> channels{"LIDAR_SCAN", "ODOMETRY",  "ROUTE",   "ELEVATION_MAP", "OBSTACLES",

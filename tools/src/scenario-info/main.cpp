@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     if (name) std::printf("%s\n", sc.name.c_str());
     if (!out.empty()) {
       std::string base_path = base.empty() ? evade::config::default_config_path() : base;
-      evade::config::load_file(base_path);  // same checks as a process would make
+      evade::config::load_robot_config(base_path);  // same checks as a process would make
       YAML::Node root = YAML::LoadFile(base_path);
       root["lidar"]["model"] = sc.lidar.model;
       root["lidar"]["mount"]["z_m"] = sc.lidar.height;
