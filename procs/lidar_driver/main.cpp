@@ -38,7 +38,7 @@ int run_pcap(LidarDriverCore& core, evade::bus::LiveBus& bus, const std::string&
   const auto& stop = evade::bus::stop_on_signals();
   evade::sensing::UdpDatagram d;
   const std::vector<int> ports = core.params().ports();
-  int64_t first_capture = -1, start_wall = 0;
+  int64_t first_capture = -1, start_wall = 0, last_stamp = 0;
   int64_t packets = 0, other_ports = 0, truncated = 0;
   while (!stop.load() && reader.next(&d)) {
     if (first_capture < 0) {
@@ -53,7 +53,11 @@ int run_pcap(LidarDriverCore& core, evade::bus::LiveBus& bus, const std::string&
       bus.spin_once(0);
     }
     ++packets;
-    const int64_t now = evade::bus::wall_utime();
+    // Each datagram is stamped with its capture time, moved to when the
+    // replay started: outputs keep the sensor's own spacing (and so the same
+    // utimes relative to the first packet) at any --rate, 0 included.
+    const int64_t now = std::max(last_stamp, start_wall + (d.utime - first_capture));
+    last_stamp = now;
     // Every UDP payload goes to the decoder, whatever its port: the capture's
     // ports are the sensor's, not necessarily the configured ones, and the
     // decoder tells data from position / DIFOP packets by size and header.
@@ -66,7 +70,7 @@ int run_pcap(LidarDriverCore& core, evade::bus::LiveBus& bus, const std::string&
     core.input(now, [&] { core.on_packet(d.payload.data(), d.payload.size()); });
   }
   if (!reader.error().empty()) std::fprintf(stderr, "%s: %s: %s\n", kName, path.c_str(), reader.error().c_str());
-  core.input(evade::bus::wall_utime(), [&] { core.flush(); });
+  core.input(last_stamp, [&] { core.flush(); });
   bus.spin_once(0);
   std::fprintf(stderr, "%s: %s: %lld datagrams, %lld not on the configured ports, %lld truncated, %lld data packets, %lld revolutions\n",
                kName, path.c_str(), static_cast<long long>(packets), static_cast<long long>(other_ports),

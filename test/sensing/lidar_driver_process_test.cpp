@@ -300,6 +300,26 @@ TEST(LidarDriverProcess, PcapModeFlushesExitsAndReplaysIdentically) {
   for (size_t i = 0; i < live.size(); ++i) EXPECT_EQ(replayed[i], live[i]) << "revolution " << i;
 }
 
+// As fast as possible, the clouds keep the capture's own time spacing: a
+// cloud is stamped with its revolution's first packet, and the sample's
+// second revolution starts 23 packets (1.327 ms apart) after the first,
+// whatever the replay speed; two runs give the same spacing.
+TEST(LidarDriverProcess, PcapAtFullSpeedKeepsTheCaptureTimeSpacing) {
+  if (!exists(sample_path())) GTEST_SKIP() << "no " << sample_path();
+  std::vector<int64_t> spacing;
+  for (int run = 0; run < 2; ++run) {
+    Listener l;
+    pid_t pid = spawn({LIDAR_DRIVER_BIN, "--config", test_config(), "--pcap", sample_path(), "--rate", "0"});
+    ASSERT_EQ(wait_exit(pid, 20.0), 0);
+    l.spin_until([&] { return l.count("LIDAR_POINTS") >= 2; }, 2.0);
+    const auto clouds = l.decoded<evade::pointcloud_t>("LIDAR_POINTS");
+    ASSERT_EQ(clouds.size(), 2u);
+    spacing.push_back(clouds[1].utime - clouds[0].utime);
+  }
+  EXPECT_EQ(spacing[0], spacing[1]);
+  EXPECT_NEAR(static_cast<double>(spacing[0]), 23 * 1327.0, 1327.0 / 2);  // within half a packet
+}
+
 TEST(LidarDriverProcess, BadConfigExitsWithStatusTwo) {
   std::string path = ::testing::TempDir() + "bad_lidar.yaml";
   std::ifstream in(test_config());
