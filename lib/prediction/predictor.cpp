@@ -48,6 +48,7 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
     st.gap_reset = !tracks_.empty();
     st.dropped += static_cast<int>(tracks_.size());
     tracks_.clear();
+    last_seen_utime_.clear();
   }
   last_utime_ = in.utime;
 
@@ -70,6 +71,7 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
     z.b = o.b;
     z.theta = o.theta;
     z.tracker_shape_variation = o.shape_variation;
+    last_seen_utime_[o.id] = in.utime;
     auto it = tracks_.find(o.id);
     if (it == tracks_.end()) {
       it = tracks_.emplace(o.id, TrackFilter(*params_, z)).first;
@@ -86,15 +88,40 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
     out->tracks.emplace_back();
     predict_track(o.id, it->second, &out->tracks.back());
   }
-  // Tracks that vanished from the list are dropped (the tracker never reuses ids).
+  // A track missing from this list coasts: the tracker keeps an unmatched
+  // id alive for a few frames (occlusion, a merge with a neighbour) and
+  // matches it again under the same id, so the filter is time-updated and
+  // still published, its ellipse growing with the covariance, until it has
+  // been unseen for coast_max_s. Dropping it at the first miss would make a
+  // mover that reappears restart at rest, and the planner would take it for
+  // a static obstacle. Ids are never reused by the tracker.
+  const int64_t coast_us = std::llround(params_->coast_max_s * 1e6);
+  coasting_.clear();
   for (auto it = tracks_.begin(); it != tracks_.end();) {
-    if (seen_.count(it->first) == 0) {
-      it = tracks_.erase(it);
-      ++st.dropped;
-    } else {
+    const int64_t id = it->first;
+    if (seen_.count(id) != 0) {
       ++it;
+      continue;
     }
+    if (in.utime - last_seen_utime_[id] <= coast_us) {
+      it->second.predict(dt);
+      if (finite(it->second)) {
+        coasting_.push_back(id);
+        ++it;
+        continue;
+      }
+      ++st.diverged;
+    }
+    last_seen_utime_.erase(id);
+    it = tracks_.erase(it);
+    ++st.dropped;
   }
+  std::sort(coasting_.begin(), coasting_.end());  // a fixed order, whatever the hash map's
+  for (int64_t id : coasting_) {
+    out->tracks.emplace_back();
+    predict_track(id, tracks_.at(id), &out->tracks.back());
+  }
+  st.coasting = static_cast<int>(coasting_.size());
   out->num_tracks = static_cast<int32_t>(out->tracks.size());
   if (stats) *stats = st;
   return true;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
+#include <vector>
 
 #include "evade/obstacle_list_t.hpp"
 #include "evade/prediction_list_t.hpp"
@@ -16,7 +17,8 @@ namespace evade::prediction {
 
 struct FrameStats {
   int created = 0;       // new track ids
-  int dropped = 0;       // ids no longer in the list
+  int dropped = 0;       // ids unseen for longer than coast_max_s (or whose coasting filter diverged)
+  int coasting = 0;      // ids missing from this list, predicted from their filter alone
   int updated = 0;       // existing tracks updated
   int malformed = 0;     // obstacles skipped (non-finite, out of range, bad axes, duplicate id)
   int diverged = 0;      // tracks whose filter went non-finite: restarted from the measurement
@@ -46,6 +48,8 @@ class Predictor {
   double z_shape_ = 0;             // two-sided normal quantile at the confidence level
   std::unordered_map<int64_t, TrackFilter> tracks_;
   std::unordered_map<int64_t, int64_t> seen_;  // scratch: ids of the current frame
+  std::unordered_map<int64_t, int64_t> last_seen_utime_;  // per track: utime of its last measurement
+  std::vector<int64_t> coasting_;                        // scratch: ids coasting in the current frame
   int64_t last_utime_ = -1;
 };
 

@@ -16,6 +16,7 @@ void PredictorCore::on_obstacles(const evade::obstacle_list_t& msg) {
   count("frames");
   if (st.created) count("tracks_created", st.created);
   if (st.dropped) count("tracks_dropped", st.dropped);
+  if (st.coasting) count("track_frames_coasted", st.coasting);
   if (st.malformed) count("malformed_obstacles", st.malformed);
   if (st.gap_reset) count("frame_gap_resets");
   if (st.diverged) count("diverged_tracks");
