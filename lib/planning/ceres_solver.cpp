@@ -609,30 +609,60 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   return res;
 }
 
-SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vector<double>& start_u) const {
-  // From inside d_safe (h(X_0) < 0) the constraint h(X_{k+1}) >= (1 - gamma) h(X_k)
-  // asks h to grow by gamma |h| at once, which a robot at rest or facing the
-  // obstacle cannot do. Shifting that obstacle's barrier by its start value,
-  // h' = h - h(X_0), gives h'(X_0) = 0: the same D-CBF condition on h' then
-  // says h may never fall below where it starts, and the plan's cost takes
-  // it out and around. In g_j this is the constant relaxation
-  // -(1 - decay) h(X_0) (decay = 1 - gamma, or 0 for the distance form).
-  Problem pb = pb_in;
-  const int m = pb.num_constraints();
-  pb.relax.assign(m, 0.0);
+std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& opts) {
+  std::vector<double> relax(pb.num_constraints(), 0.0);
+  const double horizon_s = pb.N * pb.dt;
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
+    if (o.x.empty() || o.y.empty()) continue;
+    const int j0 = pb.num_rate_constraints() + static_cast<int>(i) * pb.N;
     const double h0 = barrier_at(o, 0, pb.x0, pb.y0, pb.d_safe).h;
-    if (h0 >= 0) continue;
-    for (int k = 0; k < pb.N; ++k)
-      pb.relax[pb.num_rate_constraints() + static_cast<int>(i) * pb.N + k] = -(1.0 - o.decay) * h0;
+    // Start inside d_safe: h' = h - h(X_0) meets the D-CBF from where it is.
+    const double inside = h0 < 0 ? -(1.0 - o.decay) * h0 : 0.0;
+    const double speed = std::hypot(o.x.back() - o.x.front(), o.y.back() - o.y.front()) / horizon_s;
+    const bool settled = speed <= opts.relax_max_obstacle_speed && o.age_s >= opts.relax_min_obstacle_age;
+    double w_prev = 0.0;  // w_k: how far the swelling alone has lowered h at X_0 by step k
+    for (int k = 0; k < pb.N; ++k) {
+      double swell = 0.0;
+      if (settled) {
+        // Nearly static: the ellipse at step k+1 around the current centre.
+        ObstacleTrack held;
+        held.x = {o.x[0]};
+        held.y = {o.y[0]};
+        held.a = {o.a[static_cast<size_t>(k + 1)]};
+        held.b = {o.b[static_cast<size_t>(k + 1)]};
+        held.theta = {o.theta[static_cast<size_t>(k + 1)]};
+        const double w = h0 - barrier_at(held, 0, pb.x0, pb.y0, pb.d_safe).h;
+        swell = w - o.decay * w_prev;  // the D-CBF on h + w_k
+        w_prev = w;
+      }
+      const double r = inside + std::max(0.0, swell);
+      if (std::isfinite(r) && r > 0) relax[static_cast<size_t>(j0 + k)] = r;
+    }
   }
-  // Starts: the given one (braking, feasible for static obstacles) and a
-  // turn on the spot to either side followed by driving off; braking alone
-  // would leave the robot standing inside d_safe (feasible, as h stays put,
-  // but never out). The cheapest feasible plan wins, else the least
-  // violating one.
-  std::vector<std::vector<double>> starts = {start_u};
+  return relax;
+}
+
+SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vector<double>& start_u) const {
+  // Some obstacles ask more than any plan can give: from inside d_safe
+  // (h(X_0) < 0) the constraint h(X_{k+1}) >= (1 - gamma) h(X_k) asks h to
+  // grow by gamma |h| at once, which a robot at rest or facing the obstacle
+  // cannot do; and the predicted ellipse of a static obstacle swells with
+  // its uncertainty, which can make h fall faster than a robot that must
+  // turn first can get away (a robot that only stops would then stay where
+  // it is, since standing misses the hard constraints every cycle). The
+  // relaxed problem (barrier_relaxation) applies the D-CBF to the obstacle
+  // as it is now: its swelling excused, and h measured from where it
+  // starts when that is inside d_safe. The cost then takes the robot out
+  // and around.
+  Problem pb = pb_in;
+  pb.relax = barrier_relaxation(pb_in, opts_);
+  // Starts: the given one, braking (zero controls projected onto the rate
+  // limits), and a turn on the spot to either side followed by driving off;
+  // braking alone would leave the robot standing (feasible, as h stays
+  // where standing keeps it, but never out). The cheapest feasible plan
+  // wins, else the least violating one.
+  std::vector<std::vector<double>> starts = {start_u, std::vector<double>(pb.num_controls(), 0.0)};
   for (double side : {1.0, -1.0}) {
     std::vector<double> guess(pb.num_controls());
     for (int k = 0; k < pb.N; ++k) {
@@ -642,12 +672,18 @@ SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vecto
     }
     starts.push_back(guess);
   }
+  // The starts share one solve's iteration budget: this runs after the hard
+  // solve has already failed, and a planning cycle that overruns its period
+  // reacts late to everything else.
+  SolverOptions shared = opts_;
+  shared.max_total_iterations = std::max(1, opts_.max_total_iterations / static_cast<int>(starts.size()));
+  const CeresMpcSolver budgeted(shared);
   SolveResult out;
   bool have = false;
   int iterations = 0;
   for (auto& u : starts) {
     project_controls(pb, &u);
-    SolveResult r = solve(pb, u);
+    SolveResult r = budgeted.solve(pb, u);
     iterations += r.iterations;
     const bool better = !have || (r.feasible && (!out.feasible || r.cost < out.cost)) ||
                         (!r.feasible && !out.feasible && r.max_violation < out.max_violation);

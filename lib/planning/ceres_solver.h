@@ -50,6 +50,11 @@ struct SolverOptions {
   bool dense_qr = false;                 // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
   bool estimate_multipliers = true;      // without warm multipliers: estimate them at the warm start
   double estimate_margin = 1e-3;         // m: constraints with g below this enter the estimate
+  double relax_max_obstacle_speed = 0.2; // m/s: solve_elastic excuses the swelling of obstacles predicted
+                                         // slower than this (mean over the horizon) ...
+  double relax_min_obstacle_age = 1.0;   // s: ... and tracked for this long (a new track reads as
+                                         // static while its velocity is unknown); others only a start
+                                         // inside d_safe
 };
 
 struct SolveResult {
@@ -78,11 +83,15 @@ class CeresMpcSolver {
   SolveResult solve(const Problem& pb, const std::vector<double>& warm_u,
                     const std::vector<double>* warm_multipliers = nullptr, double warm_penalty = 0.0) const;
 
-  // For a start inside d_safe of some obstacle (h(X_0) < 0), where the
-  // hard problem asks h to grow faster than the robot can: the barrier of
-  // each such obstacle is shifted by its start value so that the plan never
-  // gets closer than it starts (see the .cpp). `feasible` then refers to
-  // the shifted problem; max_violation and min_barrier to the original one.
+  // When the hard problem has no solution because some constraint cannot
+  // be met even by standing still (a start inside d_safe, a static
+  // obstacle whose predicted ellipse swells faster than the robot can get
+  // away): the D-CBF is applied to each such obstacle as it is now
+  // (barrier_relaxation). `feasible` then refers to the relaxed problem;
+  // max_violation and min_barrier to the original one.
+  // Starts: `start_u` (the planner's previous plan shifted, so that an
+  // escape under way goes on), braking at the limit, and a turn on the spot
+  // to either side followed by driving off.
   SolveResult solve_elastic(const Problem& pb, const std::vector<double>& start_u) const;
 
  private:
@@ -94,6 +103,20 @@ class CeresMpcSolver {
 // (analytic); exposed for tests against finite differences.
 bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vector<double>& lambda, double rho,
                               std::vector<double>* residuals, std::vector<double>* jacobian);
+
+// The relaxation of solve_elastic, per constraint (num_constraints; rate
+// limits 0), for obstacle i at step k:
+//   - a start inside d_safe: -(1 - decay) h(X_0, O_0) when that is
+//     negative, i.e. the D-CBF on h - h(X_0): h may not fall below its start;
+//   - an obstacle predicted slower than relax_max_obstacle_speed (m/s, mean
+//     over the horizon) and tracked for relax_min_obstacle_age: its swelling
+//     excused, the D-CBF on h + w_k, where
+//     w_k = h(X_0, O_0) - h(X_0, O'_k) is how far the ellipse of step k
+//     around the current centre (O'_k) has lowered h at the start:
+//     max(0, w_(k+1) - decay w_k). A mover's motion and swelling must still
+//     be got out of the way of.
+// All zero when neither applies; standing still meets the relaxed problem.
+std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& opts);
 
 // Clamps controls into the bounds and rate limits (from the measured
 // controls forward), in place.

@@ -16,7 +16,6 @@ bool finite_odometry(const evade::odometry_t& o) {
          std::isfinite(o.omega);
 }
 
-// Controls shifted by `steps`, the tail padded with the last control.
 // The largest amount by which a control sequence misses a barrier
 // constraint h(X_k+1) >= decay h(X_k) over the horizon (0 when it meets all).
 double barrier_shortfall(const Problem& pb, const std::vector<double>& u) {
@@ -32,6 +31,7 @@ double barrier_shortfall(const Problem& pb, const std::vector<double>& u) {
   return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
 }
 
+// Controls shifted by `steps`, the tail padded with the last control.
 std::vector<double> shifted(const std::vector<double>& u, int steps) {
   const int n = static_cast<int>(u.size()) / 2;
   std::vector<double> out(u.size());
@@ -63,6 +63,14 @@ PlannerCore::PlannerCore(PlannerParams params)
     predictions_ = m;
     predictions_rx_ = now();
     history_.add(m);
+    // first sighting per track id, for ObstacleTrack::age_s (ids that are
+    // gone are forgotten: the table stays as small as the track list)
+    std::map<int64_t, int64_t> seen;
+    for (const auto& t : m.tracks) {
+      auto it = first_seen_.find(t.id);
+      seen[t.id] = it == first_seen_.end() ? m.utime : it->second;
+    }
+    first_seen_.swap(seen);
   });
   every(period_us_, [this] { watchdog(); });
 }
@@ -162,6 +170,10 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     int invalid = 0;
     pb.obstacles = constraint_obstacles(p_, *predictions_, history_, odom.utime, odom.x, odom.y, &invalid);
     if (invalid) count("tracks_invalid", invalid);
+    for (auto& o : pb.obstacles) {
+      auto it = first_seen_.find(o.id);
+      o.age_s = it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(odom.utime - it->second);
+    }
   }
 
   // warm start: the previous solution shifted by the elapsed steps, and its
@@ -222,17 +234,20 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   std::vector<double> u = res.u;
   if (!(res.finite && res.feasible)) {
     count("solver_infeasible");
-    double h0_min = kNoObstacleBarrier;
-    for (const auto& o : pb.obstacles) h0_min = std::min(h0_min, barrier_at(o, 0, pb.x0, pb.y0, pb.d_safe).h);
+    // A start inside d_safe, or a static obstacle whose ellipse swells with
+    // its uncertainty, can leave the hard problem without any solution
+    // (standing misses it too); then the relaxed one (see solve_elastic).
+    const std::vector<double> relax = barrier_relaxation(pb, p_.solver);
+    const bool can_relax = std::any_of(relax.begin(), relax.end(), [](double s) { return s > 0; });
     SolveResult rec;
-    if (h0_min < 0) {
-      rec = solver_.solve_elastic(pb, braking_controls(v0, w0));
+    if (can_relax) {
+      rec = solver_.solve_elastic(pb, warm_u);
       iterations += rec.iterations;
     }
     const int fsteps = feasible_u_.empty() ? -1
                                            : static_cast<int>(std::llround((odom.utime - feasible_utime_) * 1e-6 /
                                                                            p_.dt_s));
-    if (h0_min < 0 && rec.finite && rec.feasible) {
+    if (can_relax && rec.finite && rec.feasible) {
       status = evade::plan_t::STATUS_RECOVERING;
       u = rec.u;
       res = rec;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <map>
 #include <vector>
 
 #include "bus/core.h"
@@ -38,6 +39,7 @@ class PlannerCore : public bus::Core {
   CeresMpcSolver solver_;
   RouteFollower route_;
   CurveFitHistory history_;
+  std::map<int64_t, int64_t> first_seen_;  // track id -> utime of its first prediction
   std::optional<evade::prediction_list_t> predictions_;
   int64_t predictions_rx_ = -1;        // bus time the predictions arrived
   int64_t odometry_rx_ = -1;           // bus time of the last odometry

@@ -41,6 +41,7 @@ struct ObstacleTrack {
   int64_t id = 0;
   std::vector<double> x, y, a, b, theta;  // N + 1 each
   double decay = 0.0;                     // 1 - gamma (CBF) or 0 (distance)
+  double age_s = 0.0;                     // since the planner first saw the track (solve_elastic)
 };
 
 struct Problem {

@@ -3,6 +3,7 @@
 // d_safe escaped, never NaN.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "planning/ceres_solver.h"
@@ -146,6 +147,77 @@ TEST(CeresSolver, StartInsideSafeDistanceElasticPlanIncreasesH) {
   for (int k = 1; k <= pb.N; ++k) EXPECT_GE(h[k], h[k - 1] - 1e-3) << k;  // h never shrinks
   EXPECT_GT(h[5], h0);                                                     // it grows early
   EXPECT_GT(h.back(), 0.0);                                                // out of d_safe by the end
+}
+
+TEST(CeresSolver, RelaxationOfAStartInsideDSafeKeepsHFromFalling) {
+  Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
+  pb.obstacles.push_back(moving_obstacle(1, -0.5, 0.0, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt));  // h0 = -0.1
+  pb.obstacles.push_back(moving_obstacle(2, 3.0, 2.0, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt));   // far, static
+  const double h0 = barrier_at(pb.obstacles[0], 0, 0, 0, pb.d_safe).h;
+  ASSERT_LT(h0, 0.0);
+  const std::vector<double> relax = barrier_relaxation(pb, opts());
+  ASSERT_EQ(static_cast<int>(relax.size()), pb.num_constraints());
+  const int R = pb.num_rate_constraints();
+  for (int j = 0; j < R; ++j) EXPECT_EQ(relax[j], 0.0);
+  for (int k = 0; k < pb.N; ++k) {
+    EXPECT_NEAR(relax[R + k], -(1.0 - 0.9) * h0, 1e-12) << k;  // h may not fall below its start
+    EXPECT_EQ(relax[R + pb.N + k], 0.0) << k;                   // standing meets it
+  }
+}
+
+// A mover coming at the robot with a swelling ellipse: standing misses its
+// barrier, but neither its motion nor its swelling is excused; only a start
+// inside d_safe would be.
+TEST(CeresSolver, RelaxationExcusesNothingOfAMoverOutsideDSafe) {
+  Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
+  ObstacleTrack o = moving_obstacle(1, 1.0, 0.0, -1.0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
+  for (int k = 0; k <= pb.N; ++k) o.a[k] = o.b[k] = 0.3 + 0.6 * k / pb.N;
+  pb.obstacles.push_back(o);
+  ASSERT_GT(barrier_at(o, 0, 0, 0, pb.d_safe).h, 0.0);
+  pb.obstacles[0].age_s = 10.0;
+  const std::vector<double> relax = barrier_relaxation(pb, opts());
+  for (double s : relax) EXPECT_EQ(s, 0.0);
+  // counted as static (threshold above its 1 m/s): its swelling, which
+  // takes h from 0.4 to -0.2 at the robot's place, is excused...
+  SolverOptions slow = opts();
+  slow.relax_max_obstacle_speed = 2.0;
+  const std::vector<double> held = barrier_relaxation(pb, slow);
+  EXPECT_GT(*std::max_element(held.begin(), held.end()), 0.0);
+  // ...but not while the track is new: its velocity is not known yet
+  pb.obstacles[0].age_s = 0.5;
+  for (double s : barrier_relaxation(pb, slow)) EXPECT_EQ(s, 0.0);
+}
+
+// A static obstacle beside the path whose predicted ellipse swells with
+// its uncertainty (0.3 m to 0.8 m over the horizon): even a robot standing
+// where it is misses the D-CBF, so the hard problem has no solution. The
+// relaxed one has: the D-CBF holds on h + w_k, the barrier with the
+// swelling (seen from the start) added back, and the robot moves on.
+TEST(CeresSolver, SwellingObstacleElasticPlanMeetsTheDcbfOnTheObstacleAsItIs) {
+  Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
+  ObstacleTrack o = moving_obstacle(1, 0.8, 0.5, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
+  for (int k = 0; k <= pb.N; ++k) o.a[k] = o.b[k] = 0.3 + 0.5 * k / pb.N;
+  o.age_s = 10.0;  // long tracked
+  pb.obstacles.push_back(o);
+  std::vector<double> w;  // swelling seen from the start
+  for (int k = 0; k <= pb.N; ++k)
+    w.push_back(barrier_at(o, 0, 0, 0, pb.d_safe).h - barrier_at(o, k, 0, 0, pb.d_safe).h);
+  ASSERT_GT(barrier_at(o, 0, 0, 0, pb.d_safe).h, 0.0);
+  ASSERT_LT(barrier_at(o, pb.N, 0, 0, pb.d_safe).h, 0.0);  // standing ends inside d_safe
+  const std::vector<double> relax = barrier_relaxation(pb, opts());
+  EXPECT_GT(*std::max_element(relax.begin(), relax.end()), 0.0);
+
+  CeresMpcSolver solver(opts());
+  SolveResult hard = solver.solve(pb, std::vector<double>(2 * pb.N, 0.0));
+  EXPECT_FALSE(hard.feasible);
+  SolveResult r = solver.solve_elastic(pb, std::vector<double>(2 * pb.N, 0.0));
+  ASSERT_TRUE(r.finite);
+  EXPECT_TRUE(r.feasible);  // for the relaxed barrier
+  std::vector<double> h;
+  for (int k = 0; k <= pb.N; ++k)
+    h.push_back(barrier_at(o, k, r.states[3 * k], r.states[3 * k + 1], pb.d_safe).h + w[k]);
+  for (int k = 0; k < pb.N; ++k) EXPECT_GE(h[k + 1], 0.9 * h[k] - 1e-3) << k;
+  EXPECT_GT(r.states[3 * pb.N], 0.5);  // on its way, not standing
 }
 
 TEST(CeresSolver, NeverNaNOnDegenerateInput) {
