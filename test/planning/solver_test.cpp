@@ -19,6 +19,13 @@ using testing::straight_problem;
 
 SolverOptions opts() { return SolverOptions{}; }
 
+// h(X_k, O_k), k = 0..N, along a solved plan.
+std::vector<double> barriers_along(const Problem& pb, const ObstacleTrack& o, const SolveResult& r) {
+  std::vector<double> h;
+  for (int k = 0; k <= pb.N; ++k) h.push_back(barrier_at(o, k, r.states[3 * k], r.states[3 * k + 1], pb.d_safe).h);
+  return h;
+}
+
 TEST(Barrier, LineEllipseDistanceMatchesThePaperFormula) {
   // l = sqrt(a^2 b^2 (1 + tan^2 d) / (b^2 + a^2 tan^2 d)), delta from the major axis
   const double a = 0.8, b = 0.3, theta = 0.4, cx = 1.0, cy = -2.0, r = 3.0;
@@ -141,9 +148,7 @@ TEST(CeresSolver, StartInsideSafeDistanceElasticPlanIncreasesH) {
   SolveResult r = solver.solve_elastic(pb, std::vector<double>(2 * pb.N, 0.0));
   ASSERT_TRUE(r.finite);
   EXPECT_TRUE(r.feasible);  // for the shifted barrier
-  std::vector<double> h;
-  for (int k = 0; k <= pb.N; ++k)
-    h.push_back(barrier_at(pb.obstacles[0], k, r.states[3 * k], r.states[3 * k + 1], pb.d_safe).h);
+  const std::vector<double> h = barriers_along(pb, pb.obstacles[0], r);
   for (int k = 1; k <= pb.N; ++k) EXPECT_GE(h[k], h[k - 1] - 1e-3) << k;  // h never shrinks
   EXPECT_GT(h[5], h0);                                                     // it grows early
   EXPECT_GT(h.back(), 0.0);                                                // out of d_safe by the end
@@ -213,9 +218,8 @@ TEST(CeresSolver, SwellingObstacleElasticPlanMeetsTheDcbfOnTheObstacleAsItIs) {
   SolveResult r = solver.solve_elastic(pb, std::vector<double>(2 * pb.N, 0.0));
   ASSERT_TRUE(r.finite);
   EXPECT_TRUE(r.feasible);  // for the relaxed barrier
-  std::vector<double> h;
-  for (int k = 0; k <= pb.N; ++k)
-    h.push_back(barrier_at(o, k, r.states[3 * k], r.states[3 * k + 1], pb.d_safe).h + w[k]);
+  std::vector<double> h = barriers_along(pb, o, r);
+  for (int k = 0; k <= pb.N; ++k) h[k] += w[k];
   for (int k = 0; k < pb.N; ++k) EXPECT_GE(h[k + 1], 0.9 * h[k] - 1e-3) << k;
   EXPECT_GT(r.states[3 * pb.N], 0.5);  // on its way, not standing
 }

@@ -101,25 +101,19 @@ TEST(Processes, ReplayThroughElevationMapAndTracker) {
 
 TEST(Processes, BadConfigurationExitsWithStatus2) {
   const std::string cfg = tmp("bad.yaml");
-  std::string text = slurp(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
-  const auto at = text.find("  sobel_max:");
-  ASSERT_NE(at, std::string::npos);
-  text.replace(at, 12, "  sobel_maxx:");
-  std::ofstream(cfg) << text;
-  EXPECT_EQ(run(std::string(ELEVATION_MAP_BIN) + " --config " + cfg + " --replay /nonexistent --replay-out /dev/null"), 2);
-  std::string t2 = slurp(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
-  const auto at2 = t2.find("  large_cluster: split");
-  ASSERT_NE(at2, std::string::npos);
-  t2.replace(at2, 21, "  large_cluster: melt");
-  std::ofstream(cfg) << t2;
-  EXPECT_EQ(run(std::string(TRACKER_BIN) + " --config " + cfg + " --replay /nonexistent --replay-out /dev/null"), 2);
-  // a misspelt section that neither program reads
-  std::string t3 = slurp(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
-  const auto at3 = t3.find("\nroute:");
-  ASSERT_NE(at3, std::string::npos);
-  t3.replace(at3, 7, "\nroutes:");
-  std::ofstream(cfg) << t3;
-  EXPECT_EQ(run(std::string(TRACKER_BIN) + " --config " + cfg + " --replay /nonexistent --replay-out /dev/null"), 2);
+  // The repository's configuration with one edit, run through `bin`.
+  auto status_with = [&](const std::string& bin, const std::string& from, const std::string& to) {
+    std::string text = slurp(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at == std::string::npos) return -1;
+    text.replace(at, from.size(), to);
+    std::ofstream(cfg) << text;
+    return run(bin + " --config " + cfg + " --replay /nonexistent --replay-out /dev/null");
+  };
+  EXPECT_EQ(status_with(ELEVATION_MAP_BIN, "  sobel_max:", "  sobel_maxx:"), 2);
+  EXPECT_EQ(status_with(TRACKER_BIN, "  large_cluster: split", "  large_cluster: melt"), 2);
+  EXPECT_EQ(status_with(TRACKER_BIN, "\nroute:", "\nroutes:"), 2);  // a misspelt section neither reads
   std::remove(cfg.c_str());
 }
 
