@@ -643,7 +643,8 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
   return relax;
 }
 
-SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vector<double>& start_u) const {
+SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vector<double>& start_u,
+                                          const std::vector<double>* relax) const {
   // Some obstacles ask more than any plan can give: from inside d_safe
   // (h(X_0) < 0) the constraint h(X_{k+1}) >= (1 - gamma) h(X_k) asks h to
   // grow by gamma |h| at once, which a robot at rest or facing the obstacle
@@ -656,7 +657,7 @@ SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vecto
   // starts when that is inside d_safe. The cost then takes the robot out
   // and around.
   Problem pb = pb_in;
-  pb.relax = barrier_relaxation(pb_in, opts_);
+  pb.relax = relax ? *relax : barrier_relaxation(pb_in, opts_);
   // Starts: the given one, braking (zero controls projected onto the rate
   // limits), and a turn on the spot to either side followed by driving off;
   // braking alone would leave the robot standing (feasible, as h stays

@@ -92,7 +92,9 @@ class CeresMpcSolver {
   // Starts: `start_u` (the planner's previous plan shifted, so that an
   // escape under way goes on), braking at the limit, and a turn on the spot
   // to either side followed by driving off.
-  SolveResult solve_elastic(const Problem& pb, const std::vector<double>& start_u) const;
+  // `relax`: barrier_relaxation(pb, options()) when the caller has it already.
+  SolveResult solve_elastic(const Problem& pb, const std::vector<double>& start_u,
+                            const std::vector<double>* relax = nullptr) const;
 
  private:
   SolverOptions opts_;

@@ -241,7 +241,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     const bool can_relax = std::any_of(relax.begin(), relax.end(), [](double s) { return s > 0; });
     SolveResult rec;
     if (can_relax) {
-      rec = solver_.solve_elastic(pb, warm_u);
+      rec = solver_.solve_elastic(pb, warm_u, &relax);
       iterations += rec.iterations;
     }
     const int fsteps = feasible_u_.empty() ? -1
