@@ -3,6 +3,7 @@
 // DBSCAN against the textbook O(n^2) DBSCAN, Kuhn-Munkres against all
 // permutations, and tracks through crossings, dropouts and long clutter runs.
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 #include <algorithm>
 #include <cmath>
@@ -475,7 +476,9 @@ TEST(Tracker, LongClutterRunKeepsMemoryBounded) {
   std::mt19937 rng(99);
   std::uniform_real_distribution<double> pos(-4.5, 4.5);
   size_t max_tracks_seen = 0, max_second_half = 0;
+  size_t heap_at_2000 = 0;  // bytes the allocator has handed out (mallinfo2): memory, not just the table
   for (int f = 0; f < 10'000; ++f) {
+    if (f == 2000) heap_at_2000 = mallinfo2().uordblks;
     Scene s;
     const int n = int(rng() % 12);
     for (int k = 0; k < n; ++k) s.disc(pos(rng), pos(rng), 0.15 + 0.2 * (rng() % 3));
@@ -489,6 +492,10 @@ TEST(Tracker, LongClutterRunKeepsMemoryBounded) {
   EXPECT_LE(max_tracks_seen, size_t(p.max_tracks));
   EXPECT_LE(max_second_half, max_tracks_seen);
   EXPECT_GT(t.next_id(), 10'000);  // ids kept growing, none reused, no overflow at 100 labels
+  const long long growth = static_cast<long long>(mallinfo2().uordblks) - static_cast<long long>(heap_at_2000);
+  std::printf("[figures] tracker heap, frame 2000 -> 10000: %zu -> %zu bytes (%+lld)\n", heap_at_2000,
+              mallinfo2().uordblks, growth);
+  EXPECT_LT(growth, 64 * 1024);  // flat: 8000 more frames add no more than scratch-buffer slack
 }
 
 TEST(Tracker, TrackTableNeverExceedsItsLimit) {
