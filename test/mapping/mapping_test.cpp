@@ -2,6 +2,7 @@
 // layer on analytic terrains (flat, ramps, steps, data edges), hole filling,
 // and whole ray-cast VLP-16 revolutions through the builder and the core.
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 #include <cmath>
 #include <limits>
@@ -275,6 +276,43 @@ TEST(Builder, FlatGroundFromAVlp16RevolutionIsFree) {
   // robot-centred: the robot's cell is the middle one
   EXPECT_EQ(int(std::floor((3.0 - b.L.origin_x) / 0.1)), 50);
   EXPECT_EQ(int(std::floor((-2.0 - b.L.origin_y) / 0.1)), 50);
+}
+
+// One builder and one pose buffer over 600 revolutions of a robot driving
+// a circle: the heap the allocator has handed out (mallinfo2) stays flat.
+TEST(Builder, LongRunKeepsMemoryFlat) {
+  SynthWorld world;
+  world.cylinders.push_back({2.0, 1.0, 0.3, 1.0});
+  SynthScanOptions opt;
+  opt.v = 0.8;
+  opt.omega = 0.2;
+  const SynthCloud cloud = synth_vlp16(world, opt);  // the same sweep every time: the poses move
+  ElevationMapBuilder builder(defaults());
+  PoseBuffer poses(2'000'000);
+  ElevationLayers L;
+  Pose2 robot;
+  CloudStats st;
+  CloudView v;
+  v.n = cloud.x.size();
+  v.x = cloud.x.data();
+  v.y = cloud.y.data();
+  v.z = cloud.z.data();
+  v.time_offset = cloud.time_offset.data();
+  v.mount_z = opt.mount_height_m;
+  size_t heap_at_100 = 0;
+  int64_t t = 0;
+  for (int rev = 0; rev < 600; ++rev) {
+    if (rev == 100) heap_at_100 = mallinfo2().uordblks;
+    for (int i = 0; i < 5; ++i, t += 20'000) {
+      const Pose2 p = integrate_unicycle(Pose2{0, 0, 0}, opt.v, opt.omega, t * 1e-6);
+      poses.add(odo(t, p.x, p.y, p.yaw, opt.v, opt.omega));
+    }
+    v.utime = t - 150'000;
+    ASSERT_TRUE(builder.build(v, poses, &L, &robot, &st)) << rev;
+  }
+  const long long growth = static_cast<long long>(mallinfo2().uordblks) - static_cast<long long>(heap_at_100);
+  std::printf("[figures] elevation map heap, revolution 100 -> 600: %+lld bytes\n", growth);
+  EXPECT_LT(growth, 64 * 1024);
 }
 
 TEST(Builder, RampBelowTheLimitIsFree) {
