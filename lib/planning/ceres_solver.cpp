@@ -347,6 +347,9 @@ void finish(const Problem& pb, const SolverOptions& o, SolveResult* r) {
 
 // Indices of the controls sitting on a bound with the inner objective's
 // gradient pointing out of the box.
+// Bisections of the segment from the best feasible iterate to the last one.
+constexpr int kSegmentBisections = 12;
+
 std::vector<int> held_at_bounds(const Problem& pb, const ceres::CostFunction& cost, const std::vector<double>& u) {
   const int n = pb.num_controls(), nr = cost.num_residuals();
   std::vector<double> r(nr), jac(static_cast<size_t>(nr) * n), grad(n, 0.0);
@@ -594,7 +597,24 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   res.penalty = rho;
   finish(pb, opts_, &res);
   if (!res.feasible && !best_feasible.empty()) {
+    // The loop can end just outside the tolerance (a few mm on a D-CBF
+    // chain, the penalty at its cap) with a plan far cheaper than the best
+    // feasible iterate, which may be the start itself (standing beside an
+    // obstacle). The farthest feasible point on the segment between the two
+    // (bisection) keeps part of that progress.
+    const std::vector<double> last = res.u;
+    std::vector<double> trial(n);
+    auto at = [&](double a) {
+      for (int i = 0; i < n; ++i) trial[i] = best_feasible[i] + a * (last[i] - best_feasible[i]);
+      return max_violation(pb, trial.data()) <= opts_.constraint_tolerance;
+    };
+    double lo = 0.0, hi = 1.0;
+    for (int b = 0; b < kSegmentBisections; ++b) {
+      const double mid = 0.5 * (lo + hi);
+      (at(mid) ? lo : hi) = mid;
+    }
     res.u = best_feasible;
+    if (lo > 0.0 && at(lo) && objective(pb, trial.data()) < objective(pb, best_feasible.data())) res.u = trial;
     finish(pb, opts_, &res);
   }
   if (!res.feasible && res.finite) {

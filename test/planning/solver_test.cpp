@@ -224,6 +224,29 @@ TEST(CeresSolver, SwellingObstacleElasticPlanMeetsTheDcbfOnTheObstacleAsItIs) {
   EXPECT_GT(r.states[3 * pb.N], 0.5);  // on its way, not standing
 }
 
+// From rest 0.13 m outside d_safe of a static obstacle ahead-left, the AL
+// loop ends a few mm outside the tolerance (the penalty at its cap) with a
+// plan that swerves and drives on; the solve used to return its start
+// (standing) as the only feasible iterate, and the robot stood there for
+// good. The farthest feasible point towards the last iterate moves (here
+// 0.10 m over the horizon, cost 367 against 394 standing), and the next
+// cycle starts from it.
+TEST(CeresSolver, ColdStartBesideAnObstacleDoesNotReturnTheStart) {
+  Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
+  pb.d_safe = 0.35;
+  pb.obstacles.push_back(moving_obstacle(1, 0.8, 0.38, 0, 0, 0.41, 0.41, 0, 0.9, pb.N, pb.dt));
+  ASSERT_NEAR(barrier_at(pb.obstacles[0], 0, 0, 0, pb.d_safe).h, 0.126, 0.001);
+  const std::vector<double> rest(2 * pb.N, 0.0);
+  const double standing = objective(pb, rest.data());
+  const SolveResult r = CeresMpcSolver(opts()).solve(pb, rest);
+  std::printf("[figures] cold start beside an obstacle: cost %.1f (standing %.1f), x_N %.2f m\n", r.cost, standing,
+              r.states[3 * pb.N]);
+  ASSERT_TRUE(r.feasible);
+  EXPECT_LT(r.cost, 0.95 * standing);
+  EXPECT_GT(r.states[3 * pb.N], 0.05);  // moving on, not standing
+  EXPECT_LE(r.max_violation, 1e-3);
+}
+
 TEST(CeresSolver, NeverNaNOnDegenerateInput) {
   Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
   // obstacle centred exactly on the robot, zero-size ellipse axes are not allowed; tiny ones are
