@@ -44,14 +44,7 @@ void BM_BuildElevationMap(benchmark::State& state) {
     const Pose2 p = integrate_unicycle({}, 1.0, 0.3, (t - 100'000) * 1e-6);
     poses.add({t, p, 1.0, 0.3});
   }
-  CloudView v;
-  v.utime = 100'000;
-  v.n = c.x.size();
-  v.x = c.x.data();
-  v.y = c.y.data();
-  v.z = c.z.data();
-  v.time_offset = c.time_offset.data();
-  v.mount_z = 0.5;
+  const CloudView v = view_of(c, 100'000, 0.5);
   ElevationMapBuilder b{ElevationMapParams{}};
   ElevationLayers L;
   Pose2 robot;

@@ -29,13 +29,7 @@ Layer layer_from_scan() {
   const SynthCloud c = synth_vlp16(w, o);
   PoseBuffer poses(2'000'000);
   poses.add({0, {}, 0, 0});
-  CloudView v;
-  v.n = c.x.size();
-  v.x = c.x.data();
-  v.y = c.y.data();
-  v.z = c.z.data();
-  v.time_offset = c.time_offset.data();
-  v.mount_z = 0.5;
+  const CloudView v = view_of(c, 0, 0.5);
   Layer out;
   Pose2 robot;
   CloudStats st;

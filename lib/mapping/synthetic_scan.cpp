@@ -115,4 +115,16 @@ SynthCloud synth_vlp16(const SynthWorld& world, const SynthScanOptions& opt) {
   return out;
 }
 
+CloudView view_of(const SynthCloud& cloud, int64_t utime, double mount_z_m) {
+  CloudView v;
+  v.utime = utime;
+  v.n = cloud.x.size();
+  v.x = cloud.x.data();
+  v.y = cloud.y.data();
+  v.z = cloud.z.data();
+  v.time_offset = cloud.time_offset.data();
+  v.mount_z = mount_z_m;
+  return v;
+}
+
 }  // namespace evade::mapping

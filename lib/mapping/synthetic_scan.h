@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "mapping/elevation_map.h"
 #include "mapping/pose_buffer.h"
 
 namespace evade::mapping {
@@ -40,5 +41,9 @@ struct SynthCloud {
 };
 
 SynthCloud synth_vlp16(const SynthWorld& world, const SynthScanOptions& opt);
+
+// The builder's view of a synthetic cloud (points and per-point times; it
+// must outlive the view), sensor mount_z_m above the base.
+CloudView view_of(const SynthCloud& cloud, int64_t utime, double mount_z_m);
 
 }  // namespace evade::mapping

@@ -243,14 +243,8 @@ Built build_scan(const SynthWorld& world, const SynthScanOptions& opt, bool moti
     const Pose2 p = integrate_unicycle(opt.robot_start, opt.v, opt.omega, (t - t0) * 1e-6);
     poses.add(odo(t, p.x, p.y, p.yaw, opt.v, opt.omega));
   }
-  CloudView v;
-  v.utime = t0;
-  v.n = cloud.x.size();
-  v.x = cloud.x.data();
-  v.y = cloud.y.data();
-  v.z = cloud.z.data();
-  v.time_offset = motion ? cloud.time_offset.data() : nullptr;
-  v.mount_z = opt.mount_height_m;
+  CloudView v = view_of(cloud, t0, opt.mount_height_m);
+  if (!motion) v.time_offset = nullptr;
   Built b;
   ElevationMapBuilder builder(params);
   b.ok = builder.build(v, poses, &b.L, &b.robot, &b.st);
@@ -292,13 +286,7 @@ TEST(Builder, LongRunKeepsMemoryFlat) {
   ElevationLayers L;
   Pose2 robot;
   CloudStats st;
-  CloudView v;
-  v.n = cloud.x.size();
-  v.x = cloud.x.data();
-  v.y = cloud.y.data();
-  v.z = cloud.z.data();
-  v.time_offset = cloud.time_offset.data();
-  v.mount_z = opt.mount_height_m;
+  CloudView v = view_of(cloud, 0, opt.mount_height_m);
   size_t heap_at_100 = 0;
   int64_t t = 0;
   for (int rev = 0; rev < 600; ++rev) {
