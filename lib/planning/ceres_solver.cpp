@@ -641,18 +641,18 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
     const double inside = h0 < 0 ? -(1.0 - o.decay) * h0 : 0.0;
     const double speed = std::hypot(o.x.back() - o.x.front(), o.y.back() - o.y.front()) / horizon_s;
     const bool settled = speed <= opts.relax_max_obstacle_speed && o.age_s >= opts.relax_min_obstacle_age;
+    // Nearly static: its predicted ellipses around the current centre.
+    ObstacleTrack held;
+    if (settled) {
+      held = o;
+      std::fill(held.x.begin(), held.x.end(), o.x[0]);
+      std::fill(held.y.begin(), held.y.end(), o.y[0]);
+    }
     double w_prev = 0.0;  // w_k: how far the swelling alone has lowered h at X_0 by step k
     for (int k = 0; k < pb.N; ++k) {
       double swell = 0.0;
       if (settled) {
-        // Nearly static: the ellipse at step k+1 around the current centre.
-        ObstacleTrack held;
-        held.x = {o.x[0]};
-        held.y = {o.y[0]};
-        held.a = {o.a[static_cast<size_t>(k + 1)]};
-        held.b = {o.b[static_cast<size_t>(k + 1)]};
-        held.theta = {o.theta[static_cast<size_t>(k + 1)]};
-        const double w = h0 - barrier_at(held, 0, pb.x0, pb.y0, pb.d_safe).h;
+        const double w = h0 - barrier_at(held, k + 1, pb.x0, pb.y0, pb.d_safe).h;
         swell = w - o.decay * w_prev;  // the D-CBF on h + w_k
         w_prev = w;
       }
