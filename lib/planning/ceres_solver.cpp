@@ -350,6 +350,9 @@ void finish(const Problem& pb, const SolverOptions& o, SolveResult* r) {
 // Bisections of the segment from the best feasible iterate to the last one.
 constexpr int kSegmentBisections = 12;
 
+// Shortest step fraction tried by a projection step's backtracking.
+constexpr double kProjectionMinStep = 1e-7;
+
 std::vector<int> held_at_bounds(const Problem& pb, const ceres::CostFunction& cost, const std::vector<double>& u) {
   const int n = pb.num_controls(), nr = cost.num_residuals();
   std::vector<double> r(nr), jac(static_cast<size_t>(nr) * n), grad(n, 0.0);
@@ -483,6 +486,104 @@ void estimate_multipliers(const Problem& pb, const std::vector<double>& u, doubl
   for (int c = 0; c < nn; ++c) (*lambda)[near[c]] = est[c];
 }
 
+// Projection onto the constraints (the final step of ALTRO's augmented
+// Lagrangian): Gauss-Newton on the AL residuals leaves out the curvature
+// term lambda_j grad^2 g_j of the Lagrangian, which is large on an active
+// D-CBF chain (big multipliers, distance functions curved around the
+// obstacle), so the outer loop can creep and end a few mm outside the
+// tolerance. From that point, damped minimum-norm Newton steps that lift
+// the violated constraints to a small margin (projection_target), over the
+// controls not held on a bound, each shortened until the summed squared
+// violation falls, reach the feasible set nearby and keep nearly all of the
+// loop's progress. Returns true when u meets every constraint within
+// target_violation.
+bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::vector<double>* u) {
+  const int n = pb.num_controls(), m = pb.num_constraints();
+  std::vector<double> states, g;
+  for (int it = 0; it <= o.projection_iterations; ++it) {
+    evaluate_constraints(pb, u->data(), &states, &g);
+    double violation = 0;
+    for (double v : g) violation = std::max(violation, -v);
+    if (!std::isfinite(violation)) return false;
+    if (violation <= o.target_violation) return true;
+    if (it == o.projection_iterations) break;
+    std::vector<int> near;
+    for (int j = 4; j < m; ++j)  // j < 4: the rate limits at k = 0 are bounds on u_0
+      if (g[j] < o.projection_target) near.push_back(j);
+    std::vector<ActiveConstraint> active;
+    for (int j : near) active.push_back({j, false});
+    // constraint rows of the full inner Jacobian (AL residuals switched on,
+    // rho = 1): row = -grad g_j
+    const std::vector<double> on(m, kEstimateSwitchOn);
+    InnerCost cost(pb, std::move(active), on, 1.0, 1.0, 1.0, /*compressed=*/false);
+    std::vector<double> r(cost.num_residuals()), jac(static_cast<size_t>(cost.num_residuals()) * n);
+    const double* params[] = {u->data()};
+    double* jacs[] = {jac.data()};
+    if (!cost.Evaluate(params, r.data(), jacs)) return false;
+    // Minimum-norm step over the controls, those on a bound that it would
+    // push outward taken out and the step recomputed (each round takes at
+    // least one out, so this ends).
+    const int nc = num_cost_residuals(pb), na = static_cast<int>(near.size());
+    if (na == 0) return false;
+    Eigen::VectorXd dg(na);
+    for (int a = 0; a < na; ++a) dg[a] = std::max(0.0, o.projection_target - g[near[a]]);  // violated ones to the margin
+    std::vector<int> free(n);
+    for (int i = 0; i < n; ++i) free[i] = i;
+    Eigen::VectorXd step;
+    while (true) {
+      const int nf = static_cast<int>(free.size());
+      if (nf == 0) return false;
+      Eigen::MatrixXd C(na, nf);
+      for (int a = 0; a < na; ++a)
+        for (int f = 0; f < nf; ++f) C(a, f) = -jac[static_cast<size_t>(nc + a) * n + free[f]];
+      Eigen::MatrixXd CCt = C * C.transpose();
+      // damped (Levenberg-Marquardt): links of one chain with a rate limit
+      // can be nearly dependent, and the plain minimum-norm step is then
+      // far longer than its linearization holds
+      CCt.diagonal().array() += o.projection_damping * std::max(1.0, CCt.diagonal().maxCoeff());
+      step = C.transpose() * CCt.ldlt().solve(dg);
+      std::vector<int> keep;
+      for (int f = 0; f < nf; ++f) {
+        double lo, hi;
+        control_bounds(pb, free[f], &lo, &hi);
+        const double eps = kAtBound * std::max(1.0, hi - lo), ui = (*u)[free[f]];
+        if (!((ui <= lo + eps && step[f] < 0) || (ui >= hi - eps && step[f] > 0))) keep.push_back(free[f]);
+      }
+      if (keep.size() == free.size()) break;
+      free = keep;
+    }
+    const int nf = static_cast<int>(free.size());
+    if (!step.allFinite()) return false;
+    // Backtracking on the summed squared violation: near-dependent rows
+    // (consecutive links of one chain, a barrier and a rate limit) can make
+    // the full step far too long for the linearization.
+    auto merit = [&](const std::vector<double>& uu) {
+      std::vector<double> st, gg;
+      evaluate_constraints(pb, uu.data(), &st, &gg);
+      double s2 = 0;
+      for (double v : gg) s2 += v < 0 ? v * v : 0.0;
+      return s2;
+    };
+    const double merit0 = merit(*u);
+    std::vector<double> trial(*u);
+    bool moved = false;
+    for (double alpha = 1.0; alpha >= kProjectionMinStep; alpha *= 0.5) {
+      for (int f = 0; f < nf; ++f) {
+        double lo, hi;
+        control_bounds(pb, free[f], &lo, &hi);
+        trial[free[f]] = std::clamp((*u)[free[f]] + alpha * step[f], lo, hi);
+      }
+      if (merit(trial) < merit0) {
+        moved = true;
+        break;
+      }
+    }
+    if (!moved) return false;
+    *u = trial;
+  }
+  return false;
+}
+
 }  // namespace
 
 bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vector<double>& lambda, double rho,
@@ -596,6 +697,16 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   res.multipliers = lambda;
   res.penalty = rho;
   finish(pb, opts_, &res);
+  if (!res.feasible && res.finite) {
+    std::vector<double> projected = res.u;
+    if (project_onto_constraints(pb, opts_, &projected) &&
+        (best_feasible.empty() || objective(pb, projected.data()) < best_cost)) {
+      best_feasible = projected;
+      best_cost = objective(pb, projected.data());
+      res.u = projected;
+      finish(pb, opts_, &res);
+    }
+  }
   if (!res.feasible && !best_feasible.empty()) {
     // The loop can end just outside the tolerance (a few mm on a D-CBF
     // chain, the penalty at its cap) with a plan far cheaper than the best

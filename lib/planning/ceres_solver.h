@@ -48,6 +48,9 @@ struct SolverOptions {
   double initial_trust_radius = 1e4;     // Ceres' trust region at the first outer iteration
   double min_trust_radius = 1e-2;        // floor of the trust region carried between outer iterations
   bool dense_qr = false;                 // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
+  int projection_iterations = 10;        // Newton steps onto the constraints when the AL loop ends outside them
+  double projection_target = 2e-5;       // m: a projection step aims the constraints below this at this
+  double projection_damping = 1e-5;      // relative ridge of a projection step's normal equations
   bool estimate_multipliers = true;      // without warm multipliers: estimate them at the warm start
   double estimate_margin = 1e-3;         // m: constraints with g below this enter the estimate
   double relax_max_obstacle_speed = 0.2; // m/s: solve_elastic excuses the swelling of obstacles predicted

@@ -84,6 +84,9 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.inner_function_tolerance = o.get_positive("inner_function_tolerance");
   p.solver.inner_parameter_tolerance = o.get_positive("inner_parameter_tolerance");
   p.warm_multipliers = o.get<bool>("warm_multipliers");
+  p.solver.projection_iterations = o.get_int("projection_iterations", 0, 1000);
+  p.solver.projection_target = o.get_double("projection_target_m", 0.0, p.solver.target_violation);
+  p.solver.projection_damping = o.get_double("projection_damping", 0.0, 1.0);
   p.solver.estimate_multipliers = o.get<bool>("estimate_multipliers");
   p.solver.estimate_margin = o.get_double("estimate_margin_m", 0.0, 10.0);
   p.solver.relax_max_obstacle_speed = o.get_double("relax_max_obstacle_speed_mps", 0.0, 100.0);

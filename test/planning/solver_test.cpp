@@ -226,11 +226,11 @@ TEST(CeresSolver, SwellingObstacleElasticPlanMeetsTheDcbfOnTheObstacleAsItIs) {
 
 // From rest 0.13 m outside d_safe of a static obstacle ahead-left, the AL
 // loop ends a few mm outside the tolerance (the penalty at its cap) with a
-// plan that swerves and drives on; the solve used to return its start
-// (standing) as the only feasible iterate, and the robot stood there for
-// good. The farthest feasible point towards the last iterate moves (here
-// 0.10 m over the horizon, cost 367 against 394 standing), and the next
-// cycle starts from it.
+// plan that swerves and drives on. The solve used to return its start
+// (standing, cost 394) and the robot stood there for good; the farthest
+// feasible point towards the last iterate then moved 0.10 m (cost 367).
+// The projection onto the constraints keeps the loop's plan: measured cost
+// 304 and 0.42 m over the horizon (IPOPT, cold, finds 279 and 0.53 m).
 TEST(CeresSolver, ColdStartBesideAnObstacleDoesNotReturnTheStart) {
   Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
   pb.d_safe = 0.35;
@@ -242,9 +242,25 @@ TEST(CeresSolver, ColdStartBesideAnObstacleDoesNotReturnTheStart) {
   std::printf("[figures] cold start beside an obstacle: cost %.1f (standing %.1f), x_N %.2f m\n", r.cost, standing,
               r.states[3 * pb.N]);
   ASSERT_TRUE(r.feasible);
-  EXPECT_LT(r.cost, 0.95 * standing);
-  EXPECT_GT(r.states[3 * pb.N], 0.05);  // moving on, not standing
-  EXPECT_LE(r.max_violation, 1e-3);
+  EXPECT_LT(r.cost, 0.85 * standing);
+  EXPECT_GT(r.states[3 * pb.N], 0.3);  // driving on, not creeping
+  EXPECT_LE(r.max_violation, 1e-4);    // the projection ends below target_violation
+}
+
+// Without the projection the same solve falls back to the segment search
+// and keeps much less: the projection is what gets the plan above.
+TEST(CeresSolver, ProjectionKeepsMoreThanTheSegmentSearch) {
+  Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
+  pb.d_safe = 0.35;
+  pb.obstacles.push_back(moving_obstacle(1, 0.8, 0.38, 0, 0, 0.41, 0.41, 0, 0.9, pb.N, pb.dt));
+  const std::vector<double> rest(2 * pb.N, 0.0);
+  SolverOptions without = opts();
+  without.projection_iterations = 0;
+  const SolveResult with_projection = CeresMpcSolver(opts()).solve(pb, rest);
+  const SolveResult segment_only = CeresMpcSolver(without).solve(pb, rest);
+  ASSERT_TRUE(with_projection.feasible);
+  ASSERT_TRUE(segment_only.feasible);
+  EXPECT_LT(with_projection.cost, segment_only.cost - 20.0);
 }
 
 TEST(CeresSolver, NeverNaNOnDegenerateInput) {
