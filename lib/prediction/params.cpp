@@ -8,6 +8,7 @@ PredictorParams PredictorParams::from_config(const config::Node& s) {
   p.prediction_dt_s = s.get_double("prediction_dt_s", 1e-3, 10.0);
   p.max_frame_gap_s = s.get_double("max_frame_gap_s", 1e-3, 60.0);
   p.coast_max_s = s.get_double("coast_max_s", 0.0, 60.0);
+  p.coast_min_frames = s.get_int("coast_min_frames", 1, 1000);
   p.max_abs_coordinate_m = s.get_positive("max_abs_coordinate_m");
   p.max_axis_m = s.get_positive("max_axis_m");
 

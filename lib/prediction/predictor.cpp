@@ -94,7 +94,11 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
   // still published, its ellipse growing with the covariance, until it has
   // been unseen for coast_max_s. Dropping it at the first miss would make a
   // mover that reappears restart at rest, and the planner would take it for
-  // a static obstacle. Ids are never reused by the tracker.
+  // a static obstacle. Ids are never reused by the tracker. A track seen in
+  // fewer than coast_min_frames frames is not coasted: a cluster split off
+  // a mover for a frame or two has no velocity yet, so its prediction is a
+  // static ellipse inflated to the cap, a ghost the planner would have to
+  // get around for coast_max_s.
   const int64_t coast_us = std::llround(params_->coast_max_s * 1e6);
   coasting_.clear();
   for (auto it = tracks_.begin(); it != tracks_.end();) {
@@ -103,7 +107,7 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
       ++it;
       continue;
     }
-    if (in.utime - last_seen_utime_[id] <= coast_us) {
+    if (in.utime - last_seen_utime_[id] <= coast_us && it->second.updates() + 1 >= params_->coast_min_frames) {
       it->second.predict(dt);
       if (finite(it->second)) {
         coasting_.push_back(id);

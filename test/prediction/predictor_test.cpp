@@ -348,11 +348,14 @@ TEST(Predictor, TurnIsFollowedWithinAFewSeconds) {
 TEST(Predictor, MissingTracksCoastThenAreDropped) {
   PredictorParams params = default_params();
   params.coast_max_s = 0.25;
+  params.coast_min_frames = 3;
   Predictor p(params);
   evade::prediction_list_t out;
   FrameStats st;
-  ASSERT_TRUE(p.process(list(1'000'000, {ob(1, 0, 0), ob(2, 5, 5)}), &out, &st));
+  ASSERT_TRUE(p.process(list(800'000, {ob(1, 0, 0), ob(2, 5, 5)}), &out, &st));
   EXPECT_EQ(st.created, 2);
+  ASSERT_TRUE(p.process(list(900'000, {ob(1, 0, 0), ob(2, 5, 5)}), &out, &st));
+  ASSERT_TRUE(p.process(list(1'000'000, {ob(1, 0, 0), ob(2, 5, 5)}), &out, &st));
   EXPECT_EQ(p.num_tracks(), 2u);
   // id 1 missing: still predicted and published, after the measured ones
   ASSERT_TRUE(p.process(list(1'100'000, {ob(2, 5.1, 5)}), &out, &st));
@@ -372,6 +375,35 @@ TEST(Predictor, MissingTracksCoastThenAreDropped) {
   ASSERT_TRUE(p.process(list(1'400'000, {}), &out, &st));
   EXPECT_EQ(p.num_tracks(), 0u);
   EXPECT_EQ(out.num_tracks, 0);
+}
+
+// A cluster split off a mover for one frame gets a new id and vanishes
+// again. Coasted, it would be a static ellipse inflated to the cap (its
+// velocity unknown) sitting in the robot's way for coast_max_s; seen in
+// fewer than coast_min_frames frames, it is dropped at its first miss.
+TEST(Predictor, AShortLivedTrackIsNotCoasted) {
+  PredictorParams params = default_params();
+  params.coast_max_s = 0.5;
+  params.coast_min_frames = 3;
+  Predictor p(params);
+  evade::prediction_list_t out;
+  FrameStats st;
+  ASSERT_TRUE(p.process(list(1'000'000, {ob(1, 0, 0)}), &out, &st));
+  ASSERT_TRUE(p.process(list(1'100'000, {ob(1, 0, 0), ob(9, 2, 2)}), &out, &st));
+  EXPECT_EQ(out.num_tracks, 2);
+  ASSERT_TRUE(p.process(list(1'200'000, {ob(1, 0, 0)}), &out, &st));
+  EXPECT_EQ(st.coasting, 0);
+  EXPECT_EQ(st.dropped, 1);
+  EXPECT_EQ(p.track(9), nullptr);
+  ASSERT_EQ(out.num_tracks, 1);
+  EXPECT_EQ(out.tracks[0].id, 1);
+  // with coast_min_frames 1 the same track coasts
+  params.coast_min_frames = 1;
+  Predictor q(params);
+  ASSERT_TRUE(q.process(list(1'100'000, {ob(1, 0, 0), ob(9, 2, 2)}), &out, &st));
+  ASSERT_TRUE(q.process(list(1'200'000, {ob(1, 0, 0)}), &out, &st));
+  EXPECT_EQ(st.coasting, 1);
+  EXPECT_EQ(out.num_tracks, 2);
 }
 
 TEST(Predictor, CoastMaxZeroDropsAtTheFirstMiss) {
@@ -607,18 +639,20 @@ TEST(PredictorCore, PublishesStampedPredictionsAndCountsBadInput) {
   bus.inject(kObstaclesChannel, list(5'000'000, {ob(1, 0, 0), ob(2, 3, 1)}), 5'010'000);
   bus.inject(kObstaclesChannel, list(5'100'000, {ob(1, 0.1, 0), ob(2, 3, 1)}), 5'110'000);
   bus.inject(kObstaclesChannel, list(5'050'000, {ob(1, 0.1, 0)}), 5'120'000);  // out of order
+  bus.inject(kObstaclesChannel, list(5'150'000, {ob(1, 0.15, 0), ob(2, 3, 1)}), 5'160'000);
   auto nan = ob(2, 3, 1);
   nan.theta = std::numeric_limits<double>::infinity();
   bus.inject(kObstaclesChannel, list(5'200'000, {ob(1, 0.2, 0), nan}), 5'210'000);
   const std::vector<uint8_t> garbage = {1, 2, 3, 4, 5};
   bus.inject(kObstaclesChannel, garbage, 5'220'000);
   const auto out = bus.decoded<evade::prediction_list_t>(kPredictionsChannel);
-  ASSERT_EQ(out.size(), 3u);
+  ASSERT_EQ(out.size(), 4u);
   EXPECT_EQ(out[0].utime, 5'000'000);
   EXPECT_EQ(out[1].utime, 5'100'000);
-  EXPECT_EQ(out[2].utime, 5'200'000);
-  EXPECT_EQ(out[2].num_tracks, 2);  // id 2's malformed obstacle is skipped; its track coasts
-  EXPECT_EQ(core.counter("frames"), 3);
+  EXPECT_EQ(out[2].utime, 5'150'000);
+  EXPECT_EQ(out[3].utime, 5'200'000);
+  EXPECT_EQ(out[3].num_tracks, 2);  // id 2's malformed obstacle is skipped; its track (3 frames old) coasts
+  EXPECT_EQ(core.counter("frames"), 4);
   EXPECT_EQ(core.counter("stale_frames"), 1);
   EXPECT_EQ(core.counter("malformed_obstacles"), 1);
   EXPECT_EQ(core.counter("tracks_created"), 2);
