@@ -231,14 +231,23 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     skip_restarts = can_relax && max_violation(pb, brake.data()) > p_.solver.constraint_tolerance;
     if (skip_restarts) count("restart_skipped");
   }
+  // a swerve to one side at the current speed, then back
+  auto swerve = [&](double side) {
+    std::vector<double> guess(2 * N);
+    for (int k = 0; k < N; ++k) {
+      guess[2 * k] = v0;
+      guess[2 * k + 1] = (k < N / 2 ? side : -side) * p_.limits.omega_max;
+    }
+    return guess;
+  };
+  if (hard_failed && skip_restarts) {
+    // unsolved, still candidates for the least violating plan below: with
+    // a mover closing in, getting out of its way at speed can beat all else
+    for (double side : {1.0, -1.0}) attempts.push_back(swerve(side));
+  }
   if (hard_failed && !skip_restarts) {
     for (double side : {1.0, -1.0}) {
-      std::vector<double> guess(2 * N);
-      for (int k = 0; k < N; ++k) {
-        guess[2 * k] = v0;
-        guess[2 * k + 1] = (k < N / 2 ? side : -side) * p_.limits.omega_max;
-      }
-      SolveResult alt = solver_.solve(pb, guess);
+      SolveResult alt = solver_.solve(pb, swerve(side));
       iterations += alt.iterations;
       count("solver_restart");
       if (alt.finite) attempts.push_back(alt.u);
@@ -260,6 +269,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     if (can_relax) {
       rec = solver_.solve_elastic(pb, warm_u, &relax);
       iterations += rec.iterations;
+      if (rec.finite && !rec.feasible) attempts.push_back(rec.u);
     }
     const int fsteps = feasible_u_.empty() ? -1
                                            : static_cast<int>(std::llround((odom.utime - feasible_utime_) * 1e-6 /
