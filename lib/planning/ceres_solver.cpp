@@ -22,6 +22,9 @@ struct ActiveConstraint {
 // compressed inner cost (only matters when J^T J is singular).
 constexpr double kCompressionRidge = 1e-12;
 
+// Column bucket of the causal rank updates of J^T J (see accumulate_dense_rows).
+constexpr int kWidthBucket = 10;
+
 // The rollout of the unicycle and its forward sensitivities, from which
 // every residual's Jacobian row follows by the chain rule (no autodiff).
 // With th_k = yaw0 + dt sum_{j<k} w_j and p_k = p_0 + dt sum_{i<k} v_i (cos th_i, sin th_i):
@@ -100,39 +103,14 @@ class InnerCost : public ceres::CostFunction {
       return true;
     }
     // J^T J and J^T r over the live rows only: the sparse ones (controls,
-    // control changes, rate limits: at most two entries) added directly,
-    // the dense ones (tracking, barriers) gathered for one rank update.
+    // control changes, rate limits: at most two entries, recorded by
+    // evaluate_full) added directly, the dense ones (tracking, barriers)
+    // by rank updates.
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
     Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
-    int live = 0;
-    int nz[2];
-    for (int row = 0; row < full_rows_; ++row) {
-      if (live_[row] == kRowSparse) {
-        const double* jr = full_j_.data() + static_cast<size_t>(row) * n;
-        int cnt = 0;
-        for (int i = 0; i < n && cnt < 2; ++i)
-          if (jr[i] != 0.0) nz[cnt++] = i;
-        for (int x = 0; x < cnt; ++x) {
-          b[nz[x]] += jr[nz[x]] * full_r_[row];
-          for (int y = 0; y < cnt; ++y) A(nz[x], nz[y]) += jr[nz[x]] * jr[nz[y]];
-        }
-      } else if (live_[row] == kRowDense) {
-        if (live != row) {
-          std::copy(full_j_.begin() + static_cast<size_t>(row) * n, full_j_.begin() + static_cast<size_t>(row + 1) * n,
-                    full_j_.begin() + static_cast<size_t>(live) * n);
-          full_r_[live] = full_r_[row];
-        }
-        ++live;
-      }
-    }
-    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    const Eigen::Map<const RowMajor> J(full_j_.data(), live, n);
-    const Eigen::Map<const Eigen::VectorXd> rl(full_r_.data(), live);
-    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
-    D.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
-    D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
-    A += D;
-    b.noalias() += J.transpose() * rl;
+    accumulate_sparse_rows(&A, &b);
+    accumulate_dense_rows(&A, &b);
     // Controls held at a bound (see run_inner): decoupled with zero
     // gradient, so every LM step leaves them exactly where they are. This
     // does what a SubsetManifold would without Ceres multiplying every
@@ -157,13 +135,83 @@ class InnerCost : public ceres::CostFunction {
     return std::isfinite(residuals[n]);
   }
 
+  // J^T r of the full problem at u (the gradient of the inner objective's
+  // half), without the J^T J that Evaluate builds: what held_at_bounds needs.
+  bool gradient(const double* u, std::vector<double>* g) const {
+    const int n = pb_.num_controls();
+    full_r_.resize(full_rows_);
+    full_j_.resize(static_cast<size_t>(full_rows_) * n);
+    if (!evaluate_full(u, full_r_.data(), full_j_.data())) return false;
+    g->assign(n, 0.0);
+    for (int row = 0; row < full_rows_; ++row) {
+      if (live_[row] == kRowDead) continue;
+      const double* jr = full_j_.data() + static_cast<size_t>(row) * n;
+      if (live_[row] == kRowSparse) {
+        for (int x : {nz_[2 * row], nz_[2 * row + 1]})
+          if (x >= 0) (*g)[x] += jr[x] * full_r_[row];
+      } else {
+        for (int i = 0; i < width_[row]; ++i) (*g)[i] += jr[i] * full_r_[row];
+      }
+    }
+    return true;
+  }
+
  private:
+  void accumulate_sparse_rows(Eigen::MatrixXd* A, Eigen::VectorXd* b) const {
+    const int n = pb_.num_controls();
+    for (int row = 0; row < full_rows_; ++row) {
+      if (live_[row] != kRowSparse) continue;
+      const double* jr = full_j_.data() + static_cast<size_t>(row) * n;
+      const int nz[2] = {nz_[2 * row], nz_[2 * row + 1]};
+      for (int x : nz) {
+        if (x < 0) continue;
+        (*b)[x] += jr[x] * full_r_[row];
+        for (int y : nz)
+          if (y >= 0) (*A)(x, y) += jr[x] * jr[y];
+      }
+    }
+  }
+
+  // Dense rows are causal: the row of a state at step k depends only on the
+  // controls before k (its first 2k columns). Rows are gathered in buckets
+  // of kWidthBucket columns and each bucket updates only the leading block
+  // of J^T J it touches, about a third of the flops of one update with all
+  // rows over all columns.
+  void accumulate_dense_rows(Eigen::MatrixXd* A, Eigen::VectorXd* b) const {
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const int n = pb_.num_controls();
+    const int buckets = (n + kWidthBucket - 1) / kWidthBucket;
+    bucket_rows_.assign(buckets, {});
+    for (int row = 0; row < full_rows_; ++row)
+      if (live_[row] == kRowDense && width_[row] > 0)
+        bucket_rows_[(width_[row] - 1) / kWidthBucket].push_back(row);
+    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
+    for (int bk = 0; bk < buckets; ++bk) {
+      const auto& rows = bucket_rows_[bk];
+      if (rows.empty()) continue;
+      const int w = std::min(n, (bk + 1) * kWidthBucket);
+      block_.resize(static_cast<Eigen::Index>(rows.size()), w);
+      block_r_.resize(static_cast<Eigen::Index>(rows.size()));
+      for (size_t q = 0; q < rows.size(); ++q) {
+        block_.row(static_cast<Eigen::Index>(q)) =
+            Eigen::Map<const RowMajor>(full_j_.data() + static_cast<size_t>(rows[q]) * n, 1, w);
+        block_r_[static_cast<Eigen::Index>(q)] = full_r_[rows[q]];
+      }
+      D.topLeftCorner(w, w).selfadjointView<Eigen::Lower>().rankUpdate(block_.transpose());
+      b->head(w).noalias() += block_.transpose() * block_r_;
+    }
+    D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
+    *A += D;
+  }
+
   bool evaluate_full(const double* u, double* residuals, double* jac) const {
     const int n = pb_.num_controls(), N = pb_.N, R = pb_.num_rate_constraints();
     ro_.compute(pb_, u, jac != nullptr);
     const double* xs = ro_.states.data();
     if (jac) std::fill(jac, jac + static_cast<size_t>(full_rows_) * n, 0.0);
     live_.assign(full_rows_, kRowDense);
+    nz_.assign(2 * static_cast<size_t>(full_rows_), -1);
+    width_.assign(full_rows_, n);
     auto row = [&](int r) { return jac + static_cast<size_t>(r) * n; };
 
     // cost residuals, in the order of cost_residuals() in problem.h
@@ -176,6 +224,7 @@ class InnerCost : public ceres::CostFunction {
       residuals[r] = wxy * (xs[3 * k] - pb_.ref_x[k]);
       residuals[r + 1] = wxy * (xs[3 * k + 1] - pb_.ref_y[k]);
       residuals[r + 2] = wyaw * wrap_angle(xs[3 * k + 2] - pb_.ref_yaw[k]);  // d wrap(e)/de = 1
+      width_[r] = width_[r + 1] = width_[r + 2] = 2 * k;  // the state at k depends on the controls before k
       if (jac) {
         ro_.add_state_row(pb_, k, wxy, 0, 0, row(r));
         ro_.add_state_row(pb_, k, 0, wxy, 0, row(r + 1));
@@ -187,11 +236,14 @@ class InnerCost : public ceres::CostFunction {
     std::fill(live_.begin() + r, live_.begin() + r + n + (n - 2), kRowSparse);
     for (int i = 0; i < n; ++i, ++r) {
       residuals[r] = sr[i % 2] * u[i];
+      nz_[2 * r] = i;
       if (jac) row(r)[i] = sr[i % 2];
     }
     const double ss[2] = {cost_scale_ * std::sqrt(pb_.w.s_v), cost_scale_ * std::sqrt(pb_.w.s_omega)};
     for (int i = 0; i + 2 < n; ++i, ++r) {
       residuals[r] = ss[i % 2] * (u[i + 2] - u[i]);
+      nz_[2 * r] = i;
+      nz_[2 * r + 1] = i + 2;
       if (jac) {
         row(r)[i + 2] = ss[i % 2];
         row(r)[i] = -ss[i % 2];
@@ -243,11 +295,16 @@ class InnerCost : public ceres::CostFunction {
         const int c = which < 2 ? 0 : 1;
         const double s = which % 2 == 0 ? -1.0 : 1.0;  // g = up - (now - prev) or (now - prev) + down
         jr[2 * k + c] += coef * s;
-        if (k > 0) jr[2 * (k - 1) + c] -= coef * s;
+        nz_[2 * r] = 2 * k + c;
+        if (k > 0) {
+          jr[2 * (k - 1) + c] -= coef * s;
+          nz_[2 * r + 1] = 2 * (k - 1) + c;
+        }
       } else {
         const int i = (j - R) / N, k = (j - R) % N;
         const ObstacleTrack& o = pb_.obstacles[i];
         const BarrierValue& b1 = barrier_of(i, k + 1);
+        width_[r] = 2 * (k + 1);
         ro_.add_state_row(pb_, k + 1, coef * b1.gx, coef * b1.gy, 0, jr);
         if (o.decay != 0.0) {
           const BarrierValue& b0 = barrier_of(i, k);
@@ -273,7 +330,12 @@ class InnerCost : public ceres::CostFunction {
   // per full row: zero, at most two nonzero Jacobian entries, or dense
   static constexpr char kRowDead = 0, kRowSparse = 1, kRowDense = 2;
   mutable std::vector<char> live_;
+  mutable std::vector<int> nz_;     // sparse rows: their (at most two) nonzero columns, -1 for none
+  mutable std::vector<int> width_;  // dense rows: only the first width_ columns can be nonzero
   mutable std::vector<double> full_r_, full_j_;
+  mutable std::vector<std::vector<int>> bucket_rows_;
+  mutable Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> block_;
+  mutable Eigen::VectorXd block_r_;
   int full_rows_ = 0;
   bool compressed_ = true;
   std::vector<int> held_;  // controls held at their bound (compressed form only)
@@ -353,15 +415,11 @@ constexpr int kSegmentBisections = 12;
 // Shortest step fraction tried by a projection step's backtracking.
 constexpr double kProjectionMinStep = 1e-7;
 
-std::vector<int> held_at_bounds(const Problem& pb, const ceres::CostFunction& cost, const std::vector<double>& u) {
-  const int n = pb.num_controls(), nr = cost.num_residuals();
-  std::vector<double> r(nr), jac(static_cast<size_t>(nr) * n), grad(n, 0.0);
-  const double* params[] = {u.data()};
-  double* jacs[] = {jac.data()};
+std::vector<int> held_at_bounds(const Problem& pb, const InnerCost& cost, const std::vector<double>& u) {
+  const int n = pb.num_controls();
+  std::vector<double> grad;
   std::vector<int> held;
-  if (!cost.Evaluate(params, r.data(), jacs)) return held;
-  for (int row = 0; row < nr; ++row)
-    for (int i = 0; i < n; ++i) grad[i] += r[row] * jac[static_cast<size_t>(row) * n + i];
+  if (!cost.gradient(u.data(), &grad)) return held;
   for (int i = 0; i < n; ++i) {
     double lo, hi;
     control_bounds(pb, i, &lo, &hi);
