@@ -72,7 +72,7 @@ struct PredictorParams {
   int prediction_steps = 25;        // N (planner horizon); k = 0..N are published
   double prediction_dt_s = 0.1;     // planner step
   double max_frame_gap_s = 1.0;     // a longer gap between frames restarts every track
-  double coast_max_s = 0.5;         // a track missing from the list is predicted and published this long, then dropped
+  double coast_max_s = 1.0;         // a track missing from the list is predicted and published this long, then dropped
   int coast_min_frames = 3;         // ... if it was seen in at least this many frames (else dropped at its first miss)
   double max_abs_coordinate_m = 1000.0;  // an obstacle centre beyond this (odometry frame) is malformed
   double max_axis_m = 50.0;         // a semi-axis beyond this is malformed
