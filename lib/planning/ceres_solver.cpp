@@ -142,21 +142,15 @@ class InnerCost : public ceres::CostFunction {
     full_r_.resize(full_rows_);
     full_j_.resize(static_cast<size_t>(full_rows_) * n);
     if (!evaluate_full(u, full_r_.data(), full_j_.data())) return false;
-    g->assign(n, 0.0);
-    for (int row = 0; row < full_rows_; ++row) {
-      if (live_[row] == kRowDead) continue;
-      const double* jr = full_j_.data() + static_cast<size_t>(row) * n;
-      if (live_[row] == kRowSparse) {
-        for (int x : {nz_[2 * row], nz_[2 * row + 1]})
-          if (x >= 0) (*g)[x] += jr[x] * full_r_[row];
-      } else {
-        for (int i = 0; i < width_[row]; ++i) (*g)[i] += jr[i] * full_r_[row];
-      }
-    }
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+    accumulate_sparse_rows(nullptr, &b);
+    accumulate_dense_rows(nullptr, &b);
+    g->assign(b.data(), b.data() + n);
     return true;
   }
 
  private:
+  // J^T J (into *A unless null) and J^T r (into *b) of the live rows.
   void accumulate_sparse_rows(Eigen::MatrixXd* A, Eigen::VectorXd* b) const {
     const int n = pb_.num_controls();
     for (int row = 0; row < full_rows_; ++row) {
@@ -166,6 +160,7 @@ class InnerCost : public ceres::CostFunction {
       for (int x : nz) {
         if (x < 0) continue;
         (*b)[x] += jr[x] * full_r_[row];
+        if (!A) continue;
         for (int y : nz)
           if (y >= 0) (*A)(x, y) += jr[x] * jr[y];
       }
@@ -185,7 +180,8 @@ class InnerCost : public ceres::CostFunction {
     for (int row = 0; row < full_rows_; ++row)
       if (live_[row] == kRowDense && width_[row] > 0)
         bucket_rows_[(width_[row] - 1) / kWidthBucket].push_back(row);
-    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
+    Eigen::MatrixXd D;
+    if (A) D.setZero(n, n);
     for (int bk = 0; bk < buckets; ++bk) {
       const auto& rows = bucket_rows_[bk];
       if (rows.empty()) continue;
@@ -197,9 +193,10 @@ class InnerCost : public ceres::CostFunction {
             Eigen::Map<const RowMajor>(full_j_.data() + static_cast<size_t>(rows[q]) * n, 1, w);
         block_r_[static_cast<Eigen::Index>(q)] = full_r_[rows[q]];
       }
-      D.topLeftCorner(w, w).selfadjointView<Eigen::Lower>().rankUpdate(block_.transpose());
+      if (A) D.topLeftCorner(w, w).selfadjointView<Eigen::Lower>().rankUpdate(block_.transpose());
       b->head(w).noalias() += block_.transpose() * block_r_;
     }
+    if (!A) return;
     D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
     *A += D;
   }
@@ -407,26 +404,52 @@ void finish(const Problem& pb, const SolverOptions& o, SolveResult* r) {
   r->feasible = r->finite && r->max_violation <= o.constraint_tolerance;
 }
 
-// Indices of the controls sitting on a bound with the inner objective's
-// gradient pointing out of the box.
 // Bisections of the segment from the best feasible iterate to the last one.
 constexpr int kSegmentBisections = 12;
 
 // Shortest step fraction tried by a projection step's backtracking.
 constexpr double kProjectionMinStep = 1e-7;
 
+// Whether control i at value ui sits on its bound: -1 lower, +1 upper, 0 inside.
+int on_bound(const Problem& pb, int i, double ui) {
+  double lo, hi;
+  control_bounds(pb, i, &lo, &hi);
+  const double eps = kAtBound * std::max(1.0, hi - lo);
+  return ui <= lo + eps ? -1 : ui >= hi - eps ? 1 : 0;
+}
+
+// Whether moving control i by `direction` from ui would leave its box.
+bool pushed_out(const Problem& pb, int i, double ui, double direction) {
+  const int side = on_bound(pb, i, ui);
+  return (side < 0 && direction < 0) || (side > 0 && direction > 0);
+}
+
+// Indices of the controls sitting on a bound with the inner objective's
+// gradient pointing out of the box (a descent step, -grad, would leave it).
 std::vector<int> held_at_bounds(const Problem& pb, const InnerCost& cost, const std::vector<double>& u) {
   const int n = pb.num_controls();
   std::vector<double> grad;
   std::vector<int> held;
   if (!cost.gradient(u.data(), &grad)) return held;
-  for (int i = 0; i < n; ++i) {
-    double lo, hi;
-    control_bounds(pb, i, &lo, &hi);
-    const double eps = kAtBound * std::max(1.0, hi - lo);
-    if ((u[i] <= lo + eps && grad[i] > 0) || (u[i] >= hi - eps && grad[i] < 0)) held.push_back(i);
-  }
+  for (int i = 0; i < n; ++i)
+    if (pushed_out(pb, i, u[i], -grad[i])) held.push_back(i);
   return held;
+}
+
+// Rows of the full inner Jacobian at u for the constraints `js` with their
+// AL residuals switched on (rho = 1, lambda large), i.e. -grad g_j each,
+// after the cost residuals (num_cost_residuals rows). Also the residuals.
+bool switched_on_jacobian(const Problem& pb, const std::vector<double>& u, const std::vector<int>& js,
+                          std::vector<double>* residuals, std::vector<double>* jac) {
+  std::vector<ActiveConstraint> active;
+  for (int j : js) active.push_back({j, false});
+  const std::vector<double> on(pb.num_constraints(), kEstimateSwitchOn);
+  InnerCost cost(pb, std::move(active), on, 1.0, 1.0, 1.0, /*compressed=*/false);
+  residuals->assign(cost.num_residuals(), 0.0);
+  jac->assign(static_cast<size_t>(cost.num_residuals()) * pb.num_controls(), 0.0);
+  const double* params[] = {u.data()};
+  double* jacs[] = {jac->data()};
+  return cost.Evaluate(params, residuals->data(), jacs);
 }
 
 // One inner solve: bounds as parameter bounds, controls pushed against a
@@ -488,28 +511,17 @@ void estimate_multipliers(const Problem& pb, const std::vector<double>& u, doubl
   for (int j = 4; j < m; ++j)  // j < 4: the rate limits at k = 0 are bounds on u_0
     if (g[j] < margin) near.push_back(j);
   if (near.empty()) return;
-  // gradient of J/2 and of every near constraint (rows of the full inner
-  // Jacobian: AL residual lambda/rho - g with rho = 1 and lambda large)
-  std::vector<ActiveConstraint> active;
-  for (int j : near) active.push_back({j, false});
-  const std::vector<double> on(m, kEstimateSwitchOn);
-  InnerCost cost(pb, std::move(active), on, 1.0, 1.0, 1.0, /*compressed=*/false);
-  std::vector<double> r(cost.num_residuals()), jac(static_cast<size_t>(cost.num_residuals()) * n);
-  const double* params[] = {u.data()};
-  double* jacs[] = {jac.data()};
-  if (!cost.Evaluate(params, r.data(), jacs)) return;
+  // gradient of J/2 and of every near constraint
+  std::vector<double> r, jac;
+  if (!switched_on_jacobian(pb, u, near, &r, &jac)) return;
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const int nc = num_cost_residuals(pb), nn = static_cast<int>(near.size());
-  const Eigen::Map<const RowMajor> J(jac.data(), cost.num_residuals(), n);
+  const Eigen::Map<const RowMajor> J(jac.data(), static_cast<Eigen::Index>(r.size()), n);
   const Eigen::VectorXd grad = J.topRows(nc).transpose() * Eigen::Map<const Eigen::VectorXd>(r.data(), nc);
   // grad g_j = -(row of constraint j); only controls strictly inside their box
   std::vector<int> free;
-  for (int i = 0; i < n; ++i) {
-    double lo, hi;
-    control_bounds(pb, i, &lo, &hi);
-    const double eps = kAtBound * std::max(1.0, hi - lo);
-    if (u[i] > lo + eps && u[i] < hi - eps) free.push_back(i);
-  }
+  for (int i = 0; i < n; ++i)
+    if (on_bound(pb, i, u[i]) == 0) free.push_back(i);
   std::vector<char> keep(nn, 1);
   Eigen::VectorXd est = Eigen::VectorXd::Zero(nn);
   for (int round = 0; round < kEstimateRounds; ++round) {
@@ -568,16 +580,8 @@ bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::ve
     std::vector<int> near;
     for (int j = 4; j < m; ++j)  // j < 4: the rate limits at k = 0 are bounds on u_0
       if (g[j] < o.projection_target) near.push_back(j);
-    std::vector<ActiveConstraint> active;
-    for (int j : near) active.push_back({j, false});
-    // constraint rows of the full inner Jacobian (AL residuals switched on,
-    // rho = 1): row = -grad g_j
-    const std::vector<double> on(m, kEstimateSwitchOn);
-    InnerCost cost(pb, std::move(active), on, 1.0, 1.0, 1.0, /*compressed=*/false);
-    std::vector<double> r(cost.num_residuals()), jac(static_cast<size_t>(cost.num_residuals()) * n);
-    const double* params[] = {u->data()};
-    double* jacs[] = {jac.data()};
-    if (!cost.Evaluate(params, r.data(), jacs)) return false;
+    std::vector<double> r, jac;  // constraint rows: -grad g_j
+    if (!switched_on_jacobian(pb, *u, near, &r, &jac)) return false;
     // Minimum-norm step over the controls, those on a bound that it would
     // push outward taken out and the step recomputed (each round takes at
     // least one out, so this ends).
@@ -601,12 +605,8 @@ bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::ve
       CCt.diagonal().array() += o.projection_damping * std::max(1.0, CCt.diagonal().maxCoeff());
       step = C.transpose() * CCt.ldlt().solve(dg);
       std::vector<int> keep;
-      for (int f = 0; f < nf; ++f) {
-        double lo, hi;
-        control_bounds(pb, free[f], &lo, &hi);
-        const double eps = kAtBound * std::max(1.0, hi - lo), ui = (*u)[free[f]];
-        if (!((ui <= lo + eps && step[f] < 0) || (ui >= hi - eps && step[f] > 0))) keep.push_back(free[f]);
-      }
+      for (int f = 0; f < nf; ++f)
+        if (!pushed_out(pb, free[f], (*u)[free[f]], step[f])) keep.push_back(free[f]);
       if (keep.size() == free.size()) break;
       free = keep;
     }
