@@ -244,8 +244,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     // unsolved, still candidates for the least violating plan below: with
     // a mover closing in, getting out of its way at speed can beat all else
     for (double side : {1.0, -1.0}) attempts.push_back(swerve(side));
-  }
-  if (hard_failed && !skip_restarts) {
+  } else if (hard_failed) {
     for (double side : {1.0, -1.0}) {
       SolveResult alt = solver_.solve(pb, swerve(side));
       iterations += alt.iterations;
