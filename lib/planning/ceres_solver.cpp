@@ -569,9 +569,15 @@ void estimate_multipliers(const Problem& pb, const std::vector<double>& u, doubl
 // target_violation.
 bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::vector<double>* u) {
   const int n = pb.num_controls(), m = pb.num_constraints();
-  std::vector<double> states, g;
+  // summed squared violation, the backtracking's merit
+  auto squared_violation = [](const std::vector<double>& gg) {
+    double s2 = 0;
+    for (double v : gg) s2 += v < 0 ? v * v : 0.0;
+    return s2;
+  };
+  std::vector<double> states, g, trial_g;
+  evaluate_constraints(pb, u->data(), &states, &g);  // g always belongs to *u
   for (int it = 0; it <= o.projection_iterations; ++it) {
-    evaluate_constraints(pb, u->data(), &states, &g);
     double violation = 0;
     for (double v : g) violation = std::max(violation, -v);
     if (!std::isfinite(violation)) return false;
@@ -615,14 +621,7 @@ bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::ve
     // Backtracking on the summed squared violation: near-dependent rows
     // (consecutive links of one chain, a barrier and a rate limit) can make
     // the full step far too long for the linearization.
-    auto merit = [&](const std::vector<double>& uu) {
-      std::vector<double> st, gg;
-      evaluate_constraints(pb, uu.data(), &st, &gg);
-      double s2 = 0;
-      for (double v : gg) s2 += v < 0 ? v * v : 0.0;
-      return s2;
-    };
-    const double merit0 = merit(*u);
+    const double merit0 = squared_violation(g);
     std::vector<double> trial(*u);
     bool moved = false;
     for (double alpha = 1.0; alpha >= kProjectionMinStep; alpha *= 0.5) {
@@ -631,13 +630,15 @@ bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::ve
         control_bounds(pb, free[f], &lo, &hi);
         trial[free[f]] = std::clamp((*u)[free[f]] + alpha * step[f], lo, hi);
       }
-      if (merit(trial) < merit0) {
+      evaluate_constraints(pb, trial.data(), &states, &trial_g);
+      if (squared_violation(trial_g) < merit0) {
         moved = true;
         break;
       }
     }
     if (!moved) return false;
     *u = trial;
+    g.swap(trial_g);
   }
   return false;
 }
@@ -757,12 +758,14 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   finish(pb, opts_, &res);
   if (!res.feasible && res.finite) {
     std::vector<double> projected = res.u;
-    if (project_onto_constraints(pb, opts_, &projected) &&
-        (best_feasible.empty() || objective(pb, projected.data()) < best_cost)) {
-      best_feasible = projected;
-      best_cost = objective(pb, projected.data());
-      res.u = projected;
-      finish(pb, opts_, &res);
+    if (project_onto_constraints(pb, opts_, &projected)) {
+      const double projected_cost = objective(pb, projected.data());
+      if (best_feasible.empty() || projected_cost < best_cost) {
+        best_feasible = projected;
+        best_cost = projected_cost;
+        res.u = projected;
+        finish(pb, opts_, &res);
+      }
     }
   }
   if (!res.feasible && !best_feasible.empty()) {
