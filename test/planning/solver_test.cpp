@@ -19,6 +19,15 @@ using testing::straight_problem;
 
 SolverOptions opts() { return SolverOptions{}; }
 
+// From rest: the hard solve must fail (checked), then the relaxed solve,
+// whose result is returned.
+SolveResult elastic_where_hard_fails(const Problem& pb) {
+  const CeresMpcSolver solver(opts());
+  const std::vector<double> rest(2 * pb.N, 0.0);
+  EXPECT_FALSE(solver.solve(pb, rest).feasible);
+  return solver.solve_elastic(pb, rest);
+}
+
 // h(X_k, O_k), k = 0..N, along a solved plan.
 std::vector<double> barriers_along(const Problem& pb, const ObstacleTrack& o, const SolveResult& r) {
   std::vector<double> h;
@@ -141,11 +150,8 @@ TEST(CeresSolver, StartInsideSafeDistanceElasticPlanIncreasesH) {
   pb.obstacles.push_back(moving_obstacle(1, r0 * c, r0 * s, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt));
   const double h0 = barrier_at(pb.obstacles[0], 0, 0, 0, pb.d_safe).h;
   ASSERT_NEAR(h0, -0.15, 1e-9);
-  CeresMpcSolver solver(opts());
-  SolveResult hard = solver.solve(pb, std::vector<double>(2 * pb.N, 0.0));
-  EXPECT_FALSE(hard.feasible);
   // started from braking to a stop (here: standing still)
-  SolveResult r = solver.solve_elastic(pb, std::vector<double>(2 * pb.N, 0.0));
+  const SolveResult r = elastic_where_hard_fails(pb);
   ASSERT_TRUE(r.finite);
   EXPECT_TRUE(r.feasible);  // for the shifted barrier
   const std::vector<double> h = barriers_along(pb, pb.obstacles[0], r);
@@ -212,10 +218,7 @@ TEST(CeresSolver, SwellingObstacleElasticPlanMeetsTheDcbfOnTheObstacleAsItIs) {
   const std::vector<double> relax = barrier_relaxation(pb, opts());
   EXPECT_GT(*std::max_element(relax.begin(), relax.end()), 0.0);
 
-  CeresMpcSolver solver(opts());
-  SolveResult hard = solver.solve(pb, std::vector<double>(2 * pb.N, 0.0));
-  EXPECT_FALSE(hard.feasible);
-  SolveResult r = solver.solve_elastic(pb, std::vector<double>(2 * pb.N, 0.0));
+  const SolveResult r = elastic_where_hard_fails(pb);
   ASSERT_TRUE(r.finite);
   EXPECT_TRUE(r.feasible);  // for the relaxed barrier
   std::vector<double> h = barriers_along(pb, o, r);
