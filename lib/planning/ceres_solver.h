@@ -8,7 +8,9 @@
 // i.e. one extra least-squares residual sqrt(rho) max(0, lambda_j/rho - g_j)
 // per constraint; after each inner solve lambda_j <- max(0, lambda_j - rho g_j)
 // and rho grows while the violation does not shrink fast enough. The loop
-// stops once no constraint is violated by more than constraint_tolerance.
+// stops once no constraint is violated by more than target_violation and
+// none with a multiplier has more slack than complementarity_tolerance
+// (first-order optimality of the AL: lambda_j > 0 only on active ones).
 //
 // Constraints far from active (g_j > active margin and lambda_j = 0) are left
 // out of the inner problem (their residual would be zero anyway); every outer
@@ -30,6 +32,12 @@
 
 namespace evade::planning {
 
+// How Ceres' line search along a projected trust-region step (bounded
+// problems only) picks its trial steps. Cubic and quadratic interpolation
+// evaluate the gradient, i.e. a whole Jacobian, at every trial, even when
+// the full step is accepted at once; bisection needs only cost values.
+enum class LineSearchInterpolation { kBisection, kQuadratic, kCubic };
+
 struct SolverOptions {
   int max_outer_iterations = 20;
   int max_inner_iterations = 50;         // an inner solve runs to convergence: multiplier updates
@@ -37,6 +45,8 @@ struct SolverOptions {
   int max_total_iterations = 300;       // Ceres iterations of one solve, all outer iterations together
   double constraint_tolerance = 1e-3;    // m (barriers), m/s and rad/s (rate limits)
   double target_violation = 1e-4;        // the outer loop stops below this (<= constraint_tolerance)
+  double complementarity_tolerance = 1e-3;  // ... and when no constraint with a multiplier has more
+                                         // slack than this (m; min(g_j, lambda_j / rho))
   double penalty_initial = 3e4;          // rho at the first outer iteration
   double warm_penalty_max = 3e4;         // cap on the penalty that comes with warm multipliers
   double penalty_growth = 3.0;           // rho factor when the violation stalls
@@ -48,6 +58,7 @@ struct SolverOptions {
   double initial_trust_radius = 1e4;     // Ceres' trust region at the first outer iteration
   double min_trust_radius = 1e-2;        // floor of the trust region carried between outer iterations
   bool dense_qr = false;                 // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
+  LineSearchInterpolation line_search = LineSearchInterpolation::kBisection;
   int projection_iterations = 10;        // Newton steps onto the constraints when the AL loop ends outside them
   double projection_target = 2e-5;       // m: a projection step aims the constraints below this at this
   double projection_damping = 1e-5;      // relative ridge of a projection step's normal equations

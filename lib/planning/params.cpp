@@ -81,6 +81,7 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.penalty_max = o.get_positive("penalty_max");
   p.solver.violation_shrink = o.get_double("violation_shrink", 0.0, 1.0);
   p.solver.active_margin = o.get_double("active_margin_m", 0.0, 100.0);
+  p.solver.complementarity_tolerance = o.get_double("complementarity_tolerance_m", 0.0, 10.0);
   p.solver.inner_function_tolerance = o.get_positive("inner_function_tolerance");
   p.solver.inner_parameter_tolerance = o.get_positive("inner_parameter_tolerance");
   p.warm_multipliers = o.get<bool>("warm_multipliers");
@@ -92,6 +93,10 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.relax_max_obstacle_speed = o.get_double("relax_max_obstacle_speed_mps", 0.0, 100.0);
   p.solver.relax_min_obstacle_age = o.get_double("relax_min_track_age_s", 0.0, 3600.0);
   p.solver.dense_qr = o.get_choice("linear_solver", {"dense_normal_cholesky", "dense_qr"}) == "dense_qr";
+  const std::string ls = o.get_choice("line_search_interpolation", {"bisection", "quadratic", "cubic"});
+  p.solver.line_search = ls == "bisection" ? LineSearchInterpolation::kBisection
+                         : ls == "quadratic" ? LineSearchInterpolation::kQuadratic
+                                             : LineSearchInterpolation::kCubic;
   o.close();
   s.close();
   return p;
