@@ -884,18 +884,25 @@ SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vecto
   SolverOptions shared = opts_;
   shared.max_total_iterations = std::max(1, opts_.max_total_iterations / static_cast<int>(starts.size()));
   const CeresMpcSolver budgeted(shared);
+  // The plan grown from the previous one is kept unless another is clearly
+  // cheaper (recovery_switch_ratio): two sides of a mover often cost about
+  // the same, and a robot that takes the other one every cycle turns back
+  // and forth in the mover's way instead of getting out of it.
   SolveResult out;
-  bool have = false;
+  bool have = false, out_continues = false;
   int iterations = 0;
-  for (auto& u : starts) {
+  for (size_t s = 0; s < starts.size(); ++s) {
+    std::vector<double>& u = starts[s];
     project_controls(pb, &u);
     SolveResult r = budgeted.solve(pb, u);
     iterations += r.iterations;
-    const bool better = !have || (r.feasible && (!out.feasible || r.cost < out.cost)) ||
+    const double to_beat = out_continues ? opts_.recovery_switch_ratio * out.cost : out.cost;
+    const bool better = !have || (r.feasible && (!out.feasible || r.cost < to_beat)) ||
                         (!r.feasible && !out.feasible && r.max_violation < out.max_violation);
     if (r.finite && better) {
       out = r;
       have = true;
+      out_continues = s == 0;
     }
   }
   out.iterations = iterations;

@@ -69,6 +69,8 @@ struct SolverOptions {
   double relax_min_obstacle_age = 1.0;   // s: ... and tracked for this long (a new track reads as
                                          // static while its velocity is unknown); others only a start
                                          // inside d_safe
+  double recovery_switch_ratio = 0.8;    // solve_elastic keeps the plan grown from the previous one unless
+                                         // another start's costs less than this fraction of it
 };
 
 struct SolveResult {

@@ -92,6 +92,7 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.estimate_margin = o.get_double("estimate_margin_m", 0.0, 10.0);
   p.solver.relax_max_obstacle_speed = o.get_double("relax_max_obstacle_speed_mps", 0.0, 100.0);
   p.solver.relax_min_obstacle_age = o.get_double("relax_min_track_age_s", 0.0, 3600.0);
+  p.solver.recovery_switch_ratio = o.get_double("recovery_switch_ratio", 0.0, 1.0);
   p.solver.dense_qr = o.get_choice("linear_solver", {"dense_normal_cholesky", "dense_qr"}) == "dense_qr";
   const std::string ls = o.get_choice("line_search_interpolation", {"bisection", "quadratic", "cubic"});
   p.solver.line_search = ls == "bisection" ? LineSearchInterpolation::kBisection

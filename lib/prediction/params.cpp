@@ -30,6 +30,13 @@ PredictorParams PredictorParams::from_config(const config::Node& s) {
   p.maneuver.mean_maneuver_s = mv.get_positive("mean_maneuver_s");
   mv.close();
 
+  const config::Node fr = s.section("fragment");
+  p.fragment.enabled = fr.get<bool>("enabled");
+  p.fragment.min_parent_speed_mps = fr.get_double("min_parent_speed_mps", 0.0, 100.0);
+  p.fragment.margin_m = fr.get_double("margin_m", 0.0, 10.0);
+  p.fragment.extra_speed_std_mps = fr.get_double("extra_speed_std_mps", 0.0, 100.0);
+  fr.close();
+
   const config::Node a = s.section("adaptive_noise");
   p.adaptive.window_frames = a.get_int("window_frames", 2, 1000);
   p.adaptive.shape_variation_source = a.get_choice("shape_variation_source", {"own", "tracker"});

@@ -68,6 +68,22 @@ struct LimitParams {
   double max_accel_time_s = 1.5;    // the acceleration acts for at most this long into the prediction
 };
 
+// A mover's cluster can split (a bicycle's front and side seen apart, a
+// rider and a wheel): the tracker keeps the old id on one piece and gives
+// the others new ids. A new track would start at rest, so the main body of
+// a fast mover could be presented to the planner as a static obstacle
+// until its filter converges (over 1 s for a 1.8 m/s e-bike in an
+// electromobile run). A new track born inside an established mover's
+// ellipse (plus a margin) starts with that mover's velocity and
+// acceleration instead, with extra velocity uncertainty so that a static
+// object that merely appeared beside a mover is corrected within frames.
+struct FragmentParams {
+  double min_parent_speed_mps = 0.3;  // only tracks at least this fast pass their motion on
+  double margin_m = 0.3;              // born within the parent's semi-major axis + this of its centre
+  double extra_speed_std_mps = 0.3;   // added (in quadrature) to the parent's velocity std per axis
+  bool enabled = true;
+};
+
 struct PredictorParams {
   int prediction_steps = 25;        // N (planner horizon); k = 0..N are published
   double prediction_dt_s = 0.1;     // planner step
@@ -78,6 +94,7 @@ struct PredictorParams {
   double max_axis_m = 50.0;         // a semi-axis beyond this is malformed
   FilterParams filter;
   ManeuverParams maneuver;
+  FragmentParams fragment;
   AdaptiveNoiseParams adaptive;
   UncertaintyParams uncertainty;
   LimitParams limits;

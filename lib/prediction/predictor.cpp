@@ -59,6 +59,8 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
   out->tracks.reserve(in.obstacles.size());
 
   seen_.clear();
+  order_.clear();
+  created_.clear();
   for (const auto& o : in.obstacles) {
     if (!valid(o, *params_) || !seen_.emplace(o.id, 0).second) {
       ++st.malformed;
@@ -75,6 +77,7 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
     auto it = tracks_.find(o.id);
     if (it == tracks_.end()) {
       it = tracks_.emplace(o.id, TrackFilter(*params_, z)).first;
+      created_.push_back(o.id);
       ++st.created;
     } else {
       it->second.predict(dt);
@@ -85,8 +88,7 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
         ++st.diverged;
       }
     }
-    out->tracks.emplace_back();
-    predict_track(o.id, it->second, &out->tracks.back());
+    order_.push_back(o.id);
   }
   // A track missing from this list coasts: the tracker keeps an unmatched
   // id alive for a few frames (occlusion, a merge with a neighbour) and
@@ -121,6 +123,22 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
     ++st.dropped;
   }
   std::sort(coasting_.begin(), coasting_.end());  // a fixed order, whatever the hash map's
+  // Every established track is now at this frame's time (updated or
+  // coasted): new ones born inside a mover take its motion.
+  if (params_->fragment.enabled) {
+    const double extra_var = params_->fragment.extra_speed_std_mps * params_->fragment.extra_speed_std_mps;
+    for (int64_t id : created_) {
+      TrackFilter& child = tracks_.at(id);
+      if (const TrackFilter* parent = fragment_parent(id, child)) {
+        child.inherit_motion(*parent, extra_var);
+        ++st.inherited;
+      }
+    }
+  }
+  for (int64_t id : order_) {
+    out->tracks.emplace_back();
+    predict_track(id, tracks_.at(id), &out->tracks.back());
+  }
   for (int64_t id : coasting_) {
     out->tracks.emplace_back();
     predict_track(id, tracks_.at(id), &out->tracks.back());
@@ -129,6 +147,28 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
   out->num_tracks = static_cast<int32_t>(out->tracks.size());
   if (stats) *stats = st;
   return true;
+}
+
+const TrackFilter* Predictor::fragment_parent(int64_t id, const TrackFilter& child) const {
+  const FragmentParams& fp = params_->fragment;
+  const TrackFilter* best = nullptr;
+  double best_d = 0;
+  int64_t best_id = 0;
+  for (const auto& [pid, parent] : tracks_) {
+    if (pid == id || std::find(created_.begin(), created_.end(), pid) != created_.end()) continue;
+    if (parent.updates() + 1 < params_->coast_min_frames) continue;  // its velocity is not known yet
+    const State& s = parent.state();
+    if (std::hypot(s(kVx), s(kVy)) < fp.min_parent_speed_mps) continue;
+    const double d = std::hypot(child.state()(kX) - s(kX), child.state()(kY) - s(kY));
+    if (d > std::max(s(kA), s(kB)) + fp.margin_m) continue;
+    // nearest; ties by id, so the result does not depend on the hash map's order
+    if (!best || d < best_d || (d == best_d && pid < best_id)) {
+      best = &parent;
+      best_d = d;
+      best_id = pid;
+    }
+  }
+  return best;
 }
 
 void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::track_prediction_t* out) const {

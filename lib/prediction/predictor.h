@@ -22,6 +22,7 @@ struct FrameStats {
   int updated = 0;       // existing tracks updated
   int malformed = 0;     // obstacles skipped (non-finite, out of range, bad axes, duplicate id)
   int diverged = 0;      // tracks whose filter went non-finite: restarted from the measurement
+  int inherited = 0;     // new tracks that took an established mover's motion (FragmentParams)
   bool gap_reset = false;  // frame gap above max_frame_gap_s: all tracks restarted
 };
 
@@ -50,6 +51,12 @@ class Predictor {
   std::unordered_map<int64_t, int64_t> seen_;  // scratch: ids of the current frame
   std::unordered_map<int64_t, int64_t> last_seen_utime_;  // per track: utime of its last measurement
   std::vector<int64_t> coasting_;                        // scratch: ids coasting in the current frame
+  std::vector<int64_t> order_;                           // scratch: ids seen in the current frame, in input order
+  std::vector<int64_t> created_;                         // scratch: ids new in the current frame
+
+  // FragmentParams: the established mover, if any, whose ellipse (plus the
+  // margin) contains the new track's centre; the nearest one.
+  const TrackFilter* fragment_parent(int64_t id, const TrackFilter& child) const;
   int64_t last_utime_ = -1;
 };
 

@@ -251,6 +251,37 @@ TEST(CeresSolver, SwellingObstacleElasticPlanMeetsTheDcbfOnTheObstacleAsItIs) {
 // feasible point towards the last iterate then moved 0.10 m (cost 367).
 // The projection onto the constraints keeps the loop's plan: measured cost
 // 304 and 0.42 m over the horizon (IPOPT, cold, finds 279 and 0.53 m).
+// Recovering, the plan grown from the previous one keeps its side of an
+// obstacle unless another side is clearly cheaper: an obstacle 3 cm left of
+// the path costs about the same to pass on either side, and a robot that
+// takes the cheaper one afresh every cycle can turn back and forth in front
+// of it (it did, in an oncoming e-bike's way).
+TEST(CeresSolver, RecoveringKeepsThePreviousPlansSideOfAnObstacle) {
+  Problem pb = straight_problem(0, 0, 0, 0.8, 0.8);
+  pb.obstacles.push_back(moving_obstacle(1, 1.5, 0.03, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt));
+  // the previous plan, shifted: it swerves to the left (the costlier side)
+  std::vector<double> left(2 * pb.N);
+  for (int k = 0; k < pb.N; ++k) {
+    left[2 * k] = 0.8;
+    left[2 * k + 1] = k < 8 ? 0.4 : (k < 16 ? -0.4 : 0.0);
+  }
+  auto side_at_obstacle = [&](const SolveResult& r) {
+    for (int k = 0; k <= pb.N; ++k)
+      if (r.states[3 * k] >= 1.5) return r.states[3 * k + 1];
+    return r.states[3 * pb.N + 1];
+  };
+  SolverOptions keep = opts(), cheapest = opts();
+  cheapest.recovery_switch_ratio = 1.0;
+  const SolveResult kept = CeresMpcSolver(keep).solve_elastic(pb, left);
+  const SolveResult fresh = CeresMpcSolver(cheapest).solve_elastic(pb, left);
+  ASSERT_TRUE(kept.feasible);
+  ASSERT_TRUE(fresh.feasible);
+  EXPECT_GT(side_at_obstacle(kept), 0.3);    // left, as the previous plan
+  EXPECT_LT(side_at_obstacle(fresh), -0.3);  // the cheapest: right
+  EXPECT_LT(fresh.cost, kept.cost);
+  EXPECT_GT(fresh.cost, keep.recovery_switch_ratio * kept.cost);  // not clearly cheaper
+}
+
 TEST(CeresSolver, ColdStartBesideAnObstacleDoesNotReturnTheStart) {
   Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
   pb.d_safe = 0.35;
