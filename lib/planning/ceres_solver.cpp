@@ -41,18 +41,31 @@ struct Rollout {
   void compute(const Problem& pb, const double* u, bool with_sensitivities) {
     const int N = pb.N;
     states.resize(3 * (N + 1));
-    rollout(pb, u, states.data());
-    if (!with_sensitivities) return;
+    if (!with_sensitivities) {
+      rollout(pb, u, states.data());
+      return;
+    }
+    // rollout() of problem.h, each cos and sin kept for the sensitivities
+    // (the same expressions, so the same states)
     cos_th.resize(N);
     sin_th.resize(N);
     sx.assign(N + 1, 0.0);
     sy.assign(N + 1, 0.0);
-    const double dt2 = pb.dt * pb.dt;
+    const double dt = pb.dt, dt2 = dt * dt;
+    states[0] = pb.x0;
+    states[1] = pb.y0;
+    states[2] = pb.yaw0;
     for (int i = 0; i < N; ++i) {
-      cos_th[i] = std::cos(states[3 * i + 2]);
-      sin_th[i] = std::sin(states[3 * i + 2]);
-      sx[i + 1] = sx[i] - u[2 * i] * dt2 * sin_th[i];
-      sy[i + 1] = sy[i] + u[2 * i] * dt2 * cos_th[i];
+      const double* xk = states.data() + 3 * i;
+      double* xn = states.data() + 3 * (i + 1);
+      const double v = u[2 * i], w = u[2 * i + 1];
+      cos_th[i] = std::cos(xk[2]);
+      sin_th[i] = std::sin(xk[2]);
+      xn[0] = xk[0] + v * cos_th[i] * dt;
+      xn[1] = xk[1] + v * sin_th[i] * dt;
+      xn[2] = xk[2] + w * dt;
+      sx[i + 1] = sx[i] - v * dt2 * sin_th[i];
+      sy[i + 1] = sy[i] + v * dt2 * cos_th[i];
     }
   }
 
