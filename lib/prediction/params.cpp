@@ -28,6 +28,8 @@ PredictorParams PredictorParams::from_config(const config::Node& s) {
   p.maneuver.jerk_psd_m2ps5 = mv.get_positive("jerk_psd_m2ps5");
   p.maneuver.mean_quiet_s = mv.get_positive("mean_quiet_s");
   p.maneuver.mean_maneuver_s = mv.get_positive("mean_maneuver_s");
+  p.maneuver.model = mv.get_choice("model", {"ca", "cv"});
+  p.maneuver.accel_psd_m2ps3 = mv.get_positive("accel_psd_m2ps3");
   mv.close();
 
   const config::Node fr = s.section("fragment");

@@ -30,14 +30,23 @@ struct FilterParams {
 
 // Manoeuvres: the low jerk noise that gives accurate velocities of steady
 // targets makes one filter slow to follow a turn. Optionally the track runs
-// two copies of the paper's filter (same A, H, R) that differ only in the
-// jerk noise, mixed as an interacting multiple model (IMM); enabled = false
-// is the paper's single filter.
+// the paper's filter (the quiet mode) beside a manoeuvring mode with the
+// same H and R, mixed as an interacting multiple model (IMM); enabled =
+// false is the paper's single filter. The manoeuvring mode is either a copy
+// of the paper's constant-acceleration filter with more jerk noise ("ca"),
+// or constant velocity driven by white acceleration ("cv", the default): an
+// acceleration learnt in an abrupt turn would otherwise outlive it, and the
+// velocity overshoot the new heading for over a second.
 struct ManeuverParams {
   bool enabled = true;
   double jerk_psd_m2ps5 = 0.1;   // jerk PSD of the manoeuvring mode
   double mean_quiet_s = 60.0;    // expected time in the quiet mode before a manoeuvre
   double mean_maneuver_s = 1.0;  // expected duration of a manoeuvre
+  // The manoeuvring mode's model: "ca" (the paper's constant acceleration
+  // with jerk_psd_m2ps5) or "cv" (acceleration held at zero, white
+  // acceleration of accel_psd_m2ps3 drives the velocity).
+  std::string model = "cv";
+  double accel_psd_m2ps3 = 1.0;
 };
 
 struct AdaptiveNoiseParams {

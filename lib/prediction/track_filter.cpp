@@ -188,8 +188,28 @@ void TrackFilter::predict(double dt) {
       mu_[j] = c[j];
     }
   }
-  for (int j = 0; j < num_modes_; ++j)
-    propagate(&modes_[j].x, &modes_[j].P, process_noise(params_->filter, dt, modes_[j].jerk_psd), dt);
+  for (int j = 0; j < num_modes_; ++j) {
+    Mode& m = modes_[j];
+    if (j == 1 && params_->maneuver.model == "cv") {
+      // constant velocity: no acceleration; white acceleration drives v
+      m.x(kAx) = m.x(kAy) = 0.0;
+      for (int a : {static_cast<int>(kAx), static_cast<int>(kAy)}) {
+        m.P.row(a).setZero();
+        m.P.col(a).setZero();
+      }
+      Covariance Q = process_noise(params_->filter, dt, 0.0);
+      const double q = params_->maneuver.accel_psd_m2ps3, t2 = dt * dt, t3 = t2 * dt;
+      for (const auto& ax : kAxes) {
+        Q(ax[0], ax[0]) += q * t3 / 3;
+        Q(ax[0], ax[1]) += q * t2 / 2;
+        Q(ax[1], ax[0]) += q * t2 / 2;
+        Q(ax[1], ax[1]) += q * dt;
+      }
+      propagate(&m.x, &m.P, Q, dt);
+      continue;
+    }
+    propagate(&m.x, &m.P, process_noise(params_->filter, dt, m.jerk_psd), dt);
+  }
   combine();
 }
 
