@@ -97,6 +97,7 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
   P_(kVx, kVx) = P_(kVy, kVy) = f.init_speed_std_mps * f.init_speed_std_mps;
   P_(kAx, kAx) = P_(kAy, kAy) = f.init_accel_std_mps2 * f.init_accel_std_mps2;
   num_modes_ = params.maneuver.enabled ? 2 : 1;
+  cv_maneuver_ = params.maneuver.model == "cv";
   modes_[0] = {x_, P_, f.jerk_psd_m2ps5};
   modes_[1] = {x_, P_, params.maneuver.jerk_psd_m2ps5};
   mu_[0] = 1.0;
@@ -190,7 +191,7 @@ void TrackFilter::predict(double dt) {
   }
   for (int j = 0; j < num_modes_; ++j) {
     Mode& m = modes_[j];
-    if (j == 1 && params_->maneuver.model == "cv") {
+    if (j == 1 && cv_maneuver_) {
       // constant velocity: no acceleration; white acceleration drives v
       m.x(kAx) = m.x(kAy) = 0.0;
       for (int a : {static_cast<int>(kAx), static_cast<int>(kAy)}) {

@@ -101,6 +101,7 @@ class TrackFilter {
   const PredictorParams* params_;
   Mode modes_[2];
   int num_modes_ = 1;
+  bool cv_maneuver_ = false;  // the manoeuvring mode is constant velocity (ManeuverParams::model "cv")
   double mu_[2] = {1.0, 0.0};  // mode probabilities
   State x_;
   Covariance P_;
