@@ -45,27 +45,16 @@ struct Rollout {
       rollout(pb, u, states.data());
       return;
     }
-    // rollout() of problem.h, each cos and sin kept for the sensitivities
-    // (the same expressions, so the same states)
+    // each step's cos and sin kept from the rollout for the sensitivities
     cos_th.resize(N);
     sin_th.resize(N);
+    rollout(pb, u, states.data(), cos_th.data(), sin_th.data());
     sx.assign(N + 1, 0.0);
     sy.assign(N + 1, 0.0);
-    const double dt = pb.dt, dt2 = dt * dt;
-    states[0] = pb.x0;
-    states[1] = pb.y0;
-    states[2] = pb.yaw0;
+    const double dt2 = pb.dt * pb.dt;
     for (int i = 0; i < N; ++i) {
-      const double* xk = states.data() + 3 * i;
-      double* xn = states.data() + 3 * (i + 1);
-      const double v = u[2 * i], w = u[2 * i + 1];
-      cos_th[i] = std::cos(xk[2]);
-      sin_th[i] = std::sin(xk[2]);
-      xn[0] = xk[0] + v * cos_th[i] * dt;
-      xn[1] = xk[1] + v * sin_th[i] * dt;
-      xn[2] = xk[2] + w * dt;
-      sx[i + 1] = sx[i] - v * dt2 * sin_th[i];
-      sy[i + 1] = sy[i] + v * dt2 * cos_th[i];
+      sx[i + 1] = sx[i] - u[2 * i] * dt2 * sin_th[i];
+      sy[i + 1] = sy[i] + u[2 * i] * dt2 * cos_th[i];
     }
   }
 

@@ -139,8 +139,10 @@ inline BarrierValue barrier_at(const ObstacleTrack& o, int k, double px, double 
 // ---- the model, generic in the scalar type (double or ceres::Jet) ----
 
 // states: 3 (N + 1) values x, y, yaw per step; u: 2 N values v, omega per step.
+// cos_th, sin_th (N each, optional): the cosine and sine of the heading at
+// each step k < N, as used (the solver's sensitivities need them too).
 template <class T>
-void rollout(const Problem& pb, const T* u, T* states) {
+void rollout(const Problem& pb, const T* u, T* states, T* cos_th = nullptr, T* sin_th = nullptr) {
   using std::cos;
   using std::sin;
   states[0] = T(pb.x0);
@@ -151,8 +153,11 @@ void rollout(const Problem& pb, const T* u, T* states) {
     T* xn = states + 3 * (k + 1);
     const T& v = u[2 * k];
     const T& w = u[2 * k + 1];
-    xn[0] = xk[0] + v * cos(xk[2]) * pb.dt;
-    xn[1] = xk[1] + v * sin(xk[2]) * pb.dt;
+    const T c = cos(xk[2]), s = sin(xk[2]);
+    if (cos_th) cos_th[k] = c;
+    if (sin_th) sin_th[k] = s;
+    xn[0] = xk[0] + v * c * pb.dt;
+    xn[1] = xk[1] + v * s * pb.dt;
     xn[2] = xk[2] + w * pb.dt;
   }
 }

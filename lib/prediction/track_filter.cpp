@@ -48,6 +48,18 @@ Covariance process_noise(const FilterParams& p, double dt, double jerk_psd) {
   return Q;
 }
 
+Covariance process_noise_cv(const FilterParams& p, double dt, double accel_psd) {
+  Covariance Q = process_noise(p, dt, 0.0);
+  const double q = accel_psd, t2 = dt * dt, t3 = t2 * dt;
+  for (const auto& ax : kAxes) {
+    Q(ax[0], ax[0]) += q * t3 / 3;
+    Q(ax[0], ax[1]) += q * t2 / 2;
+    Q(ax[1], ax[0]) += q * t2 / 2;
+    Q(ax[1], ax[1]) += q * dt;
+  }
+  return Q;
+}
+
 void propagate(State* x, Covariance* P, const Covariance& Q, double dt) {
   const double h = 0.5 * dt * dt;
   State& s = *x;
@@ -198,18 +210,10 @@ void TrackFilter::predict(double dt) {
         m.P.row(a).setZero();
         m.P.col(a).setZero();
       }
-      Covariance Q = process_noise(params_->filter, dt, 0.0);
-      const double q = params_->maneuver.accel_psd_m2ps3, t2 = dt * dt, t3 = t2 * dt;
-      for (const auto& ax : kAxes) {
-        Q(ax[0], ax[0]) += q * t3 / 3;
-        Q(ax[0], ax[1]) += q * t2 / 2;
-        Q(ax[1], ax[0]) += q * t2 / 2;
-        Q(ax[1], ax[1]) += q * dt;
-      }
-      propagate(&m.x, &m.P, Q, dt);
-      continue;
+      propagate(&m.x, &m.P, process_noise_cv(params_->filter, dt, params_->maneuver.accel_psd_m2ps3), dt);
+    } else {
+      propagate(&m.x, &m.P, process_noise(params_->filter, dt, m.jerk_psd), dt);
     }
-    propagate(&m.x, &m.P, process_noise(params_->filter, dt, m.jerk_psd), dt);
   }
   combine();
 }

@@ -33,6 +33,9 @@ double wrap_half_pi(double angle);
 // random walk per shape parameter).
 Covariance transition_matrix(double dt);
 Covariance process_noise(const FilterParams& p, double dt, double jerk_psd);
+// Q of the constant-velocity manoeuvring mode: white acceleration of PSD
+// accel_psd on each (p, v) pair, the same shape random walk, nothing on a.
+Covariance process_noise_cv(const FilterParams& p, double dt, double accel_psd);
 
 // x <- A x and P <- A P A^T + Q using the sparsity of A (same result as the dense products).
 void propagate(State* x, Covariance* P, const Covariance& Q, double dt);
