@@ -9,6 +9,8 @@
 //   solve/ceres_cold/<k>  from zeros, for reference
 //   solve/ipopt/<k>       IPOPT from zeros
 //   loop/ceres/<k>        30 planner cycles (robot and obstacles moving), per-cycle counters
+//   detour/<k>            the way round k settled obstacles, one of them wide on the route
+//                         (detour.h, config/robot.yaml planner.detour), per planning cycle
 // After the runs a table compares the costs (goal: Ceres within 1 % of IPOPT).
 #include <benchmark/benchmark.h>
 
@@ -19,8 +21,12 @@
 #include <cstdlib>
 #include <map>
 
+#include "config/config.h"
 #include "planning/ceres_solver.h"
+#include "planning/detour.h"
 #include "planning/ipopt_solver.h"
+#include "planning/params.h"
+#include "planning/reference.h"
 #include "test_problems.h"
 
 namespace {
@@ -192,6 +198,40 @@ void BM_CeresClosedLoop(benchmark::State& state) {
   state.counters["infeasible_cycles"] = static_cast<double>(infeasible) / std::max(1.0, cycles / double(kLoopCycles));
 }
 
+// A planter-sized obstacle on a straight route and k - 1 smaller ones
+// scattered within 6 m (fixed positions), as the planner sees them each
+// cycle; the previous way round is kept between iterations, as in the
+// planner.
+void BM_Detour(benchmark::State& state) {
+  using namespace evade::planning;
+  const int k = static_cast<int>(state.range(0));
+  const PlannerParams p =
+      PlannerParams::from_config(evade::config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
+  DetourPlanner detour(p.detour, p.d_safe_m);
+  RouteFollower route;
+  route.set_route({0.0, 20.0}, {0.0, 0.0});
+  route.update_progress(0.0, 0.0, p.route_search_window_m);
+  std::vector<SettledObstacle> obs = {{4.0, 0.1, 1.0, 1.0, 0.0}};
+  for (int i = 1; i < k; ++i) {
+    const double ang = 2.399963 * i;  // golden angle: spread without overlap
+    const double r = 2.0 + 4.0 * i / k;
+    obs.push_back({4.0 + r * std::cos(ang), r * std::sin(ang), 0.35, 0.25, ang});
+  }
+  std::vector<double> x, y;
+  int detours = 0, cycles = 0;
+  long expanded = 0;
+  for (auto _ : state) {
+    const bool way = detour.plan(route, 0.0, 0.0, obs, &x, &y) == DetourPlanner::Result::kDetour;
+    detours += way ? 1 : 0;
+    expanded += detour.last_expanded();
+    ++cycles;
+    benchmark::DoNotOptimize(x.data());
+  }
+  state.counters["detour_found"] = static_cast<double>(detours) / std::max(1, cycles);
+  state.counters["cells_expanded"] = static_cast<double>(expanded) / std::max(1, cycles);
+}
+
+BENCHMARK(BM_Detour)->Name("detour")->Arg(1)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ceres)->Name("solve/ceres")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CeresWarmMultipliers)->Name("solve/ceres_warm_multipliers")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CeresClosedLoop)->Name("loop/ceres")->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);

@@ -68,6 +68,25 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.curvefit_window_s = c.get_positive("window_s");
   c.close();
 
+  const config::Node d = s.section("detour");
+  p.detour.enabled = d.get<bool>("enabled");
+  p.detour.lookahead_m = d.get_double("lookahead_m", 0.0, 100.0);
+  p.detour.cell_m = d.get_double("cell_m", 0.01, 1.0);
+  p.detour.margin_m = d.get_double("margin_m", 0.0, 10.0);
+  p.detour.comfort_m = d.get_double("comfort_m", p.detour.margin_m + 1e-3, 20.0);
+  p.detour.proximity_cost = d.get_double("proximity_cost", 0.0, 1e3);
+  p.detour.deviation_cost = d.get_double("deviation_cost", 0.0, 1e3);
+  p.detour.rejoin_m = d.get_double("rejoin_m", 0.0, 100.0);
+  p.detour.pad_m = d.get_double("pad_m", 0.0, 100.0);
+  p.detour.max_obstacle_speed_mps = d.get_double("max_obstacle_speed_mps", 0.0, 100.0);
+  p.detour.min_track_age_s = d.get_double("min_track_age_s", 0.0, 3600.0);
+  p.detour.blocked_cost = d.get_double("blocked_cost", 1.0, 1e6);
+  p.detour.keep_side_discount = d.get_double("keep_side_discount", 0.01, 1.0);
+  p.detour.smoothing_m = d.get_double("smoothing_m", 0.0, 10.0);
+  p.detour.max_cells = d.get_int("max_cells", 1, 10000000);
+  p.detour.memory_s = d.get_double("memory_s", 0.0, 3600.0);
+  d.close();
+
   const config::Node o = s.section("solver");
   p.solver.max_outer_iterations = o.get_int("max_outer_iterations", 1, 1000);
   p.solver.max_inner_iterations = o.get_int("max_inner_iterations", 1, 1000);

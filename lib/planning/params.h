@@ -6,6 +6,7 @@
 
 #include "config/config.h"
 #include "planning/ceres_solver.h"
+#include "planning/detour.h"
 #include "planning/problem.h"
 
 namespace evade::planning {
@@ -37,6 +38,7 @@ struct PlannerParams {
   Weights weights;
   Limits limits;
   SolverOptions solver;
+  DetourParams detour;
 
   // root = the whole configuration (reads `planner:` and the limits in `robot:`).
   static PlannerParams from_config(const config::Node& root);

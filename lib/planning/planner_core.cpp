@@ -49,6 +49,8 @@ PlannerCore::PlannerCore(PlannerParams params)
     : Core("planner"),
       p_(params),
       solver_(params.solver),
+      detour_(params.detour, params.d_safe_m),
+      settled_(params.detour.memory_s),
       history_(params.curvefit_degree, params.curvefit_window_s),
       period_us_(std::llround(1e6 / params.rate_hz)) {
   subscribe<evade::odometry_t>("ODOMETRY", [this](const evade::odometry_t& m) { on_odometry(m); });
@@ -127,6 +129,33 @@ void PlannerCore::watchdog() {
   publish_plan(at, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v, w), 0, 0, 0);
 }
 
+void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
+  std::vector<std::pair<int64_t, SettledObstacle>> settled;
+  if (predictions_ && p_.detour.enabled) {
+    for (const auto& t : predictions_->tracks) {
+      if (!valid_track(t)) continue;
+      auto it = first_seen_.find(t.id);
+      const double age_s = it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(odom.utime - it->second);
+      if (std::hypot(t.vx, t.vy) > p_.detour.max_obstacle_speed_mps || age_s < p_.detour.min_track_age_s) continue;
+      settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
+    }
+  }
+  settled_.update(odom.utime, settled);
+  std::vector<double> way_x, way_y;
+  const DetourPlanner::Result r = detour_.plan(route_, odom.x, odom.y, settled_.obstacles(), &way_x, &way_y);
+  RouteFollower way_round;
+  if (r == DetourPlanner::Result::kDetour && way_round.set_route(way_x, way_y)) {
+    count("detour");
+    way_round.update_progress(odom.x, odom.y, p_.route_search_window_m);
+    way_round.reference(odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2, &pb->ref_x,
+                        &pb->ref_y, &pb->ref_yaw);
+    return;
+  }
+  if (r == DetourPlanner::Result::kNoWay) count("detour_no_way");
+  route_.reference(odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2, &pb->ref_x, &pb->ref_y,
+                   &pb->ref_yaw);
+}
+
 void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   const int N = p_.horizon_steps;
   const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
@@ -164,8 +193,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   pb.w = p_.weights;
   pb.lim = p_.limits;
   pb.d_safe = p_.d_safe_m;
-  route_.reference(odom.yaw, N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2, &pb.ref_x, &pb.ref_y,
-                   &pb.ref_yaw);
+  make_reference(odom, &pb);
   if (predictions_) {
     int invalid = 0;
     pb.obstacles = constraint_obstacles(p_, *predictions_, history_, odom.utime, odom.x, odom.y, &invalid);

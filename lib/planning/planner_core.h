@@ -13,6 +13,7 @@
 #include "evade/plan_t.hpp"
 #include "evade/prediction_list_t.hpp"
 #include "planning/ceres_solver.h"
+#include "planning/detour.h"
 #include "planning/obstacles.h"
 #include "planning/params.h"
 #include "planning/reference.h"
@@ -29,6 +30,9 @@ class PlannerCore : public bus::Core {
  private:
   void on_odometry(const evade::odometry_t& odom);
   void plan_cycle(const evade::odometry_t& odom);
+  // The reference of this cycle: along the route, or round the settled
+  // obstacles standing on it (detour.h).
+  void make_reference(const evade::odometry_t& odom, Problem* pb);
   void watchdog();
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;
@@ -38,6 +42,8 @@ class PlannerCore : public bus::Core {
   PlannerParams p_;
   CeresMpcSolver solver_;
   RouteFollower route_;
+  DetourPlanner detour_;
+  SettledMemory settled_;
   CurveFitHistory history_;
   std::map<int64_t, int64_t> first_seen_;  // track id -> utime of its first prediction
   std::optional<evade::prediction_list_t> predictions_;

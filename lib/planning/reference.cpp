@@ -63,6 +63,14 @@ void RouteFollower::point_at(double s, double* px, double* py, double* heading) 
   *heading = std::atan2(y_[i + 1] - y_[i], x_[i + 1] - x_[i]);
 }
 
+void RouteFollower::vertices_after(double s, std::vector<double>* x, std::vector<double>* y) const {
+  for (size_t i = 0; i < s_.size(); ++i)
+    if (s_[i] > s) {
+      x->push_back(x_[i]);
+      y->push_back(y_[i]);
+    }
+}
+
 void RouteFollower::reference(double yaw, int N, double dt, double speed, double end_decel, std::vector<double>* rx,
                               std::vector<double>* ry, std::vector<double>* ryaw) const {
   rx->assign(N + 1, 0.0);

@@ -26,6 +26,14 @@ class RouteFollower {
   void reference(double yaw, int N, double dt, double speed, double end_decel, std::vector<double>* rx,
                  std::vector<double>* ry, std::vector<double>* ryaw) const;
 
+  // The route point at arc length s (clamped to the route).
+  void position_at(double s, double* px, double* py) const {
+    double heading;
+    point_at(s, px, py, &heading);
+  }
+  // Appends the route's vertices after arc length s, in order.
+  void vertices_after(double s, std::vector<double>* x, std::vector<double>* y) const;
+
   double progress() const { return progress_; }
   double length() const { return s_.empty() ? 0.0 : s_.back(); }
   double end_x() const { return x_.back(); }

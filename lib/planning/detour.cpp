@@ -1,0 +1,249 @@
+#include "planning/detour.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <queue>
+
+#include "planning/problem.h"
+
+namespace evade::planning {
+namespace {
+
+constexpr double kFar = 1e6;  // clearance with no obstacle near
+
+// The grid: cell (i, j) has its centre at (x0 + i cell, y0 + j cell).
+struct Grid {
+  double x0 = 0, y0 = 0, cell = 0;
+  int nx = 0, ny = 0;
+  int index(int i, int j) const { return j * nx + i; }
+  int cell_of(double x, double y) const {
+    const int i = std::clamp(static_cast<int>(std::lround((x - x0) / cell)), 0, nx - 1);
+    const int j = std::clamp(static_cast<int>(std::lround((y - y0) / cell)), 0, ny - 1);
+    return index(i, j);
+  }
+  double cx(int idx) const { return x0 + (idx % nx) * cell; }
+  double cy(int idx) const { return y0 + (idx / nx) * cell; }
+};
+
+}  // namespace
+
+void SettledMemory::update(int64_t utime, const std::vector<std::pair<int64_t, SettledObstacle>>& settled) {
+  for (const auto& [id, e] : settled) entries_[id] = {e, utime};
+  for (auto it = entries_.begin(); it != entries_.end();) {
+    // expired, or from a later time (the log or the clock jumped back)
+    const int64_t age = utime - it->second.last_seen_us;
+    if (age > memory_us_ || age < 0) it = entries_.erase(it); else ++it;
+  }
+}
+
+std::vector<SettledObstacle> SettledMemory::obstacles() const {
+  std::vector<SettledObstacle> out;
+  out.reserve(entries_.size());
+  for (const auto& [id, e] : entries_) out.push_back(e.ellipse);
+  return out;
+}
+
+double DetourPlanner::clearance(const std::vector<SettledObstacle>& obstacles, double px, double py) const {
+  double h = kFar;
+  for (const SettledObstacle& o : obstacles) {
+    // Beyond the major axis plus d_safe and comfort, h cannot be the smallest
+    // one that matters: skip the line-ellipse distance.
+    if (std::hypot(px - o.x, py - o.y) > o.a + d_safe_ + p_.comfort_m + p_.cell_m) continue;
+    h = std::min(h, barrier(px, py, o.x, o.y, o.a, o.b, o.theta, d_safe_).h);
+  }
+  return h;
+}
+
+DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px, double py,
+                                          const std::vector<SettledObstacle>& obstacles, std::vector<double>* x,
+                                          std::vector<double>* y) {
+  x->clear();
+  y->clear();
+  last_expanded_ = 0;
+  auto forget = [&](Result r) {
+    prev_x_.clear();
+    prev_y_.clear();
+    return r;
+  };
+  if (!p_.enabled || obstacles.empty() || !route.has_route()) return forget(Result::kClear);
+
+  // The blocked stretch: from the first blocked route point within the
+  // lookahead to the last one of the run that follows it; the way round
+  // rejoins the route at the first point rejoin_m past it that is free.
+  const double step = p_.cell_m;
+  const double s_start = route.progress(), s_end = route.length();
+  double first_blocked = -1, rejoin = -1, free_run = 0;
+  for (double s = s_start; s <= s_end + 1e-9; s += step) {
+    double rx, ry;
+    route.position_at(s, &rx, &ry);
+    const bool blocked = clearance(obstacles, rx, ry) < p_.margin_m;
+    if (first_blocked < 0) {
+      if (!blocked && s > s_start + p_.lookahead_m) break;
+      if (blocked) first_blocked = s;
+      continue;
+    }
+    free_run = blocked ? 0.0 : free_run + step;
+    if (free_run >= p_.rejoin_m) {
+      rejoin = s;
+      break;
+    }
+  }
+  if (first_blocked < 0) return forget(Result::kClear);
+  if (rejoin < 0) return forget(Result::kNoWay);  // the route's end is blocked: nowhere to go round to
+  double tx, ty;
+  route.position_at(rejoin, &tx, &ty);
+
+  // The grid: the box of robot and rejoin point, padded.
+  Grid g;
+  g.cell = p_.cell_m;
+  g.x0 = std::min(px, tx) - p_.pad_m;
+  g.y0 = std::min(py, ty) - p_.pad_m;
+  const double wx = std::fabs(px - tx) + 2 * p_.pad_m, wy = std::fabs(py - ty) + 2 * p_.pad_m;
+  g.nx = static_cast<int>(std::ceil(wx / g.cell)) + 1;
+  g.ny = static_cast<int>(std::ceil(wy / g.cell)) + 1;
+  if (static_cast<int64_t>(g.nx) * g.ny > p_.max_cells) return forget(Result::kNoWay);
+  const int n = g.nx * g.ny;
+
+  // Distance of each cell from the route ahead (progress to past the
+  // rejoin point): a two-pass chamfer transform from the route's cells.
+  std::vector<double> off_route(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+  for (double s = s_start; s <= std::min(s_end, rejoin + p_.pad_m) + 1e-9; s += 0.5 * step) {
+    double rx, ry;
+    route.position_at(s, &rx, &ry);
+    const int i = static_cast<int>(std::lround((rx - g.x0) / g.cell));
+    const int j = static_cast<int>(std::lround((ry - g.y0) / g.cell));
+    if (i >= 0 && i < g.nx && j >= 0 && j < g.ny) off_route[static_cast<size_t>(g.index(i, j))] = 0.0;
+  }
+  const double diag = std::sqrt(2.0) * g.cell;
+  auto relax = [&](int i, int j, int ni, int nj, double w) {
+    if (ni < 0 || ni >= g.nx || nj < 0 || nj >= g.ny) return;
+    double& d = off_route[static_cast<size_t>(g.index(i, j))];
+    d = std::min(d, off_route[static_cast<size_t>(g.index(ni, nj))] + w);
+  };
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      relax(i, j, i - 1, j, g.cell);
+      relax(i, j, i, j - 1, g.cell);
+      relax(i, j, i - 1, j - 1, diag);
+      relax(i, j, i + 1, j - 1, diag);
+    }
+  for (int j = g.ny - 1; j >= 0; --j)
+    for (int i = g.nx - 1; i >= 0; --i) {
+      relax(i, j, i + 1, j, g.cell);
+      relax(i, j, i, j + 1, g.cell);
+      relax(i, j, i + 1, j + 1, diag);
+      relax(i, j, i - 1, j + 1, diag);
+    }
+
+  // Cost factor per metre of each cell.
+  std::vector<double> factor(static_cast<size_t>(n));
+  double min_factor = 1.0;
+  for (int idx = 0; idx < n; ++idx) {
+    const double h = clearance(obstacles, g.cx(idx), g.cy(idx));
+    const double dev = off_route[static_cast<size_t>(idx)];
+    double f = 1.0 + p_.deviation_cost * (std::isfinite(dev) ? dev : 0.0);
+    if (h < p_.margin_m) {
+      f = p_.blocked_cost;
+    } else if (h < p_.comfort_m) {
+      f += p_.proximity_cost * (p_.comfort_m - h) / (p_.comfort_m - p_.margin_m);
+    }
+    factor[static_cast<size_t>(idx)] = f;
+  }
+  // Hysteresis: the cells along the previous way round are cheaper, so that
+  // two ways of about the same length do not take turns.
+  if (!prev_x_.empty() && p_.keep_side_discount < 1.0) {
+    std::vector<char> mark(static_cast<size_t>(n), 0);
+    for (size_t k = 0; k + 1 < prev_x_.size(); ++k) {
+      const double len = std::hypot(prev_x_[k + 1] - prev_x_[k], prev_y_[k + 1] - prev_y_[k]);
+      const int pieces = std::max(1, static_cast<int>(std::ceil(len / (0.5 * g.cell))));
+      for (int q = 0; q <= pieces; ++q) {
+        const double t = static_cast<double>(q) / pieces;
+        const double qx = prev_x_[k] + t * (prev_x_[k + 1] - prev_x_[k]);
+        const double qy = prev_y_[k] + t * (prev_y_[k + 1] - prev_y_[k]);
+        const int i = static_cast<int>(std::lround((qx - g.x0) / g.cell));
+        const int j = static_cast<int>(std::lround((qy - g.y0) / g.cell));
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int di = -1; di <= 1; ++di)
+            if (i + di >= 0 && i + di < g.nx && j + dj >= 0 && j + dj < g.ny) mark[g.index(i + di, j + dj)] = 1;
+      }
+    }
+    for (int idx = 0; idx < n; ++idx)
+      if (mark[static_cast<size_t>(idx)] && factor[static_cast<size_t>(idx)] < p_.blocked_cost)
+        factor[static_cast<size_t>(idx)] *= p_.keep_side_discount;
+    min_factor = p_.keep_side_discount;
+  }
+
+  // A*, 8-connected; a move costs its length times the mean factor of its
+  // two cells. The heuristic (straight-line distance times the smallest
+  // factor) is admissible, so the way found is the cheapest on the grid.
+  const int start = g.cell_of(px, py), goal = g.cell_of(tx, ty);
+  std::vector<double> cost(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+  std::vector<int> parent(static_cast<size_t>(n), -1);
+  std::vector<char> closed(static_cast<size_t>(n), 0);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  auto heuristic = [&](int idx) { return min_factor * std::hypot(g.cx(idx) - tx, g.cy(idx) - ty); };
+  cost[static_cast<size_t>(start)] = 0;
+  open.push({heuristic(start), start});
+  static constexpr int kDi[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+  static constexpr int kDj[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+  while (!open.empty()) {
+    const int cur = open.top().second;
+    open.pop();
+    if (closed[static_cast<size_t>(cur)]) continue;
+    closed[static_cast<size_t>(cur)] = 1;
+    ++last_expanded_;
+    if (cur == goal) break;
+    const int ci = cur % g.nx, cj = cur / g.nx;
+    for (int d = 0; d < 8; ++d) {
+      const int ni = ci + kDi[d], nj = cj + kDj[d];
+      if (ni < 0 || ni >= g.nx || nj < 0 || nj >= g.ny) continue;
+      const int nb = g.index(ni, nj);
+      if (closed[static_cast<size_t>(nb)]) continue;
+      const double len = (d < 4 ? 1.0 : std::sqrt(2.0)) * g.cell;
+      const double c = cost[static_cast<size_t>(cur)] +
+                       len * 0.5 * (factor[static_cast<size_t>(cur)] + factor[static_cast<size_t>(nb)]);
+      if (c < cost[static_cast<size_t>(nb)]) {
+        cost[static_cast<size_t>(nb)] = c;
+        parent[static_cast<size_t>(nb)] = cur;
+        open.push({c + heuristic(nb), nb});
+      }
+    }
+  }
+  if (!closed[static_cast<size_t>(goal)]) return forget(Result::kNoWay);  // cannot happen on a connected grid
+
+  // The cell path, robot first, smoothed by a moving average (ends kept).
+  std::vector<int> cells;
+  for (int c = goal; c != -1; c = parent[static_cast<size_t>(c)]) cells.push_back(c);
+  std::reverse(cells.begin(), cells.end());
+  const int m = static_cast<int>(cells.size());
+  const int half = static_cast<int>(std::lround(p_.smoothing_m / g.cell));
+  std::vector<double> wx_pts(static_cast<size_t>(m)), wy_pts(static_cast<size_t>(m));
+  for (int k = 0; k < m; ++k) {
+    const int w = std::min({half, k, m - 1 - k});
+    double sx = 0, sy = 0;
+    for (int q = k - w; q <= k + w; ++q) {
+      sx += g.cx(cells[static_cast<size_t>(q)]);
+      sy += g.cy(cells[static_cast<size_t>(q)]);
+    }
+    wx_pts[static_cast<size_t>(k)] = sx / (2 * w + 1);
+    wy_pts[static_cast<size_t>(k)] = sy / (2 * w + 1);
+  }
+  // Exact ends: the robot, then the rejoin point and the rest of the route.
+  x->push_back(px);
+  y->push_back(py);
+  for (int k = 1; k + 1 < m; ++k) {
+    x->push_back(wx_pts[static_cast<size_t>(k)]);
+    y->push_back(wy_pts[static_cast<size_t>(k)]);
+  }
+  x->push_back(tx);
+  y->push_back(ty);
+  route.vertices_after(rejoin, x, y);
+  prev_x_ = *x;
+  prev_y_ = *y;
+  return Result::kDetour;
+}
+
+}  // namespace evade::planning

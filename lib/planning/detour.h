@@ -1,0 +1,109 @@
+// The way round settled obstacles that stand on the route.
+//
+// The MPC sees N dt = 2.5 s ahead and turns at omega_max = 0.5 rad/s (a
+// quarter turn takes 3.1 s). In front of an obstacle wider than a bin that
+// stands on the route, no swerve within that horizon costs less than
+// standing, and the robot stops for good (static_clutter, before this). The
+// paper's reference is the route itself; here the route ahead is checked
+// against the settled (slow, established) tracks, and where it is blocked
+// the reference follows a shortest way round them on a grid instead, back
+// to the route past the blockage. Movers stay the D-CBF's alone: their
+// predicted ellipses are in the constraints, not in this grid.
+//
+// Blocked means the planner's own barrier (problem.h, the paper's
+// line-ellipse distance minus d_safe) of a settled track's current ellipse
+// is below margin_m: the grid keeps the robot where the constraints will
+// let it be. Cells with less than comfort_m cost more, so that the way
+// round keeps to the middle of a gap and prefers open space to a squeeze
+// that the swelling of the predicted ellipses closes later.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "planning/reference.h"
+
+namespace evade::planning {
+
+struct DetourParams {
+  bool enabled = true;
+  double lookahead_m = 5.0;             // route checked this far ahead of the progress
+  double cell_m = 0.1;                  // grid resolution
+  double margin_m = 0.05;               // blocked where the barrier h (m, beyond d_safe) is below this
+  double comfort_m = 0.5;               // cells with h below this cost more...
+  double proximity_cost = 1.0;          // ...up to this much more per metre at h = margin_m (linear in h)
+  double deviation_cost = 0.5;          // cost factor per metre of distance from the route (stay near it)
+  double rejoin_m = 1.0;                // back on the route this far past the blocked stretch
+  double pad_m = 2.5;                   // grid beyond the box of robot and rejoin point
+  double max_obstacle_speed_mps = 0.2;  // settled: slower than this...
+  double min_track_age_s = 1.0;         // ...and tracked this long
+  double blocked_cost = 50.0;           // cost factor of a blocked cell (crossed only to get out of one)
+  double keep_side_discount = 0.5;      // cost factor of cells along the previous way round (no flip-flop)
+  double smoothing_m = 0.3;             // half-width of the moving average over the grid path
+  int max_cells = 40000;                // a larger grid is not searched (the route is followed as it is)
+  double memory_s = 3.0;                // s a settled track's last ellipse is kept (SettledMemory)
+};
+
+// A settled obstacle's current ellipse (inflated, as published at k = 0).
+struct SettledObstacle {
+  double x = 0, y = 0, a = 0, b = 0, theta = 0;
+};
+
+// The settled obstacles of the last memory_s, by track id. A large object
+// is seen as pieces whose ids come and go and whose centres jump as the
+// view changes (a parked car's end, then its side: apparent speeds up to
+// 1.9 m/s for a few frames); each piece's last settled ellipse is kept for
+// memory_s, so that the grid does not open a way through the car every
+// time a piece reads as moving or is dropped. A track that starts moving
+// leaves its last settled ellipse behind for at most memory_s.
+class SettledMemory {
+ public:
+  explicit SettledMemory(double memory_s) : memory_us_(static_cast<int64_t>(memory_s * 1e6)) {}
+  // The settled tracks seen at utime (id, ellipse); older entries expire.
+  void update(int64_t utime, const std::vector<std::pair<int64_t, SettledObstacle>>& settled);
+  std::vector<SettledObstacle> obstacles() const;
+  size_t size() const { return entries_.size(); }
+
+ private:
+  struct Entry {
+    SettledObstacle ellipse;
+    int64_t last_seen_us;
+  };
+  int64_t memory_us_;
+  std::map<int64_t, Entry> entries_;
+};
+
+class DetourPlanner {
+ public:
+  enum class Result {
+    kClear,     // the route ahead is free: follow it
+    kDetour,    // the way round is in the output
+    kNoWay,     // blocked, but no rejoin point (the route's end is blocked) or the grid is too large
+  };
+
+  DetourPlanner(DetourParams p, double d_safe) : p_(p), d_safe_(d_safe) {}
+
+  // From the robot at (px, py) along `route` (its progress already
+  // updated): kDetour with the polyline robot -> way round -> rejoin point
+  // -> the rest of the route in (x, y); otherwise (x, y) are left empty.
+  Result plan(const RouteFollower& route, double px, double py, const std::vector<SettledObstacle>& obstacles,
+              std::vector<double>* x, std::vector<double>* y);
+
+  // The smallest barrier h over the obstacles at (px, py) (m; a large value
+  // when there are none).
+  double clearance(const std::vector<SettledObstacle>& obstacles, double px, double py) const;
+
+  // Cells expanded by the last search (0 when none ran).
+  int last_expanded() const { return last_expanded_; }
+
+ private:
+  DetourParams p_;
+  double d_safe_;
+  std::vector<double> prev_x_, prev_y_;  // the previous way round (hysteresis)
+  int last_expanded_ = 0;
+};
+
+}  // namespace evade::planning
