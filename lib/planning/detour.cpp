@@ -29,8 +29,10 @@ struct Grid {
 
 }  // namespace
 
-void SettledMemory::update(int64_t utime, const std::vector<std::pair<int64_t, SettledObstacle>>& settled) {
+void SettledMemory::update(int64_t utime, const std::vector<std::pair<int64_t, SettledObstacle>>& settled,
+                           const std::vector<int64_t>& moving) {
   for (const auto& [id, e] : settled) entries_[id] = {e, utime};
+  for (int64_t id : moving) entries_.erase(id);
   for (auto it = entries_.begin(); it != entries_.end();) {
     // expired, or from a later time (the log or the clock jumped back)
     const int64_t age = utime - it->second.last_seen_us;
@@ -231,6 +233,12 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
     wx_pts[static_cast<size_t>(k)] = sx / (2 * w + 1);
     wy_pts[static_cast<size_t>(k)] = sy / (2 * w + 1);
   }
+  // A way that keeps within min_offset_m of the route is the MPC's own
+  // swerve: the route stays the reference (a box beside the route whose
+  // ellipse comes a little too close, or a bin, is passed as before).
+  double widest = 0.0;
+  for (int c : cells) widest = std::max(widest, off_route[static_cast<size_t>(c)]);
+  if (widest < p_.min_offset_m) return forget(Result::kClear);
   // Exact ends: the robot, then the rejoin point and the rest of the route.
   x->push_back(px);
   y->push_back(py);

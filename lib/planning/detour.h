@@ -44,6 +44,7 @@ struct DetourParams {
   double keep_side_discount = 0.5;      // cost factor of cells along the previous way round (no flip-flop)
   double smoothing_m = 0.3;             // half-width of the moving average over the grid path
   int max_cells = 40000;                // a larger grid is not searched (the route is followed as it is)
+  double min_offset_m = 0.8;            // a way round within this of the route is left to the MPC
   double memory_s = 3.0;                // s a settled track's last ellipse is kept (SettledMemory)
 };
 
@@ -56,14 +57,18 @@ struct SettledObstacle {
 // is seen as pieces whose ids come and go and whose centres jump as the
 // view changes (a parked car's end, then its side: apparent speeds up to
 // 1.9 m/s for a few frames); each piece's last settled ellipse is kept for
-// memory_s, so that the grid does not open a way through the car every
-// time a piece reads as moving or is dropped. A track that starts moving
-// leaves its last settled ellipse behind for at most memory_s.
+// memory_s after its id is dropped, so that the grid does not open a way
+// through the car every time a piece goes. An id seen moving is forgotten
+// at once: a remembered ghost beside the route bent the reference into the
+// walkers' way in mixed_street.
 class SettledMemory {
  public:
   explicit SettledMemory(double memory_s) : memory_us_(static_cast<int64_t>(memory_s * 1e6)) {}
-  // The settled tracks seen at utime (id, ellipse); older entries expire.
-  void update(int64_t utime, const std::vector<std::pair<int64_t, SettledObstacle>>& settled);
+  // The settled tracks seen at utime (id, ellipse) and the ids seen moving
+  // (forgotten at once: a walker who stood and walks on, a cluster merged
+  // with a passer-by); older entries expire.
+  void update(int64_t utime, const std::vector<std::pair<int64_t, SettledObstacle>>& settled,
+              const std::vector<int64_t>& moving = {});
   std::vector<SettledObstacle> obstacles() const;
   size_t size() const { return entries_.size(); }
 

@@ -84,6 +84,7 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.detour.keep_side_discount = d.get_double("keep_side_discount", 0.01, 1.0);
   p.detour.smoothing_m = d.get_double("smoothing_m", 0.0, 10.0);
   p.detour.max_cells = d.get_int("max_cells", 1, 10000000);
+  p.detour.min_offset_m = d.get_double("min_offset_m", 0.0, 100.0);
   p.detour.memory_s = d.get_double("memory_s", 0.0, 3600.0);
   d.close();
 

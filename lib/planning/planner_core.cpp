@@ -31,6 +31,18 @@ double barrier_shortfall(const Problem& pb, const std::vector<double>& u) {
   return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
 }
 
+// The lowest barrier h over every obstacle and the plan's steps k = 1..N
+// (k = 0 is where the robot is, the same for every plan).
+double lowest_barrier_ahead(const Problem& pb, const std::vector<double>& u) {
+  std::vector<double> states(3 * (pb.N + 1));
+  rollout(pb, u.data(), states.data());
+  double lowest = kNoObstacleBarrier;
+  for (const ObstacleTrack& o : pb.obstacles)
+    for (int k = 1; k <= pb.N; ++k)
+      lowest = std::min(lowest, barrier_at(o, k, states[3 * k], states[3 * k + 1], pb.d_safe).h);
+  return std::isfinite(lowest) ? lowest : -std::numeric_limits<double>::infinity();
+}
+
 // Controls shifted by `steps`, the tail padded with the last control.
 std::vector<double> shifted(const std::vector<double>& u, int steps) {
   const int n = static_cast<int>(u.size()) / 2;
@@ -131,16 +143,20 @@ void PlannerCore::watchdog() {
 
 void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
   std::vector<std::pair<int64_t, SettledObstacle>> settled;
+  std::vector<int64_t> moving;
   if (predictions_ && p_.detour.enabled) {
     for (const auto& t : predictions_->tracks) {
       if (!valid_track(t)) continue;
+      if (std::hypot(t.vx, t.vy) > p_.detour.max_obstacle_speed_mps) {
+        moving.push_back(t.id);
+        continue;
+      }
       auto it = first_seen_.find(t.id);
       const double age_s = it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(odom.utime - it->second);
-      if (std::hypot(t.vx, t.vy) > p_.detour.max_obstacle_speed_mps || age_s < p_.detour.min_track_age_s) continue;
-      settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
+      if (age_s >= p_.detour.min_track_age_s) settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
     }
   }
-  settled_.update(odom.utime, settled);
+  settled_.update(odom.utime, settled, moving);
   std::vector<double> way_x, way_y;
   const DetourPlanner::Result r = detour_.plan(route_, odom.x, odom.y, settled_.obstacles(), &way_x, &way_y);
   RouteFollower way_round;
@@ -268,6 +284,23 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     }
     return guess;
   };
+  // getting away to one side: accelerating at the limit while turning at
+  // the limit for half the horizon, then straight on (from rest a swerve at
+  // the current speed only turns on the spot)
+  auto dash = [&](double side) {
+    std::vector<double> guess(2 * N);
+    double v = v0;
+    for (int k = 0; k < N; ++k) {
+      v = std::min(p_.limits.v_max, v + p_.limits.accel * p_.dt_s);
+      guess[2 * k] = v;
+      guess[2 * k + 1] = k < N / 2 ? side * p_.limits.omega_max : 0.0;
+    }
+    return guess;
+  };
+  if (hard_failed) {
+    // unsolved, candidates for the plan with the most clearance below
+    for (double side : {1.0, -1.0}) attempts.push_back(dash(side));
+  }
   if (hard_failed && skip_restarts) {
     // unsolved, still candidates for the least violating plan below: with
     // a mover closing in, getting out of its way at speed can beat all else
@@ -307,11 +340,15 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       res = rec;
     } else {
       // Nothing meets every constraint: of the plans at hand (the failed
-      // solves, the last feasible plan shifted, braking), take the one that
-      // falls least short of the barrier constraints under the current
-      // predictions. Replaying an old plan blindly can drive into an
-      // obstacle that is sweeping across the path; braking can be worse
-      // than getting out of its way.
+      // solves, swerves and dashes to either side, the last feasible plan
+      // shifted, braking), take the one that keeps the most clearance (the
+      // lowest h over the horizon under the current predictions), then the
+      // one that falls least short of the barrier constraints. Replaying an
+      // old plan blindly can drive into an obstacle that is sweeping across
+      // the path; braking can be worse than getting out of its way. The
+      // shortfall alone (the worst step of the D-CBF chain) preferred
+      // standing in an oncoming e-bike's way, deep inside its ellipse, to a
+      // dash aside that falls further short at its first steps.
       struct Candidate {
         std::vector<double> u;
         int8_t status;
@@ -330,13 +367,16 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       }
       for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "least_violation"});
       candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
-      double best = std::numeric_limits<double>::infinity();
+      double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
       const Candidate* chosen = &candidates.back();
       for (auto& c : candidates) {
         project_controls(pb, &c.u);  // consistent with the measured speed and the limits
+        const double h = lowest_barrier_ahead(pb, c.u);
         const double shortfall = barrier_shortfall(pb, c.u);
-        if (shortfall < best - 1e-9) {
-          best = shortfall;
+        const double tie = p_.solver.constraint_tolerance;
+        if (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9)) {
+          best_h = h;
+          best_shortfall = shortfall;
           chosen = &c;
         }
       }

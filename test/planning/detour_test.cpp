@@ -49,6 +49,23 @@ TEST(Detour, ARouteThatIsClearIsFollowedAsItIs) {
   EXPECT_EQ(d.plan(route, 0, 0, {}, &x, &y), DetourPlanner::Result::kClear);
 }
 
+TEST(Detour, ANarrowBlockageIsLeftToTheMpc) {
+  // a bin whose keep-out just reaches over the route: a way round within
+  // min_offset_m of it, the MPC's own swerve
+  const DetourParams p = repo_params();
+  DetourPlanner d(p, kDsafe);
+  RouteFollower route = straight(0, 20);
+  const SettledObstacle bin = circle(4, 0.65, 0.3);
+  ASSERT_LT(barrier(4, 0, bin.x, bin.y, bin.a, bin.b, bin.theta, kDsafe).h, p.margin_m) << "the route is blocked";
+  std::vector<double> x, y;
+  EXPECT_EQ(d.plan(route, 0, 0, {bin}, &x, &y), DetourPlanner::Result::kClear);
+  EXPECT_TRUE(x.empty());
+  DetourParams always = p;
+  always.min_offset_m = 0;
+  DetourPlanner every(always, kDsafe);
+  EXPECT_EQ(every.plan(route, 0, 0, {bin}, &x, &y), DetourPlanner::Result::kDetour);
+}
+
 TEST(Detour, AWideObstacleOnTheRouteIsGoneRoundAboveTheMargin) {
   const DetourParams p = repo_params();
   DetourPlanner d(p, kDsafe);
@@ -155,6 +172,14 @@ TEST(SettledMemory, KeepsEachTracksLastEllipseForItsMemoryThenForgetsIt) {
   EXPECT_DOUBLE_EQ(m.obstacles()[0].x, 1.2);
   m.update(1'000'000, {});  // time went back (a new log): nothing stale survives
   EXPECT_EQ(m.size(), 0u);
+}
+
+TEST(SettledMemory, ForgetsATrackSeenMovingAtOnce) {
+  SettledMemory m(3.0);
+  m.update(1'000'000, {{1, circle(1, 1, 0.5)}, {2, circle(2, 2, 0.5)}});
+  m.update(1'100'000, {{2, circle(2, 2, 0.5)}}, {1});  // 1 walks on
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_DOUBLE_EQ(m.obstacles()[0].x, 2.0);
 }
 
 }  // namespace

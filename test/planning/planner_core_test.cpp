@@ -176,6 +176,25 @@ TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
   EXPECT_GT(r.final_x, 6.0);
 }
 
+// A fast mover (an e-bike, 1.5-2 m/s) comes head-on at a robot at rest,
+// 6 m away: no plan meets the D-CBF constraints, and the plan with the
+// most clearance is taken. Choosing by the D-CBF shortfall alone (the worst
+// step of the chain) kept the robot standing in its way: 0.27-0.68 m of
+// the 0.35 m d_safe lost and the footprint hit in every one of these.
+TEST(PlannerCore, AnOncomingFastMoverIsGotOutOfTheWayOfFromRest) {
+  const config::Node robot =
+      config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml").section("robot");
+  const double footprint_radius =  // the footprint rectangle's half diagonal
+      0.5 * std::hypot(robot.get<double>("footprint_length_m"), robot.get<double>("footprint_width_m"));
+  for (double speed : {1.5, 2.0})
+    for (double offset : {0.0, 0.2, -0.2}) {
+      RunResult r = run(default_params(), {{6.0, offset, -speed, 0.0, 0.5, 0.05}}, 8.0);
+      EXPECT_EQ(r.nan, 0);
+      EXPECT_GE(r.min_h, footprint_radius - default_params().d_safe_m)
+          << "footprint touched, speed " << speed << " offset " << offset;
+    }
+}
+
 TEST(PlannerCore, CrossingMoverIsAvoided) {
   RunResult r = run(default_params(), {{4.0, 3.5, 0.0, -0.6, 0.3}}, 12.0);
   EXPECT_EQ(r.nan, 0);
