@@ -179,8 +179,8 @@ TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
 // A fast mover (an e-bike, 1.5-2 m/s) comes head-on at a robot at rest,
 // 6 m away: no plan meets the D-CBF constraints, and the plan with the
 // most clearance is taken. Choosing by the D-CBF shortfall alone (the worst
-// step of the chain) kept the robot standing in its way: 0.27-0.68 m of
-// the 0.35 m d_safe lost and the footprint hit in every one of these.
+// step of the chain) kept the robot standing in its way: h fell to
+// 0.30-0.58 m below zero and the footprint was hit in every one of these.
 TEST(PlannerCore, AnOncomingFastMoverIsGotOutOfTheWayOfFromRest) {
   const config::Node robot =
       config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml").section("robot");
