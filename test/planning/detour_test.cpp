@@ -125,6 +125,24 @@ TEST(Detour, TheWayRoundStaysNearTheRoute) {
   EXPECT_GT(offset_near(x, y, 4.5, 5.5), 2.0);
 }
 
+TEST(Detour, AnObstacleOnARoutesCornerIsGoneRoundAndTheRouteResumed) {
+  // route (0, 0) -> (6, 0) -> (6, 8), an obstacle on the corner
+  const DetourParams p = repo_params();
+  DetourPlanner d(p, kDsafe);
+  RouteFollower route;
+  ASSERT_TRUE(route.set_route({0, 6, 6}, {0, 0, 8}));
+  route.update_progress(2, 0, 3.0);
+  const SettledObstacle o = circle(6, 0, 0.8);
+  std::vector<double> x, y;
+  ASSERT_EQ(d.plan(route, 2, 0, {o}, &x, &y), DetourPlanner::Result::kDetour);
+  EXPECT_DOUBLE_EQ(x.back(), 6.0);
+  EXPECT_DOUBLE_EQ(y.back(), 8.0);
+  for (size_t i = 0; i < x.size(); ++i)
+    EXPECT_GE(barrier(x[i], y[i], o.x, o.y, o.a, o.b, o.theta, kDsafe).h, p.margin_m - p.cell_m) << "point " << i;
+  // it cuts inside the corner (up and left of it: the shorter way, nearer the route)
+  EXPECT_GT(offset_near(x, y, 4.5, 5.5), 0.5);
+}
+
 TEST(Detour, ABlockedRouteEndOrATooLargeGridGivesNoWay) {
   DetourPlanner d(repo_params(), kDsafe);
   RouteFollower route = straight(0, 6);
