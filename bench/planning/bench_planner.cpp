@@ -199,7 +199,7 @@ void BM_CeresClosedLoop(benchmark::State& state) {
 }
 
 // A planter-sized obstacle on a straight route and k - 1 smaller ones
-// scattered within 6 m (fixed positions), as the planner sees them each
+// scattered beside it within 6 m (fixed positions), as the planner sees them each
 // cycle; the previous way round is kept between iterations, as in the
 // planner.
 void BM_Detour(benchmark::State& state) {
@@ -215,19 +215,23 @@ void BM_Detour(benchmark::State& state) {
   for (int i = 1; i < k; ++i) {
     const double ang = 2.399963 * i;  // golden angle: spread without overlap
     const double r = 2.0 + 4.0 * i / k;
-    obs.push_back({4.0 + r * std::cos(ang), r * std::sin(ang), 0.35, 0.25, ang});
+    double y = r * std::sin(ang);
+    if (std::fabs(y) < 1.6) y = std::copysign(1.6 + std::fabs(y), y);  // beside the route, not on it
+    obs.push_back({4.0 + r * std::cos(ang), y, 0.35, 0.25, ang});
   }
   std::vector<double> x, y;
-  int detours = 0, cycles = 0;
+  int detours = 0, no_way = 0, cycles = 0;
   long expanded = 0;
   for (auto _ : state) {
-    const bool way = detour.plan(route, 0.0, 0.0, obs, &x, &y) == DetourPlanner::Result::kDetour;
-    detours += way ? 1 : 0;
+    const DetourPlanner::Result r = detour.plan(route, 0.0, 0.0, obs, &x, &y);
+    detours += r == DetourPlanner::Result::kDetour ? 1 : 0;
+    no_way += r == DetourPlanner::Result::kNoWay ? 1 : 0;
     expanded += detour.last_expanded();
     ++cycles;
     benchmark::DoNotOptimize(x.data());
   }
   state.counters["detour_found"] = static_cast<double>(detours) / std::max(1, cycles);
+  state.counters["no_way"] = static_cast<double>(no_way) / std::max(1, cycles);
   state.counters["cells_expanded"] = static_cast<double>(expanded) / std::max(1, cycles);
 }
 

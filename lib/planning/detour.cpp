@@ -141,12 +141,16 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
 
   // Cost factor per metre of each cell.
   std::vector<double> factor(static_cast<size_t>(n));
+  std::vector<char> blocked(static_cast<size_t>(n), 0);  // h < margin_m
+  std::vector<char> inside(static_cast<size_t>(n), 0);   // h < 0: where the constraints do not let the robot be
   double min_factor = 1.0;
   for (int idx = 0; idx < n; ++idx) {
     const double h = clearance(obstacles, g.cx(idx), g.cy(idx));
     const double dev = off_route[static_cast<size_t>(idx)];
     double f = 1.0 + p_.deviation_cost * (std::isfinite(dev) ? dev : 0.0);
+    inside[static_cast<size_t>(idx)] = h < 0.0;
     if (h < p_.margin_m) {
+      blocked[static_cast<size_t>(idx)] = 1;
       f = p_.blocked_cost;
     } else if (h < p_.comfort_m) {
       f += p_.proximity_cost * (p_.comfort_m - h) / (p_.comfort_m - p_.margin_m);
@@ -172,7 +176,7 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
       }
     }
     for (int idx = 0; idx < n; ++idx)
-      if (mark[static_cast<size_t>(idx)] && factor[static_cast<size_t>(idx)] < p_.blocked_cost)
+      if (mark[static_cast<size_t>(idx)] && !blocked[static_cast<size_t>(idx)])
         factor[static_cast<size_t>(idx)] *= p_.keep_side_discount;
     min_factor = p_.keep_side_discount;
   }
@@ -232,6 +236,15 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
     }
     wx_pts[static_cast<size_t>(k)] = sx / (2 * w + 1);
     wy_pts[static_cast<size_t>(k)] = sy / (2 * w + 1);
+  }
+  // The way may cross cells inside d_safe (h < 0) only to leave the zone
+  // the robot is in (blocked_cost makes that the shortest way out); one
+  // that enters such a zone later found no gap: the route is followed as
+  // it is. (A squeeze with 0 <= h < margin_m is a way, if a costly one.)
+  bool left_start_zone = false;
+  for (int c : cells) {
+    if (!inside[static_cast<size_t>(c)]) left_start_zone = true;
+    else if (left_start_zone) return forget(Result::kNoWay);
   }
   // A way that keeps within min_offset_m of the route is the MPC's own
   // swerve: the route stays the reference (a box beside the route whose

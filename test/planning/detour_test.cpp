@@ -149,6 +149,12 @@ TEST(Detour, ABlockedRouteEndOrATooLargeGridGivesNoWay) {
   std::vector<double> x, y;
   EXPECT_EQ(d.plan(route, 0, 0, {circle(5.5, 0, 1.0)}, &x, &y), DetourPlanner::Result::kNoWay);
   EXPECT_TRUE(x.empty());
+  // a wall across the whole grid: no gap, the route is followed as it is
+  std::vector<SettledObstacle> wall;
+  for (double wy = -5.0; wy <= 5.01; wy += 0.4) wall.push_back(circle(5, wy, 0.3));
+  RouteFollower through = straight(0, 20);
+  EXPECT_EQ(d.plan(through, 0, 0, wall, &x, &y), DetourPlanner::Result::kNoWay);
+  EXPECT_TRUE(x.empty());
   DetourParams small = repo_params();
   small.max_cells = 100;
   DetourPlanner tiny(small, kDsafe);
