@@ -37,6 +37,13 @@ double offset_near(const std::vector<double>& x, const std::vector<double>& y, d
   return best;
 }
 
+// The lowest barrier h of an obstacle over the points of a way.
+double lowest_h(const std::vector<double>& x, const std::vector<double>& y, const SettledObstacle& o) {
+  double h = 1e9;
+  for (size_t i = 0; i < x.size(); ++i) h = std::min(h, barrier(x[i], y[i], o.x, o.y, o.a, o.b, o.theta, kDsafe).h);
+  return h;
+}
+
 TEST(Detour, ARouteThatIsClearIsFollowedAsItIs) {
   DetourPlanner d(repo_params(), kDsafe);
   RouteFollower route = straight(0, 20);
@@ -80,10 +87,7 @@ TEST(Detour, AWideObstacleOnTheRouteIsGoneRoundAboveTheMargin) {
   EXPECT_DOUBLE_EQ(y.back(), 0.0);
   // every point of the way keeps the planner's barrier above the margin (the
   // moving average may cut a corner by less than a cell)
-  double min_h = 1e9;
-  for (size_t i = 0; i < x.size(); ++i)
-    min_h = std::min(min_h, barrier(x[i], y[i], 4, 0.2, 1.0, 1.0, 0.0, kDsafe).h);
-  EXPECT_GE(min_h, p.margin_m - p.cell_m);
+  EXPECT_GE(lowest_h(x, y, obs[0]), p.margin_m - p.cell_m);
   EXPECT_LT(offset_near(x, y, 3, 5), -1.0) << "round the right, the shorter side";
   // ...and not much farther than needed: 1.4 m from the centre's line plus the comfort zone
   EXPECT_GT(offset_near(x, y, 3, 5), -(1.0 + kDsafe + p.comfort_m + 0.2 + 0.3));
@@ -137,8 +141,7 @@ TEST(Detour, AnObstacleOnARoutesCornerIsGoneRoundAndTheRouteResumed) {
   ASSERT_EQ(d.plan(route, 2, 0, {o}, &x, &y), DetourPlanner::Result::kDetour);
   EXPECT_DOUBLE_EQ(x.back(), 6.0);
   EXPECT_DOUBLE_EQ(y.back(), 8.0);
-  for (size_t i = 0; i < x.size(); ++i)
-    EXPECT_GE(barrier(x[i], y[i], o.x, o.y, o.a, o.b, o.theta, kDsafe).h, p.margin_m - p.cell_m) << "point " << i;
+  EXPECT_GE(lowest_h(x, y, o), p.margin_m - p.cell_m);
   // it cuts inside the corner (up and left of it: the shorter way, nearer the route)
   EXPECT_GT(offset_near(x, y, 4.5, 5.5), 0.5);
 }
