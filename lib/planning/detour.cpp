@@ -75,7 +75,10 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
   // lookahead to the last one of the run that follows it; the way round
   // rejoins the route at the first point rejoin_m past it that is free.
   const double step = p_.cell_m;
-  const double s_start = route.progress(), s_end = route.length();
+  const double s_start = route.progress();
+  // No farther than a grid of max_cells could reach (a long route blocked to
+  // its end must not cost a scan of all of it every cycle).
+  const double s_end = std::min(route.length(), s_start + p_.lookahead_m + std::sqrt(p_.max_cells) * p_.cell_m);
   double first_blocked = -1, rejoin = -1, free_run = 0;
   for (double s = s_start; s <= s_end + 1e-9; s += step) {
     double rx, ry;
@@ -93,7 +96,7 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
     }
   }
   if (first_blocked < 0) return forget(Result::kClear);
-  if (rejoin < 0) return forget(Result::kNoWay);  // the route's end is blocked: nowhere to go round to
+  if (rejoin < 0) return forget(Result::kNoWay);  // blocked to the route's end or beyond any grid's reach
   double tx, ty;
   route.position_at(rejoin, &tx, &ty);
 

@@ -86,7 +86,8 @@ class DetourPlanner {
   enum class Result {
     kClear,     // the route ahead is free: follow it
     kDetour,    // the way round is in the output
-    kNoWay,     // blocked, but no rejoin point (the route's end is blocked), no gap, or the grid is too large
+    kNoWay,     // blocked, but no rejoin point within a grid's reach (or the route's end is blocked), no gap,
+                // or the grid is too large
   };
 
   DetourPlanner(DetourParams p, double d_safe) : p_(p), d_safe_(d_safe) {}

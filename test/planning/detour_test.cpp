@@ -152,6 +152,9 @@ TEST(Detour, ABlockedRouteEndOrATooLargeGridGivesNoWay) {
   std::vector<double> x, y;
   EXPECT_EQ(d.plan(route, 0, 0, {circle(5.5, 0, 1.0)}, &x, &y), DetourPlanner::Result::kNoWay);
   EXPECT_TRUE(x.empty());
+  // a long route blocked far beyond the reach of any grid
+  RouteFollower long_blocked = straight(0, 1000);
+  EXPECT_EQ(d.plan(long_blocked, 0, 0, {{500, 0, 498, 1.0, 0.0}}, &x, &y), DetourPlanner::Result::kNoWay);
   // a wall across the whole grid: no gap, the route is followed as it is
   std::vector<SettledObstacle> wall;
   for (double wy = -5.0; wy <= 5.01; wy += 0.4) wall.push_back(circle(5, wy, 0.3));
