@@ -106,9 +106,12 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
   g.x0 = std::min(px, tx) - p_.pad_m;
   g.y0 = std::min(py, ty) - p_.pad_m;
   const double wx = std::fabs(px - tx) + 2 * p_.pad_m, wy = std::fabs(py - ty) + 2 * p_.pad_m;
-  g.nx = static_cast<int>(std::ceil(wx / g.cell)) + 1;
-  g.ny = static_cast<int>(std::ceil(wy / g.cell)) + 1;
-  if (static_cast<int64_t>(g.nx) * g.ny > p_.max_cells) return forget(Result::kNoWay);
+  // sized in double first: a robot reported kilometres off its route must
+  // not overflow the cell counts
+  const double cells_x = std::ceil(wx / g.cell) + 1, cells_y = std::ceil(wy / g.cell) + 1;
+  if (!(cells_x * cells_y <= p_.max_cells)) return forget(Result::kNoWay);
+  g.nx = static_cast<int>(cells_x);
+  g.ny = static_cast<int>(cells_y);
   const int n = g.nx * g.ny;
 
   // Distance of each cell from the route ahead (progress to past the

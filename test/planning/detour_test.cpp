@@ -155,6 +155,8 @@ TEST(Detour, ABlockedRouteEndOrATooLargeGridGivesNoWay) {
   // a long route blocked far beyond the reach of any grid
   RouteFollower long_blocked = straight(0, 1000);
   EXPECT_EQ(d.plan(long_blocked, 0, 0, {{500, 0, 498, 1.0, 0.0}}, &x, &y), DetourPlanner::Result::kNoWay);
+  // a robot reported far off its route (a bad odometry fix)
+  EXPECT_EQ(d.plan(long_blocked, 1e12, -1e12, {circle(4, 0, 1.0)}, &x, &y), DetourPlanner::Result::kNoWay);
   // a wall across the whole grid: no gap, the route is followed as it is
   std::vector<SettledObstacle> wall;
   for (double wy = -5.0; wy <= 5.01; wy += 0.4) wall.push_back(circle(5, wy, 0.3));
