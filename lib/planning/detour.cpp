@@ -80,7 +80,10 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
   // its end must not cost a scan of all of it every cycle).
   const double s_end = std::min(route.length(), s_start + p_.lookahead_m + std::sqrt(p_.max_cells) * p_.cell_m);
   double first_blocked = -1, rejoin = -1, free_run = 0;
-  for (double s = s_start; s <= s_end + 1e-9; s += step) {
+  // counted steps: at arc lengths of 1e17 m, s += step would not move s
+  const int samples = static_cast<int>(std::floor((s_end - s_start) / step + 1e-9)) + 1;
+  for (int i = 0; i < samples; ++i) {
+    const double s = s_start + i * step;
     double rx, ry;
     route.position_at(s, &rx, &ry);
     const bool blocked = clearance(obstacles, rx, ry) < p_.margin_m;
@@ -117,7 +120,10 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
   // Distance of each cell from the route ahead (progress to past the
   // rejoin point): a two-pass chamfer transform from the route's cells.
   std::vector<double> off_route(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
-  for (double s = s_start; s <= std::min(s_end, rejoin + p_.pad_m) + 1e-9; s += 0.5 * step) {
+  const double mark_end = std::min(s_end, rejoin + p_.pad_m);
+  const int marks = static_cast<int>(std::floor((mark_end - s_start) / (0.5 * step) + 1e-9)) + 1;
+  for (int q = 0; q < marks; ++q) {
+    const double s = s_start + q * 0.5 * step;
     double rx, ry;
     route.position_at(s, &rx, &ry);
     const int i = static_cast<int>(std::lround((rx - g.x0) / g.cell));

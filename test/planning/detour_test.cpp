@@ -157,6 +157,15 @@ TEST(Detour, ABlockedRouteEndOrATooLargeGridGivesNoWay) {
   EXPECT_EQ(d.plan(long_blocked, 0, 0, {{500, 0, 498, 1.0, 0.0}}, &x, &y), DetourPlanner::Result::kNoWay);
   // a robot reported far off its route (a bad odometry fix)
   EXPECT_EQ(d.plan(long_blocked, 1e12, -1e12, {circle(4, 0, 1.0)}, &x, &y), DetourPlanner::Result::kNoWay);
+  // progress 1e17 m along a route, where a 0.1 m step does not change the
+  // arc length: the scan ends (it counts its steps; adding them hung here)
+  // and whatever comes out is finite
+  RouteFollower far_route;
+  ASSERT_TRUE(far_route.set_route({0.0, 2e17}, {0.0, 0.0}));
+  far_route.update_progress(1e17, 0, 3.0);
+  ASSERT_GT(far_route.progress(), 9e16);
+  d.plan(far_route, 1e17, 0, {circle(1e17, 0, 1.0)}, &x, &y);
+  for (size_t i = 0; i < x.size(); ++i) EXPECT_TRUE(std::isfinite(x[i]) && std::isfinite(y[i])) << i;
   // a wall across the whole grid: no gap, the route is followed as it is
   std::vector<SettledObstacle> wall;
   for (double wy = -5.0; wy <= 5.01; wy += 0.4) wall.push_back(circle(5, wy, 0.3));
