@@ -302,7 +302,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     for (double side : {1.0, -1.0}) attempts.push_back(dash(side));
   }
   if (hard_failed && skip_restarts) {
-    // unsolved, still candidates for the least violating plan below: with
+    // unsolved, still candidates for the plan chosen below: with
     // a mover closing in, getting out of its way at speed can beat all else
     for (double side : {1.0, -1.0}) attempts.push_back(swerve(side));
   } else if (hard_failed) {
@@ -365,7 +365,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
         }
         candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
       }
-      for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "least_violation"});
+      for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
       candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
       double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
       const Candidate* chosen = &candidates.back();
