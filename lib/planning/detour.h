@@ -40,7 +40,7 @@ struct DetourParams {
   double pad_m = 2.5;                   // grid beyond the box of robot and rejoin point
   double max_obstacle_speed_mps = 0.2;  // settled: slower than this...
   double min_track_age_s = 1.0;         // ...and tracked this long
-  double blocked_cost = 50.0;           // cost factor of a blocked cell (crossed only to get out of one)
+  double blocked_cost = 50.0;           // cost factor of a blocked cell (a squeeze through it is a costly way)
   double keep_side_discount = 0.5;      // cost factor of cells along the previous way round (no flip-flop)
   double smoothing_m = 0.3;             // half-width of the moving average over the grid path
   int max_cells = 40000;                // a larger grid is not searched (the route is followed as it is)
