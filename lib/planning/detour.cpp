@@ -18,10 +18,17 @@ struct Grid {
   double x0 = 0, y0 = 0, cell = 0;
   int nx = 0, ny = 0;
   int index(int i, int j) const { return j * nx + i; }
+  bool contains(int i, int j) const { return i >= 0 && i < nx && j >= 0 && j < ny; }
+  // The cell whose centre is nearest to (x, y), possibly outside the grid.
+  void nearest(double x, double y, int* i, int* j) const {
+    *i = static_cast<int>(std::lround((x - x0) / cell));
+    *j = static_cast<int>(std::lround((y - y0) / cell));
+  }
+  // The same, clamped into the grid, as an index.
   int cell_of(double x, double y) const {
-    const int i = std::clamp(static_cast<int>(std::lround((x - x0) / cell)), 0, nx - 1);
-    const int j = std::clamp(static_cast<int>(std::lround((y - y0) / cell)), 0, ny - 1);
-    return index(i, j);
+    int i, j;
+    nearest(x, y, &i, &j);
+    return index(std::clamp(i, 0, nx - 1), std::clamp(j, 0, ny - 1));
   }
   double cx(int idx) const { return x0 + (idx % nx) * cell; }
   double cy(int idx) const { return y0 + (idx / nx) * cell; }
@@ -126,13 +133,13 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
     const double s = s_start + q * 0.5 * step;
     double rx, ry;
     route.position_at(s, &rx, &ry);
-    const int i = static_cast<int>(std::lround((rx - g.x0) / g.cell));
-    const int j = static_cast<int>(std::lround((ry - g.y0) / g.cell));
-    if (i >= 0 && i < g.nx && j >= 0 && j < g.ny) off_route[static_cast<size_t>(g.index(i, j))] = 0.0;
+    int i, j;
+    g.nearest(rx, ry, &i, &j);
+    if (g.contains(i, j)) off_route[static_cast<size_t>(g.index(i, j))] = 0.0;
   }
   const double diag = std::sqrt(2.0) * g.cell;
   auto relax = [&](int i, int j, int ni, int nj, double w) {
-    if (ni < 0 || ni >= g.nx || nj < 0 || nj >= g.ny) return;
+    if (!g.contains(ni, nj)) return;
     double& d = off_route[static_cast<size_t>(g.index(i, j))];
     d = std::min(d, off_route[static_cast<size_t>(g.index(ni, nj))] + w);
   };
@@ -180,11 +187,11 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
         const double t = static_cast<double>(q) / pieces;
         const double qx = prev_x_[k] + t * (prev_x_[k + 1] - prev_x_[k]);
         const double qy = prev_y_[k] + t * (prev_y_[k + 1] - prev_y_[k]);
-        const int i = static_cast<int>(std::lround((qx - g.x0) / g.cell));
-        const int j = static_cast<int>(std::lround((qy - g.y0) / g.cell));
+        int i, j;
+        g.nearest(qx, qy, &i, &j);
         for (int dj = -1; dj <= 1; ++dj)
           for (int di = -1; di <= 1; ++di)
-            if (i + di >= 0 && i + di < g.nx && j + dj >= 0 && j + dj < g.ny) mark[g.index(i + di, j + dj)] = 1;
+            if (g.contains(i + di, j + dj)) mark[static_cast<size_t>(g.index(i + di, j + dj))] = 1;
       }
     }
     for (int idx = 0; idx < n; ++idx)
@@ -217,7 +224,7 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
     const int ci = cur % g.nx, cj = cur / g.nx;
     for (int d = 0; d < 8; ++d) {
       const int ni = ci + kDi[d], nj = cj + kDj[d];
-      if (ni < 0 || ni >= g.nx || nj < 0 || nj >= g.ny) continue;
+      if (!g.contains(ni, nj)) continue;
       const int nb = g.index(ni, nj);
       if (closed[static_cast<size_t>(nb)]) continue;
       const double len = (d < 4 ? 1.0 : std::sqrt(2.0)) * g.cell;
@@ -232,23 +239,11 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
   }
   if (!closed[static_cast<size_t>(goal)]) return forget(Result::kNoWay);  // cannot happen on a connected grid
 
-  // The cell path, robot first, smoothed by a moving average (ends kept).
+  // The cell path, robot first.
   std::vector<int> cells;
   for (int c = goal; c != -1; c = parent[static_cast<size_t>(c)]) cells.push_back(c);
   std::reverse(cells.begin(), cells.end());
   const int m = static_cast<int>(cells.size());
-  const int half = static_cast<int>(std::lround(p_.smoothing_m / g.cell));
-  std::vector<double> wx_pts(static_cast<size_t>(m)), wy_pts(static_cast<size_t>(m));
-  for (int k = 0; k < m; ++k) {
-    const int w = std::min({half, k, m - 1 - k});
-    double sx = 0, sy = 0;
-    for (int q = k - w; q <= k + w; ++q) {
-      sx += g.cx(cells[static_cast<size_t>(q)]);
-      sy += g.cy(cells[static_cast<size_t>(q)]);
-    }
-    wx_pts[static_cast<size_t>(k)] = sx / (2 * w + 1);
-    wy_pts[static_cast<size_t>(k)] = sy / (2 * w + 1);
-  }
   // The way may cross cells inside d_safe (h < 0) only to leave the zone
   // the robot is in (blocked_cost makes that the shortest way out); one
   // that enters such a zone later found no gap: the route is followed as
@@ -264,12 +259,20 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
   double widest = 0.0;
   for (int c : cells) widest = std::max(widest, off_route[static_cast<size_t>(c)]);
   if (widest < p_.min_offset_m) return forget(Result::kClear);
-  // Exact ends: the robot, then the rejoin point and the rest of the route.
+  // The way: the robot, the cell path between its ends smoothed by a
+  // moving average, then the rejoin point and the rest of the route.
+  const int half = static_cast<int>(std::lround(p_.smoothing_m / g.cell));
   x->push_back(px);
   y->push_back(py);
   for (int k = 1; k + 1 < m; ++k) {
-    x->push_back(wx_pts[static_cast<size_t>(k)]);
-    y->push_back(wy_pts[static_cast<size_t>(k)]);
+    const int w = std::min({half, k, m - 1 - k});
+    double sx = 0, sy = 0;
+    for (int q = k - w; q <= k + w; ++q) {
+      sx += g.cx(cells[static_cast<size_t>(q)]);
+      sy += g.cy(cells[static_cast<size_t>(q)]);
+    }
+    x->push_back(sx / (2 * w + 1));
+    y->push_back(sy / (2 * w + 1));
   }
   x->push_back(tx);
   y->push_back(ty);

@@ -16,11 +16,10 @@ bool finite_odometry(const evade::odometry_t& o) {
          std::isfinite(o.omega);
 }
 
-// The largest amount by which a control sequence misses a barrier
-// constraint h(X_k+1) >= decay h(X_k) over the horizon (0 when it meets all).
-double barrier_shortfall(const Problem& pb, const std::vector<double>& u) {
-  std::vector<double> states(3 * (pb.N + 1));
-  rollout(pb, u.data(), states.data());
+// The largest amount by which a plan (its rollout's states) misses a
+// barrier constraint h(X_k+1) >= decay h(X_k) over the horizon (0 when it
+// meets all).
+double barrier_shortfall(const Problem& pb, const std::vector<double>& states) {
   double worst = 0.0;
   for (const ObstacleTrack& o : pb.obstacles)
     for (int k = 0; k < pb.N; ++k) {
@@ -29,18 +28,6 @@ double barrier_shortfall(const Problem& pb, const std::vector<double>& u) {
       worst = std::max(worst, o.decay * h0 - h1);
     }
   return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
-}
-
-// The lowest barrier h over every obstacle and the plan's steps k = 1..N
-// (k = 0 is where the robot is, the same for every plan).
-double lowest_barrier_ahead(const Problem& pb, const std::vector<double>& u) {
-  std::vector<double> states(3 * (pb.N + 1));
-  rollout(pb, u.data(), states.data());
-  double lowest = kNoObstacleBarrier;
-  for (const ObstacleTrack& o : pb.obstacles)
-    for (int k = 1; k <= pb.N; ++k)
-      lowest = std::min(lowest, barrier_at(o, k, states[3 * k], states[3 * k + 1], pb.d_safe).h);
-  return std::isfinite(lowest) ? lowest : -std::numeric_limits<double>::infinity();
 }
 
 // Controls shifted by `steps`, the tail padded with the last control.
@@ -141,6 +128,11 @@ void PlannerCore::watchdog() {
   publish_plan(at, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v, w), 0, 0, 0);
 }
 
+double PlannerCore::track_age_s(int64_t id, int64_t utime) const {
+  auto it = first_seen_.find(id);
+  return it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(utime - it->second);
+}
+
 void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
   std::vector<std::pair<int64_t, SettledObstacle>> settled;
   std::vector<int64_t> moving;
@@ -151,9 +143,8 @@ void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
         moving.push_back(t.id);
         continue;
       }
-      auto it = first_seen_.find(t.id);
-      const double age_s = it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(odom.utime - it->second);
-      if (age_s >= p_.detour.min_track_age_s) settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
+      if (track_age_s(t.id, odom.utime) >= p_.detour.min_track_age_s)
+        settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
     }
   }
   settled_.update(odom.utime, settled, moving);
@@ -215,8 +206,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     pb.obstacles = constraint_obstacles(p_, *predictions_, history_, odom.utime, odom.x, odom.y, &invalid);
     if (invalid) count("tracks_invalid", invalid);
     for (auto& o : pb.obstacles) {
-      auto it = first_seen_.find(o.id);
-      o.age_s = it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(odom.utime - it->second);
+      o.age_s = track_age_s(o.id, odom.utime);
     }
   }
 
@@ -369,10 +359,13 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
       double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
       const Candidate* chosen = &candidates.back();
+      std::vector<double> states(3 * (N + 1));
       for (auto& c : candidates) {
         project_controls(pb, &c.u);  // consistent with the measured speed and the limits
-        const double h = lowest_barrier_ahead(pb, c.u);
-        const double shortfall = barrier_shortfall(pb, c.u);
+        rollout(pb, c.u.data(), states.data());
+        // from k = 1: where the robot is now is the same for every plan
+        const double h = min_barrier(pb, states, 1);
+        const double shortfall = barrier_shortfall(pb, states);
         const double tie = p_.solver.constraint_tolerance;
         if (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9)) {
           best_h = h;

@@ -46,6 +46,7 @@ class PlannerCore : public bus::Core {
   SettledMemory settled_;
   CurveFitHistory history_;
   std::map<int64_t, int64_t> first_seen_;  // track id -> utime of its first prediction
+  double track_age_s(int64_t id, int64_t utime) const;  // since first_seen_ (0 for an unknown id)
   std::optional<evade::prediction_list_t> predictions_;
   int64_t predictions_rx_ = -1;        // bus time the predictions arrived
   int64_t odometry_rx_ = -1;           // bus time of the last odometry

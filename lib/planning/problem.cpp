@@ -32,10 +32,10 @@ double max_violation(const Problem& pb, const double* u) {
   return worst;
 }
 
-double min_barrier(const Problem& pb, const std::vector<double>& states) {
+double min_barrier(const Problem& pb, const std::vector<double>& states, int first_step) {
   double best = kNoObstacleBarrier;
   for (const auto& o : pb.obstacles)
-    for (int k = 0; k <= pb.N; ++k)
+    for (int k = first_step; k <= pb.N; ++k)
       best = std::min(best, barrier_at(o, k, states[3 * k], states[3 * k + 1], pb.d_safe).h);
   return best;
 }

@@ -253,9 +253,9 @@ double objective(const Problem& pb, const double* u);
 void evaluate_constraints(const Problem& pb, const double* u, std::vector<double>* states, std::vector<double>* g);
 // Largest violation max_j max(0, -g_j) (m for barriers, m/s or rad/s per step for rates).
 double max_violation(const Problem& pb, const double* u);
-// Smallest h over every obstacle and step k = 0..N of the rollout of u;
-// kNoObstacleBarrier when there is none.
+// Smallest h over every obstacle and step k = first_step..N of a rollout's
+// states; kNoObstacleBarrier when there is none.
 inline constexpr double kNoObstacleBarrier = 1e6;
-double min_barrier(const Problem& pb, const std::vector<double>& states);
+double min_barrier(const Problem& pb, const std::vector<double>& states, int first_step = 0);
 
 }  // namespace evade::planning
