@@ -32,6 +32,15 @@ PredictorParams PredictorParams::from_config(const config::Node& s) {
   p.maneuver.accel_psd_m2ps3 = mv.get_positive("accel_psd_m2ps3");
   mv.close();
 
+  const config::Node st = s.section("stationary");
+  p.stationary.enabled = st.get<bool>("enabled");
+  p.stationary.mean_stationary_s = st.get_positive("mean_stationary_s");
+  p.stationary.stop_share = st.get_double("stop_share", 0.0, 1.0);
+  p.stationary.position_psd_m2ps = st.get_positive("position_psd_m2ps");
+  if (p.stationary.enabled && !p.maneuver.enabled)
+    st.fail("enabled", "the stationary mode needs maneuver.enabled (a start from rest is a manoeuvre)");
+  st.close();
+
   const config::Node fr = s.section("fragment");
   p.fragment.enabled = fr.get<bool>("enabled");
   p.fragment.min_parent_speed_mps = fr.get_double("min_parent_speed_mps", 0.0, 100.0);

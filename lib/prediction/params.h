@@ -49,6 +49,22 @@ struct ManeuverParams {
   double accel_psd_m2ps3 = 1.0;
 };
 
+// A third IMM mode for things that stand still (bins, parked cars, a
+// pedestrian waiting): velocity and acceleration held at zero, the centre a
+// slow random walk. As the robot drives past, the visible faces of a static
+// object change and its MBE centre wanders or jumps (pieces of a car merge
+// and split); the moving modes read that as motion and the quiet one holds
+// it for seconds, so the object's predicted ellipse drifts and swells over
+// the horizon. Here the stationary mode predicts the next frames better and
+// takes the probability back. Requires the manoeuvring mode: starting to
+// move is a manoeuvre, and a manoeuvre ends in steady motion or in a stop.
+struct StationaryParams {
+  bool enabled = true;
+  double mean_stationary_s = 30.0;  // expected time standing before starting to move
+  double stop_share = 0.5;          // share of ending manoeuvres that end standing (the rest in steady motion)
+  double position_psd_m2ps = 0.002; // random walk of the centre (the MBE's drift with the view)
+};
+
 struct AdaptiveNoiseParams {
   int window_frames = 10;           // m, frames in the shape-variation window
   std::string shape_variation_source = "own";  // own | tracker
@@ -103,6 +119,7 @@ struct PredictorParams {
   double max_axis_m = 50.0;         // a semi-axis beyond this is malformed
   FilterParams filter;
   ManeuverParams maneuver;
+  StationaryParams stationary;
   FragmentParams fragment;
   AdaptiveNoiseParams adaptive;
   UncertaintyParams uncertainty;

@@ -108,18 +108,21 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
   P_(kTheta, kTheta) = f.r_theta_rad2 + f.r_axis_m2 / std::pow(std::max(std::fabs(z.a - z.b), f.orientation_min_elongation_m), 2);
   P_(kVx, kVx) = P_(kVy, kVy) = f.init_speed_std_mps * f.init_speed_std_mps;
   P_(kAx, kAx) = P_(kAy, kAy) = f.init_accel_std_mps2 * f.init_accel_std_mps2;
-  num_modes_ = params.maneuver.enabled ? 2 : 1;
+  num_modes_ = !params.maneuver.enabled ? 1 : params.stationary.enabled ? 3 : 2;
   cv_maneuver_ = params.maneuver.model == "cv";
-  modes_[0] = {x_, P_, f.jerk_psd_m2ps5};
-  modes_[1] = {x_, P_, params.maneuver.jerk_psd_m2ps5};
-  mu_[0] = 1.0;
-  mu_[1] = 0.0;
-  if (num_modes_ == 2) {
-    // start at the stationary distribution of the mode chain
-    const double tq = params.maneuver.mean_quiet_s, tm = params.maneuver.mean_maneuver_s;
-    mu_[0] = tq / (tq + tm);
-    mu_[1] = tm / (tq + tm);
-  }
+  modes_[kQuiet] = {x_, P_, f.jerk_psd_m2ps5};
+  modes_[kManeuver] = {x_, P_, params.maneuver.jerk_psd_m2ps5};
+  modes_[kStationary] = {x_, P_, 0.0};
+  hold_still(&modes_[kStationary]);
+  // Start at the stationary distribution of the mode chain (see transitions):
+  // each mode's share is proportional to the time spent in it per manoeuvre.
+  const double stop = num_modes_ == 3 ? params.stationary.stop_share : 0.0;
+  const double share[kMaxModes] = {(1.0 - stop) * params.maneuver.mean_quiet_s, params.maneuver.mean_maneuver_s,
+                                   stop * params.stationary.mean_stationary_s};
+  double total = 0;
+  for (int j = 0; j < num_modes_; ++j) total += share[j];
+  for (int j = 0; j < kMaxModes; ++j) mu_[j] = num_modes_ == 1 ? (j == 0 ? 1.0 : 0.0) : (j < num_modes_ ? share[j] / total : 0.0);
+  combine();
   window_.reserve(static_cast<size_t>(params.adaptive.window_frames));
   window_.push_back({z.a, z.b, x_(kTheta)});
   last_theta_ = x_(kTheta);
@@ -130,6 +133,7 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
 
 void TrackFilter::inherit_motion(const TrackFilter& parent, double extra_speed_var) {
   for (int j = 0; j < num_modes_; ++j) {
+    if (j == kStationary) continue;  // holds still by definition
     Mode& m = modes_[j];
     m.x.segment<4>(kVx) = parent.x_.segment<4>(kVx);
     // no correlation with this track's own position and shape yet
@@ -139,6 +143,8 @@ void TrackFilter::inherit_motion(const TrackFilter& parent, double extra_speed_v
     m.P(kVx, kVx) += extra_speed_var;
     m.P(kVy, kVy) += extra_speed_var;
   }
+  // a piece of the mover moves as it does: its mode probabilities too
+  for (int j = 0; j < num_modes_; ++j) mu_[j] = parent.mu_[j];
   combine();
 }
 
@@ -152,6 +158,35 @@ State state_difference(const State& a, const State& b) {
 }
 
 }  // namespace
+
+void TrackFilter::hold_still(Mode* m) {
+  m->x.segment<4>(kVx).setZero();
+  m->P.block<4, kStateSize>(kVx, 0).setZero();
+  m->P.block<kStateSize, 4>(0, kVx).setZero();
+}
+
+void TrackFilter::transitions(double dt, double pi[kMaxModes][kMaxModes]) const {
+  // Leaving a mode within dt: 1 - exp(-dt / mean time in it). Steady motion
+  // and standing end in a manoeuvre; a manoeuvre ends in either.
+  const ManeuverParams& mv = params_->maneuver;
+  const double leave_quiet = -std::expm1(-dt / mv.mean_quiet_s);
+  const double leave_maneuver = -std::expm1(-dt / mv.mean_maneuver_s);
+  for (int i = 0; i < kMaxModes; ++i)
+    for (int j = 0; j < kMaxModes; ++j) pi[i][j] = 0.0;
+  pi[kQuiet][kQuiet] = 1.0 - leave_quiet;
+  pi[kQuiet][kManeuver] = leave_quiet;
+  pi[kManeuver][kManeuver] = 1.0 - leave_maneuver;
+  if (num_modes_ < 3) {
+    pi[kManeuver][kQuiet] = leave_maneuver;
+    return;
+  }
+  const StationaryParams& st = params_->stationary;
+  const double leave_stationary = -std::expm1(-dt / st.mean_stationary_s);
+  pi[kManeuver][kQuiet] = leave_maneuver * (1.0 - st.stop_share);
+  pi[kManeuver][kStationary] = leave_maneuver * st.stop_share;
+  pi[kStationary][kManeuver] = leave_stationary;
+  pi[kStationary][kStationary] = 1.0 - leave_stationary;
+}
 
 double TrackFilter::effective_jerk_psd() const {
   double q = 0;
@@ -178,32 +213,46 @@ void TrackFilter::combine() {
 }
 
 void TrackFilter::predict(double dt) {
-  if (num_modes_ == 2) {
-    // IMM mixing with the mode chain over dt: P(leave mode) = 1 - exp(-dt / mean time in it).
-    const double leave_quiet = -std::expm1(-dt / params_->maneuver.mean_quiet_s);
-    const double leave_maneuver = -std::expm1(-dt / params_->maneuver.mean_maneuver_s);
-    const double pi[2][2] = {{1.0 - leave_quiet, leave_quiet}, {leave_maneuver, 1.0 - leave_maneuver}};
-    double c[2];
-    Mode mixed[2];
-    for (int j = 0; j < 2; ++j) {
-      c[j] = pi[0][j] * mu_[0] + pi[1][j] * mu_[1];
-      const double w0 = pi[0][j] * mu_[0] / c[j], w1 = pi[1][j] * mu_[1] / c[j];
-      State x0 = modes_[j].x + w0 * state_difference(modes_[0].x, modes_[j].x) +
-                 w1 * state_difference(modes_[1].x, modes_[j].x);
+  const int n = num_modes_;
+  if (n > 1) {
+    // IMM mixing: each mode starts from the mix of all modes weighted by
+    // the probability that the target was in mode i given it is now in j.
+    double pi[kMaxModes][kMaxModes];
+    transitions(dt, pi);
+    double c[kMaxModes];
+    Mode mixed[kMaxModes];
+    for (int j = 0; j < n; ++j) {
+      c[j] = 0.0;
+      for (int i = 0; i < n; ++i) c[j] += pi[i][j] * mu_[i];
+      mixed[j] = modes_[j];
+      if (c[j] <= 0.0) continue;  // unreachable mode (stop_share 0): unchanged
+      State x0 = modes_[j].x;
+      for (int i = 0; i < n; ++i) x0 += pi[i][j] * mu_[i] / c[j] * state_difference(modes_[i].x, modes_[j].x);
       x0(kTheta) = wrap_half_pi(x0(kTheta));
-      const State d0 = state_difference(modes_[0].x, x0), d1 = state_difference(modes_[1].x, x0);
+      Covariance P0 = Covariance::Zero();
+      for (int i = 0; i < n; ++i) {
+        const State d = state_difference(modes_[i].x, x0);
+        P0 += pi[i][j] * mu_[i] / c[j] * (modes_[i].P + d * d.transpose());
+      }
       mixed[j].x = x0;
-      mixed[j].P = w0 * (modes_[0].P + d0 * d0.transpose()) + w1 * (modes_[1].P + d1 * d1.transpose());
-      mixed[j].jerk_psd = modes_[j].jerk_psd;
+      mixed[j].P = P0;
     }
-    for (int j = 0; j < 2; ++j) {
+    double total = 0.0;
+    for (int j = 0; j < n; ++j) total += c[j];
+    for (int j = 0; j < n; ++j) {
       modes_[j] = mixed[j];
-      mu_[j] = c[j];
+      mu_[j] = c[j] / total;
     }
   }
-  for (int j = 0; j < num_modes_; ++j) {
+  for (int j = 0; j < n; ++j) {
     Mode& m = modes_[j];
-    if (j == 1 && cv_maneuver_) {
+    if (j == kStationary) {
+      hold_still(&m);
+      Covariance Q = process_noise(params_->filter, dt, 0.0);
+      Q(kX, kX) += params_->stationary.position_psd_m2ps * dt;
+      Q(kY, kY) += params_->stationary.position_psd_m2ps * dt;
+      propagate(&m.x, &m.P, Q, dt);
+    } else if (j == kManeuver && cv_maneuver_) {
       // constant velocity: no acceleration; white acceleration drives v
       m.x(kAx) = m.x(kAy) = 0.0;
       for (int a : {static_cast<int>(kAx), static_cast<int>(kAy)}) {
@@ -267,7 +316,7 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
   r_diag << info.r_position, info.r_position, f.r_axis_m2, f.r_axis_m2,
       f.r_theta_rad2 + f.r_axis_m2 / (elongation * elongation);
 
-  double log_likelihood[2] = {0.0, 0.0};
+  double log_likelihood[kMaxModes] = {0.0, 0.0, 0.0};
   for (int j = 0; j < num_modes_; ++j) {
     State& x = modes_[j].x;
     Covariance& P = modes_[j].P;
@@ -278,7 +327,7 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
     S.diagonal() += r_diag;
     const Eigen::Matrix<double, kStateSize, kMeasSize> PHt = P.leftCols<kMeasSize>();
     const Eigen::Matrix<double, kStateSize, kMeasSize> K = S.ldlt().solve(PHt.transpose()).transpose();
-    if (num_modes_ == 2) {
+    if (num_modes_ > 1) {
       // Mode likelihood from the centre innovation only: the modes differ in kinematics alone.
       const Eigen::Matrix2d Sp = S.topLeftCorner<2, 2>();
       const Eigen::Vector2d nu = innovation.head<2>();
@@ -291,16 +340,20 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
     P.noalias() -= K * S * K.transpose();
     P = 0.5 * (P + P.transpose()).eval();
   }
-  if (num_modes_ == 2) {
-    const double top = std::max(log_likelihood[0], log_likelihood[1]);
-    const double w0 = mu_[0] * std::exp(log_likelihood[0] - top), w1 = mu_[1] * std::exp(log_likelihood[1] - top);
-    // keep both modes alive (a probability of exactly 0 could never recover)
+  if (num_modes_ > 1) {
+    double top = log_likelihood[0];
+    for (int j = 1; j < num_modes_; ++j) top = std::max(top, log_likelihood[j]);
+    double w[kMaxModes], total = 0.0;
+    for (int j = 0; j < num_modes_; ++j) total += (w[j] = mu_[j] * std::exp(log_likelihood[j] - top));
+    // keep every mode alive (a probability of exactly 0 could never recover)
     constexpr double kMinProbability = 1e-6;
-    mu_[1] = std::clamp(w1 / (w0 + w1), kMinProbability, 1.0 - kMinProbability);
-    mu_[0] = 1.0 - mu_[1];
+    double clamped = 0.0;
+    for (int j = 0; j < num_modes_; ++j) clamped += (w[j] = std::max(w[j] / total, kMinProbability));
+    for (int j = 0; j < num_modes_; ++j) mu_[j] = w[j] / clamped;
   }
   combine();
   info.maneuver_probability = maneuver_probability();
+  info.stationary_probability = stationary_probability();
   ++updates_;
   return info;
 }

@@ -58,6 +58,7 @@ struct UpdateInfo {
   double r_position = 0; // R_p, m^2
   bool swapped_axes = false;  // the measurement was matched as (b, a, theta + pi/2)
   double maneuver_probability = 0;  // IMM probability of the manoeuvring mode after the update
+  double stationary_probability = 0;  // IMM probability of the stationary mode after the update
 };
 
 class TrackFilter {
@@ -68,8 +69,8 @@ class TrackFilter {
 
   // A fragment of `parent` (see FragmentParams): this new track takes the
   // parent's velocity and acceleration and their covariance, the velocity
-  // variance raised by extra_speed_var (m^2/s^2) per axis; position and
-  // shape stay its own.
+  // variance raised by extra_speed_var (m^2/s^2) per axis, and its IMM mode
+  // probabilities; position and shape stay its own.
   void inherit_motion(const TrackFilter& parent, double extra_speed_var);
 
   // Time update by dt seconds (with the IMM: mixing, then each mode's A and Q).
@@ -82,7 +83,9 @@ class TrackFilter {
   const Covariance& covariance() const { return P_; }
   int updates() const { return updates_; }
   // Probability of the manoeuvring mode (0 without the IMM).
-  double maneuver_probability() const { return num_modes_ == 2 ? mu_[1] : 0.0; }
+  double maneuver_probability() const { return num_modes_ > kManeuver ? mu_[kManeuver] : 0.0; }
+  // Probability of the stationary mode (0 without it).
+  double stationary_probability() const { return num_modes_ > kStationary ? mu_[kStationary] : 0.0; }
   // Jerk PSD to roll the estimate forward with: the modes' PSDs weighted by their probabilities.
   double effective_jerk_psd() const;
 
@@ -94,18 +97,24 @@ class TrackFilter {
 
  private:
   struct Shape { double a, b, theta; };
+  // The IMM's modes, in this order; num_modes_ says how many run.
+  enum ModeIndex { kQuiet = 0, kManeuver = 1, kStationary = 2, kMaxModes = 3 };
   struct Mode {
     State x;
     Covariance P;
     double jerk_psd;
   };
   void combine();
+  // pi[i][j]: probability of going from mode i to mode j within dt.
+  void transitions(double dt, double pi[kMaxModes][kMaxModes]) const;
+  // The stationary mode's model: velocity and acceleration zero, and certain.
+  static void hold_still(Mode* m);
 
   const PredictorParams* params_;
-  Mode modes_[2];
+  Mode modes_[kMaxModes];
   int num_modes_ = 1;
   bool cv_maneuver_ = false;  // the manoeuvring mode is constant velocity (ManeuverParams::model "cv")
-  double mu_[2] = {1.0, 0.0};  // mode probabilities
+  double mu_[kMaxModes] = {1.0, 0.0, 0.0};  // mode probabilities
   State x_;
   Covariance P_;
   std::vector<Shape> window_;  // ring buffer of the last m aligned shapes

@@ -166,8 +166,17 @@ TEST(Filter, NewTrackStartsAtRestWithWideVelocityCovariance) {
   TrackFilter f(params, mbe(3, 4, 0.5, 0.3, 0.1));
   EXPECT_EQ(f.state()(kVx), 0.0);
   EXPECT_EQ(f.state()(kVy), 0.0);
-  EXPECT_NEAR(f.covariance()(kVx, kVx), std::pow(params.filter.init_speed_std_mps, 2), 1e-12);
+  // the moving modes start with the wide velocity covariance, the
+  // stationary mode (its prior share) with none: the mix holds the rest
+  ASSERT_GT(f.stationary_probability(), 0.0);
+  EXPECT_NEAR(f.covariance()(kVx, kVx),
+              (1.0 - f.stationary_probability()) * std::pow(params.filter.init_speed_std_mps, 2), 1e-12);
   EXPECT_NEAR(f.state()(kX), 3.0, 1e-15);
+  PredictorParams moving_only = params;
+  moving_only.stationary.enabled = false;
+  TrackFilter g(moving_only, mbe(3, 4, 0.5, 0.3, 0.1));
+  EXPECT_EQ(g.stationary_probability(), 0.0);
+  EXPECT_NEAR(g.covariance()(kVx, kVx), std::pow(params.filter.init_speed_std_mps, 2), 1e-12);
 }
 
 }  // namespace
@@ -219,6 +228,105 @@ TEST(Filter, SingleFilterWhenTheImmIsOff) {
     EXPECT_EQ(f.update(z).maneuver_probability, 0.0);
   }
   EXPECT_EQ(f.effective_jerk_psd(), params.filter.jerk_psd_m2ps5);
+}
+
+}  // namespace
+}  // namespace evade::prediction
+
+namespace evade::prediction {
+namespace {
+
+// Feeds a filter one MBE per 0.1 s frame with centre noise of 3 cm.
+struct Feed {
+  explicit Feed(const PredictorParams& params, double x, double y) : rng(11), f(params, at(x, y)) {}
+  Measurement at(double x, double y) {
+    Measurement z;
+    z.x = x + noise(rng);
+    z.y = y + noise(rng);
+    z.a = 0.4;
+    z.b = 0.3;
+    return z;
+  }
+  void step(double x, double y) {
+    f.predict(0.1);
+    f.update(at(x, y));
+  }
+  double speed() const { return std::hypot(f.state()(kVx), f.state()(kVy)); }
+  std::mt19937 rng;
+  std::normal_distribution<double> noise{0.0, 0.03};
+  TrackFilter f;
+};
+
+// A bin seen while the robot drives past: its MBE centre jumps 0.15 m when
+// another face comes into view, then stays. The moving modes read the jump
+// as motion and the quiet one holds on to it; the stationary mode predicts
+// the frames after it and takes the probability back, so the bin is not
+// predicted to roll away.
+TEST(Filter, StandingObjectWhoseCentreJumpsIsPredictedStanding) {
+  PredictorParams with = testing::default_params();
+  ASSERT_TRUE(with.stationary.enabled);
+  PredictorParams without = with;
+  without.stationary.enabled = false;
+  double speed_after[2], stationary_after = 0;
+  int i = 0;
+  for (const PredictorParams* p : {&with, &without}) {
+    Feed s(*p, 2.0, 1.0);
+    for (int k = 0; k < 30; ++k) s.step(2.0, 1.0);
+    for (int k = 0; k < 10; ++k) s.step(2.15, 1.0);  // the jump, then 1 s standing there
+    speed_after[i++] = s.speed();
+    if (p == &with) stationary_after = s.f.stationary_probability();
+  }
+  EXPECT_GT(stationary_after, 0.5);
+  EXPECT_LT(speed_after[0], 0.05);
+  EXPECT_GT(speed_after[1], 2 * speed_after[0]);  // what the mode changes
+}
+
+// A pedestrian waiting at a kerb for 3 s, then walking at 1.2 m/s: within
+// 0.5 s the stationary mode has let go and within 1 s the velocity is known.
+TEST(Filter, AStartFromRestIsFollowed) {
+  const PredictorParams params = testing::default_params();
+  Feed s(params, 0.0, 0.0);
+  for (int k = 0; k < 30; ++k) s.step(0.0, 0.0);
+  EXPECT_GT(s.f.stationary_probability(), 0.9);
+  double y = 0;
+  for (int k = 0; k < 5; ++k) s.step(0.0, y += 0.12);
+  EXPECT_LT(s.f.stationary_probability(), 0.1);
+  for (int k = 0; k < 5; ++k) s.step(0.0, y += 0.12);
+  EXPECT_NEAR(s.f.state()(kVy), 1.2, 0.3);
+  EXPECT_NEAR(s.f.state()(kVx), 0.0, 0.2);
+}
+
+// Walking at 1 m/s, then stopping: one second later the track stands.
+TEST(Filter, AStopIsTakenForStanding) {
+  const PredictorParams params = testing::default_params();
+  Feed s(params, 0.0, 0.0);
+  double x = 0;
+  for (int k = 0; k < 40; ++k) s.step(x += 0.1, 0.0);
+  EXPECT_LT(s.f.stationary_probability(), 0.01);
+  EXPECT_NEAR(s.f.state()(kVx), 1.0, 0.15);
+  for (int k = 0; k < 10; ++k) s.step(x, 0.0);
+  EXPECT_GT(s.f.stationary_probability(), 0.5);
+  EXPECT_LT(s.speed(), 0.2);
+}
+
+// An e-bike first seen at 1.8 m/s: the stationary prior of a new track is
+// gone within three frames and the speed is learnt as fast as without it.
+TEST(Filter, AFastMoverFirstSeenIsNotHeldStill) {
+  PredictorParams with = testing::default_params();
+  PredictorParams without = with;
+  without.stationary.enabled = false;
+  double vx[2];
+  int i = 0;
+  for (const PredictorParams* p : {&with, &without}) {
+    Feed s(*p, 5.0, 0.4);
+    double x = 5.0;
+    for (int k = 0; k < 3; ++k) s.step(x -= 0.18, 0.4);
+    if (p == &with) EXPECT_LT(s.f.stationary_probability(), 0.05);
+    for (int k = 0; k < 2; ++k) s.step(x -= 0.18, 0.4);
+    vx[i++] = s.f.state()(kVx);
+  }
+  EXPECT_NEAR(vx[0], -1.8, 0.4);
+  EXPECT_NEAR(vx[0], vx[1], 0.1);
 }
 
 }  // namespace
