@@ -45,7 +45,10 @@ void BM_BuildElevationMap(benchmark::State& state) {
     poses.add({t, p, 1.0, 0.3});
   }
   const CloudView v = view_of(c, 100'000, 0.5);
-  ElevationMapBuilder b{ElevationMapParams{}};
+  // the argument: the side of the square map, m (the paper's 10 m; config elevation_map.size_x_m)
+  ElevationMapParams params;
+  params.size_x_m = params.size_y_m = static_cast<double>(state.range(0));
+  ElevationMapBuilder b{params};
   ElevationLayers L;
   Pose2 robot;
   CloudStats st;
@@ -56,7 +59,7 @@ void BM_BuildElevationMap(benchmark::State& state) {
   state.counters["points"] = double(st.points_in);
   state.counters["binned"] = double(st.points_binned);
 }
-BENCHMARK(BM_BuildElevationMap)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BuildElevationMap)->Arg(10)->Arg(16)->Unit(benchmark::kMillisecond);
 
 void BM_ObstacleLayerOnly(benchmark::State& state) {
   ElevationLayers L;

@@ -27,8 +27,10 @@ TEST(Config, RobotYamlSectionLoadsAndMatchesTestDefaults) {
   const auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
   const auto p = ElevationMapParams::from_config(root.section("elevation_map"));
   const auto d = defaults();
-  EXPECT_EQ(p.width(), 100);
-  EXPECT_EQ(p.height(), 100);
+  EXPECT_EQ(p.width(), 160);
+  EXPECT_EQ(p.height(), 160);
+  EXPECT_EQ(p.width(), d.width());
+  EXPECT_EQ(p.height(), d.height());
   EXPECT_DOUBLE_EQ(p.sobel_max, d.sobel_max);
   EXPECT_DOUBLE_EQ(p.laplace_max_per_m, d.laplace_max_per_m);
   EXPECT_DOUBLE_EQ(p.step_max_m, d.step_max_m);
@@ -553,11 +555,12 @@ TEST(Core, PublishesTheMapStampedWithTheCloudTime) {
   ASSERT_EQ(maps.size(), 1u);
   const auto& m = maps[0];
   EXPECT_EQ(m.utime, 1'100'000);
-  EXPECT_EQ(m.width, 100);
-  EXPECT_EQ(m.height, 100);
+  const ElevationMapParams p = defaults();
+  EXPECT_EQ(m.width, std::lround(p.size_x_m / 0.1));
+  EXPECT_EQ(m.height, std::lround(p.size_y_m / 0.1));
   EXPECT_DOUBLE_EQ(m.resolution, 0.1);
   EXPECT_NEAR(m.robot_x, 1.0, 1e-12);
-  EXPECT_NEAR(m.origin[0], 1.0 - 5.0, 1e-9);
+  EXPECT_NEAR(m.origin[0], 1.0 - 0.5 * p.size_x_m, 1e-9);  // robot-centred
   int obstacles = 0;
   for (const auto& row : m.obstacle)
     for (auto o : row) obstacles += o;
