@@ -82,6 +82,15 @@ class InnerCost : public ceres::CostFunction {
     set_num_residuals(compressed ? pb.num_controls() + 1 : full_rows_);
     compressed_ = compressed;
     mutable_parameter_block_sizes()->push_back(pb.num_controls());
+    // each predicted ellipse's orientation, once per solve stage instead of
+    // once per evaluation (sin and cos were a tenth of the solve time)
+    orientation_.resize(2 * pb.obstacles.size() * static_cast<size_t>(pb.N + 1));
+    for (size_t i = 0; i < pb.obstacles.size(); ++i)
+      for (int k = 0; k <= pb.N; ++k) {
+        const size_t idx = i * static_cast<size_t>(pb.N + 1) + static_cast<size_t>(k);
+        orientation_[2 * idx] = std::cos(pb.obstacles[i].theta[k]);
+        orientation_[2 * idx + 1] = std::sin(pb.obstacles[i].theta[k]);
+      }
   }
 
   bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
@@ -257,7 +266,9 @@ class InnerCost : public ceres::CostFunction {
     auto barrier_of = [&](int i, int k) -> const BarrierValue& {
       const size_t idx = static_cast<size_t>(i) * (N + 1) + k;
       if (!have_[idx]) {
-        bar_[idx] = barrier_at(pb_.obstacles[i], k, xs[3 * k], xs[3 * k + 1], pb_.d_safe);
+        const ObstacleTrack& o = pb_.obstacles[i];
+        bar_[idx] = barrier_cs(xs[3 * k], xs[3 * k + 1], o.x[k], o.y[k], o.a[k], o.b[k], orientation_[2 * idx],
+                               orientation_[2 * idx + 1], pb_.d_safe);
         have_[idx] = 1;
       }
       return bar_[idx];
@@ -324,6 +335,7 @@ class InnerCost : public ceres::CostFunction {
   double cost_scale_;
   // scratch (Ceres evaluates one cost function from one thread here)
   mutable Rollout ro_;
+  std::vector<double> orientation_;  // cos, sin of theta per obstacle and step (index i (N + 1) + k)
   mutable std::vector<BarrierValue> bar_;
   mutable std::vector<char> have_;
   // per full row: zero, at most two nonzero Jacobian entries, or dense

@@ -85,18 +85,19 @@ struct BarrierValue {
 // the value is clamped so that derivatives stay finite.
 inline constexpr double kMinCentreDistance = 1e-6;
 
-inline BarrierValue barrier(double px, double py, double cx, double cy, double a, double b, double theta,
-                            double d_safe, bool want_hessian = false) {
+// The ellipse's orientation as its cosine c and sine s_ (a caller that
+// evaluates the same ellipse many times computes them once).
+inline BarrierValue barrier_cs(double px, double py, double cx, double cy, double a, double b, double c, double s_,
+                               double d_safe, bool want_hessian = false) {
   BarrierValue out;
   double dx = px - cx, dy = py - cy;
-  double r = std::hypot(dx, dy);
+  double r = std::sqrt(dx * dx + dy * dy);  // planner coordinates are bounded: no overflow to guard against
   if (r < kMinCentreDistance) {
     // At the centre: any direction; use the major axis so the gradient points out.
-    dx = kMinCentreDistance * std::cos(theta);
-    dy = kMinCentreDistance * std::sin(theta);
+    dx = kMinCentreDistance * c;
+    dy = kMinCentreDistance * s_;
     r = kMinCentreDistance;
   }
-  const double c = std::cos(theta), s_ = std::sin(theta);
   const double p = dx * c + dy * s_;   // d.e1
   const double q = -dx * s_ + dy * c;  // d.e2
   const double a2 = a * a, b2 = b * b;
@@ -129,6 +130,11 @@ inline BarrierValue barrier(double px, double py, double cx, double cy, double a
     out.hyy = ryy - lyy;
   }
   return out;
+}
+
+inline BarrierValue barrier(double px, double py, double cx, double cy, double a, double b, double theta,
+                            double d_safe, bool want_hessian = false) {
+  return barrier_cs(px, py, cx, cy, a, b, std::cos(theta), std::sin(theta), d_safe, want_hessian);
 }
 
 inline BarrierValue barrier_at(const ObstacleTrack& o, int k, double px, double py, double d_safe,
