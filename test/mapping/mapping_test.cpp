@@ -18,15 +18,18 @@ namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
+// The struct's defaults (the values of config/robot.yaml, checked below) on
+// the 10 x 10 m map the tests' geometry is laid out on.
 ElevationMapParams defaults() {
-  ElevationMapParams p;  // same values as config/robot.yaml (checked below)
+  ElevationMapParams p;
+  p.size_x_m = p.size_y_m = 10.0;
   return p;
 }
 
 TEST(Config, RobotYamlSectionLoadsAndMatchesTestDefaults) {
   const auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
   const auto p = ElevationMapParams::from_config(root.section("elevation_map"));
-  const auto d = defaults();
+  const ElevationMapParams d;
   EXPECT_EQ(p.width(), 160);
   EXPECT_EQ(p.height(), 160);
   EXPECT_EQ(p.width(), d.width());
