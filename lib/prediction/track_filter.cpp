@@ -121,7 +121,7 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
                                    stop * params.stationary.mean_stationary_s};
   double total = 0;
   for (int j = 0; j < num_modes_; ++j) total += share[j];
-  for (int j = 0; j < kMaxModes; ++j) mu_[j] = num_modes_ == 1 ? (j == 0 ? 1.0 : 0.0) : (j < num_modes_ ? share[j] / total : 0.0);
+  for (int j = 0; j < kMaxModes; ++j) mu_[j] = j < num_modes_ ? share[j] / total : 0.0;
   combine();
   window_.reserve(static_cast<size_t>(params.adaptive.window_frames));
   window_.push_back({z.a, z.b, x_(kTheta)});
