@@ -35,6 +35,7 @@ ElevationMapParams ElevationMapParams::from_config(const config::Node& s) {
   p.laplace_max_per_m = s.get_positive("laplace_max_per_m");
   p.step_max_m = s.get_positive("step_max_m");
   p.step_includes_cell_extent = s.get<bool>("step_includes_cell_extent");
+  p.blind_ground_radius_m = s.get_double("blind_ground_radius_m", 0.0, 100.0);
   s.close();
   return p;
 }
@@ -176,7 +177,7 @@ bool ElevationMapBuilder::build(const CloudView& cloud, const PoseBuffer& poses,
     ++st.points_binned;
   }
   st.cells_filled = fill_holes(out, p_.hole_fill_min_neighbors, p_.step_max_m);
-  compute_obstacle_layer(p_, out);
+  compute_obstacle_layer(p_, out, nullptr, &*pose0);
   if (stats) *stats = st;
   return true;
 }
@@ -213,7 +214,7 @@ int64_t fill_holes(ElevationLayers* L, int min_neighbors, double max_spread_m) {
   return int64_t(fills.size());
 }
 
-void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* L, ObstacleTerms* terms) {
+void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* L, ObstacleTerms* terms, const Pose2* robot) {
   const int w = L->width, h = L->height;
   const size_t n = size_t(w) * size_t(h);
   if (terms) {
@@ -227,24 +228,35 @@ void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* L, Obs
   // 8 * resolution gives the slope in m/m, independent of the cell size.
   const double sobel_scale = 1.0 / (8.0 * L->resolution);
   const double laplace_scale = 1.0 / (L->resolution * L->resolution);
+  const double blind2 = robot ? p.blind_ground_radius_m * p.blind_ground_radius_m : -1.0;
   for (int r = 0; r < h; ++r) {
     for (int c = 0; c < w; ++c) {
       const size_t i = L->index(r, c);
       const float zc = z[i];
       if (std::isnan(zc)) continue;
-      // 3x3 window M; an empty or off-grid neighbour takes the centre value
+      // 3x3 window M; an empty or off-grid neighbour takes the centre value.
+      // Beside the robot, where no beam reaches the ground, it is the ground
+      // plane the robot stands on for the step term only: a slope of a few
+      // per cent at the blind zone's edge would pass the Laplacian limit
+      // against it (0.04 m over a cell is 16 /m), but not the step limit.
+      bool near = false;
+      if (blind2 > 0.0) {
+        const double dx = L->origin_x + (c + 0.5) * L->resolution - robot->x;
+        const double dy = L->origin_y + (r + 0.5) * L->resolution - robot->y;
+        near = dx * dx + dy * dy <= blind2;
+      }
       double m[3][3];
       double step = 0.0;
       for (int dr = -1; dr <= 1; ++dr) {
         for (int dc = -1; dc <= 1; ++dc) {
           const int rr = r + dr, cc = c + dc;
-          double v = zc;
+          double v = zc, v_step = near ? 0.0 : zc;
           if (rr >= 0 && cc >= 0 && rr < h && cc < w) {
             const float zn = z[L->index(rr, cc)];
-            if (!std::isnan(zn)) v = zn;
+            if (!std::isnan(zn)) v = v_step = zn;
           }
           m[dr + 1][dc + 1] = v;
-          step = std::max(step, std::abs(v - zc));
+          step = std::max(step, std::abs(v_step - zc));
         }
       }
       if (p.step_includes_cell_extent) step = std::max(step, double(zc - L->z_min[i]));

@@ -37,6 +37,12 @@ struct ElevationMapParams {
   double laplace_max_per_m = 15.0;   // L_max, 1/m (Laplacian normalised by resolution^2)
   double step_max_m = 0.15;          // h_max
   bool step_includes_cell_extent = true;  // h_step also counts max - min z inside the cell
+  // Within this horizontal distance of the robot no beam reaches the ground
+  // (mount height / tan(lowest beam)); there an empty neighbour in the
+  // obstacle test is the robot's own ground plane (z = 0) instead of the
+  // centre's value, so an object beside the robot, of which the LiDAR sees
+  // only the object itself, is still an obstacle. 0 = off (config/robot.yaml says why it is).
+  double blind_ground_radius_m = 0.0;
 
   int width() const;
   int height() const;
@@ -113,7 +119,10 @@ int64_t fill_holes(ElevationLayers* layers, int min_neighbors, double max_spread
 // The paper's obstacle layer, written into layers->obstacle. Cells without
 // data are never obstacles; inside the 3x3 window an empty neighbour takes
 // the centre cell's value, so it adds neither slope nor curvature nor step
-// (the edge of the data is not an edge of the terrain).
-void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* layers, ObstacleTerms* terms = nullptr);
+// (the edge of the data is not an edge of the terrain), except within
+// p.blind_ground_radius_m of `robot` (when given), where it is the ground
+// plane the robot stands on.
+void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* layers, ObstacleTerms* terms = nullptr,
+                            const Pose2* robot = nullptr);
 
 }  // namespace evade::mapping

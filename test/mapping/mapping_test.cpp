@@ -277,6 +277,45 @@ TEST(Builder, FlatGroundFromAVlp16RevolutionIsFree) {
   EXPECT_EQ(int(std::floor((-2.0 - b.L.origin_y) / 0.1)), 50);
 }
 
+// A 0.5 m tall bin 0.3 m beside the robot: the LiDAR (0.5 m up, lowest beam
+// -15 deg) sees no ground within 1.87 m, only the bin's own face. Against
+// empty neighbours taking the centre's value that face is flat; against
+// the ground plane the robot stands on it is a step. Without it the bin
+// vanished from the map, the tracker and the planner while the robot stood
+// beside it. A gentle ramp starting inside the blind zone stays free.
+TEST(Builder, AnObjectBesideTheRobotWhereNoGroundIsSeenIsAnObstacle) {
+  SynthWorld world;
+  world.cylinders.push_back({0.0, 0.55, 0.25, 0.5});  // x, y, radius, height
+  SynthScanOptions opt;
+  opt.range_noise_std_m = 0.01;
+  ElevationMapParams on = defaults(), off = defaults();
+  on.blind_ground_radius_m = opt.mount_height_m / std::tan(15.0 * M_PI / 180.0);  // 1.87 m
+  off.blind_ground_radius_m = 0.0;
+  const Built with = build_scan(world, opt, true, on);
+  const Built without = build_scan(world, opt, true, off);
+  ASSERT_TRUE(with.ok && without.ok);
+  auto near_bin = [](const Built& b) {
+    int n = 0;
+    for (int r = 0; r < b.L.height; ++r)
+      for (int c = 0; c < b.L.width; ++c) {
+        const double x = b.L.origin_x + (c + 0.5) * b.L.resolution, y = b.L.origin_y + (r + 0.5) * b.L.resolution;
+        if (b.L.obstacle[b.L.index(r, c)] && std::hypot(x - 0.0, y - 0.55) < 0.45) ++n;
+      }
+    return n;
+  };
+  std::printf("[figures] bin 0.3 m beside the robot: obstacle cells %d with the ground plane, %d without\n",
+              near_bin(with), near_bin(without));
+  EXPECT_GE(near_bin(with), 3);  // a cluster for the tracker (dbscan_min_points)
+  EXPECT_GT(near_bin(with), 2 * near_bin(without));
+  EXPECT_EQ(count_obstacles(with.L), near_bin(with));  // nothing else
+  SynthWorld ramp;
+  ramp.ground_slope_x = 0.05;
+  ramp.ramp_start_x = 1.0;
+  const Built r = build_scan(ramp, opt, true, on);
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(count_obstacles(r.L), 0);
+}
+
 // One builder and one pose buffer over 600 revolutions of a robot driving
 // a circle: the heap the allocator has handed out (mallinfo2) stays flat.
 TEST(Builder, LongRunKeepsMemoryFlat) {
