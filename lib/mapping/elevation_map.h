@@ -41,8 +41,8 @@ struct ElevationMapParams {
   // (mount height / tan(lowest beam)); there an empty neighbour in the
   // obstacle test is the robot's own ground plane (z = 0) instead of the
   // centre's value, so an object beside the robot, of which the LiDAR sees
-  // only the object itself, is still an obstacle. 0 = off (config/robot.yaml says why it is).
-  double blind_ground_radius_m = 0.0;
+  // only the object itself, is still an obstacle. 0 = off.
+  double blind_ground_radius_m = 1.9;
 
   int width() const;
   int height() const;

@@ -1,5 +1,7 @@
 #include "planning/params.h"
 
+#include <cmath>
+
 #include <stdexcept>
 
 namespace evade::planning {
@@ -67,6 +69,13 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.curvefit_degree = c.get_int("degree", 0, 5);
   p.curvefit_window_s = c.get_positive("window_s");
   c.close();
+
+  const config::Node e = s.section("escape");
+  p.escape_enabled = e.get<bool>("enabled");
+  p.escape_min_progress_m = e.get_double("min_progress_m", 0.0, 10.0);
+  p.escape_near_m = e.get_double("near_m", -10.0, 10.0);
+  p.escape_cone_half_angle_rad = e.get_double("cone_half_angle_deg", 0.0, 89.0) * M_PI / 180.0;
+  e.close();
 
   const config::Node d = s.section("detour");
   p.detour.enabled = d.get<bool>("enabled");

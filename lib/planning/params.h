@@ -39,6 +39,16 @@ struct PlannerParams {
   Limits limits;
   SolverOptions solver;
   DetourParams detour;
+  // Inside d_safe of an obstacle that stands ahead and to one side, the
+  // relaxed problem keeps h from falling (at its edge the D-CBF lets it fall
+  // by only gamma h per step), and a robot that must turn on the spot for
+  // longer than the horizon before any motion raises h finds no plan better
+  // than standing, every cycle. Then it turns on the spot (h
+  // unchanged) towards the heading nearest the route's that moves away.
+  bool escape_enabled = true;
+  double escape_min_progress_m = 0.1;       // a relaxed plan ending nearer its start than this makes no headway
+  double escape_near_m = 0.1;               // ...while some obstacle's h at the start is below this (m beyond d_safe)
+  double escape_cone_half_angle_rad = 0.785;  // the escape heading is at most this far from the way out (grad h)
 
   // root = the whole configuration (reads `planner:` and the limits in `robot:`).
   static PlannerParams from_config(const config::Node& root);

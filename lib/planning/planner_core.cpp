@@ -91,6 +91,44 @@ std::vector<double> PlannerCore::braking_controls(double v, double omega) const 
   return u;
 }
 
+bool PlannerCore::escape_turn(const Problem& pb, double v0, double omega0, std::vector<double>* u) const {
+  if (!p_.escape_enabled || pb.obstacles.empty()) return false;
+  const int N = p_.horizon_steps;
+  std::vector<double> states(3 * (N + 1));
+  rollout(pb, u->data(), states.data());
+  if (std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape_min_progress_m) return false;
+  // the obstacle nearest (in h) of those holding the robot: inside d_safe,
+  // or at its edge, where the D-CBF lets h fall by only gamma h per step
+  const BarrierValue* deepest = nullptr;
+  std::vector<BarrierValue> h0(pb.obstacles.size());
+  for (size_t i = 0; i < pb.obstacles.size(); ++i) {
+    h0[i] = barrier_at(pb.obstacles[i], 0, pb.x0, pb.y0, pb.d_safe);
+    if (h0[i].h < p_.escape_near_m && (!deepest || h0[i].h < deepest->h)) deepest = &h0[i];
+  }
+  if (!deepest) return false;
+  // The heading that raises h fastest is along grad h; any within 90 deg of
+  // it raises h. Of those within the cone, the one nearest the route's.
+  const double out = std::atan2(deepest->gy, deepest->gx);
+  const double off = wrap_angle(pb.ref_yaw[1] - out);
+  const double target = out + std::clamp(off, -p_.escape_cone_half_angle_rad, p_.escape_cone_half_angle_rad);
+  const double err = wrap_angle(target - pb.yaw0);
+  // facing the way out (within half a step's turn): the solver's plan stands
+  if (std::fabs(err) < 0.5 * p_.limits.omega_max * p_.dt_s) return false;
+  // turn at the limits (yaw acceleration too), no further than the target;
+  // the speed, already near zero (no headway), brakes to zero
+  const std::vector<double> brake = braking_controls(v0, omega0);
+  double omega = omega0, yaw_left = err;
+  for (int k = 0; k < N; ++k) {
+    const double want = std::clamp(yaw_left / p_.dt_s, -p_.limits.omega_max, p_.limits.omega_max);
+    const double dw = p_.limits.alpha * p_.dt_s;
+    omega = std::clamp(want, omega - dw, omega + dw);
+    (*u)[2 * k] = brake[2 * k];
+    (*u)[2 * k + 1] = omega;
+    yaw_left -= omega * p_.dt_s;
+  }
+  return true;
+}
+
 void PlannerCore::on_odometry(const evade::odometry_t& odom) {
   if (!finite_odometry(odom)) {
     count("odometry_invalid");
@@ -328,6 +366,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       status = evade::plan_t::STATUS_RECOVERING;
       u = rec.u;
       res = rec;
+      if (escape_turn(pb, v0, w0, &u)) count("escape_turn");
     } else {
       // Nothing meets every constraint: of the plans at hand (the failed
       // solves, swerves and dashes to either side, the last feasible plan

@@ -36,6 +36,10 @@ class PlannerCore : public bus::Core {
   void watchdog();
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;
+  // PlannerParams::escape_*: when *u (a relaxed plan) makes no headway from
+  // inside d_safe, replaces it with a turn on the spot towards the way out
+  // and returns true.
+  bool escape_turn(const Problem& pb, double v0, double omega0, std::vector<double>* u) const;
   void publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb, const std::vector<double>& u,
                     double solve_us, int iterations, int num_obstacles);
 

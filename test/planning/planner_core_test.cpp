@@ -80,12 +80,13 @@ struct RunResult {
 
 // Closed loop: odometry at 50 Hz, predictions at 10 Hz, the robot follows
 // CMD_VEL exactly (unicycle).
-RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double duration_s, double route_end = 12.0) {
+RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double duration_s, double route_end = 12.0,
+              double x0 = 0.0, double y0 = 0.0) {
   bus::MemoryBus bus;
   PlannerCore core(p);
   bus.add(core);
   RunResult out;
-  double x = 0, y = 0, yaw = 0, v = 0, w = 0;
+  double x = x0, y = y0, yaw = 0, v = 0, w = 0;
   const int64_t t0 = 1'000'000;
   bus.inject("ROUTE", straight_route(0.0, route_end), t0);
   for (int i = 0; i * 0.02 < duration_s; ++i) {
@@ -155,6 +156,25 @@ TEST(PlannerCore, WideStaticObstacleOnTheRouteIsGotAround) {
   no_detour.detour.enabled = false;
   RunResult alone = run(no_detour, planter, 30.0, 10.0);
   EXPECT_LT(alone.final_x, 4.0);
+}
+
+// Squeezed inside d_safe of a static obstacle ahead and to the left (as
+// after dodging a walker): the relaxed problem keeps h from falling, and
+// getting away needs a turn on the spot of about 75 deg, the whole
+// horizon, before any motion raises h. Without the escape turn the robot
+// stood there for good (a paper_sim run).
+TEST(PlannerCore, InsideDSafeOfAnObstacleAheadTheRobotTurnsAwayAndGoesOn) {
+  const std::vector<SimObstacle> bin = {{1.66, 0.72, 0.0, 0.0, 0.45, 0.1}};
+  const double h_start = std::hypot(1.66 - 1.0, 0.72 - 0.53) - 0.45 - default_params().d_safe_m;
+  ASSERT_LT(h_start, 0.0);  // the premise
+  RunResult r = run(default_params(), bin, 20.0, 12.0, 1.0, 0.53);
+  EXPECT_EQ(r.nan, 0);
+  EXPECT_GT(r.final_x, 6.0) << "stood beside it";
+  EXPECT_GE(r.min_h, h_start - 0.01) << "got nearer than where it started";
+  PlannerParams no_escape = default_params();
+  no_escape.escape_enabled = false;
+  RunResult stuck = run(no_escape, bin, 20.0, 12.0, 1.0, 0.53);
+  EXPECT_LT(stuck.final_x, 2.0);  // what the escape is for
 }
 
 TEST(PlannerCore, HeadOnMoverIsAvoided) {
