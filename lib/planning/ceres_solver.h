@@ -62,6 +62,8 @@ struct SolverOptions {
   int projection_iterations = 10;        // Newton steps onto the constraints when the AL loop ends outside them
   double projection_target = 2e-5;       // m: a projection step aims the constraints below this at this
   double projection_damping = 1e-5;      // relative ridge of a projection step's normal equations
+  int projection_candidates = 5;         // earlier iterates projected too (the cheapest within ...)
+  double projection_candidate_violation = 0.01;  // m: ... this violation), besides the last
   bool estimate_multipliers = true;      // without warm multipliers: estimate them at the warm start
   double estimate_margin = 1e-3;         // m: constraints with g below this enter the estimate
   double relax_max_obstacle_speed = 0.2; // m/s: solve_elastic excuses the swelling of obstacles predicted

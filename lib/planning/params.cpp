@@ -101,6 +101,7 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.max_outer_iterations = o.get_int("max_outer_iterations", 1, 1000);
   p.solver.max_inner_iterations = o.get_int("max_inner_iterations", 1, 1000);
   p.solver.max_total_iterations = o.get_int("max_total_iterations", 1, 100000);
+  p.max_cycle_iterations = o.get_int("max_cycle_iterations", 1, 1000000);
   p.solver.constraint_tolerance = o.get_positive("constraint_tolerance");
   p.solver.target_violation = o.get_double("target_violation", 0.0, p.solver.constraint_tolerance);
   p.solver.min_trust_radius = o.get_positive("min_trust_radius");
@@ -117,6 +118,8 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.projection_iterations = o.get_int("projection_iterations", 0, 1000);
   p.solver.projection_target = o.get_double("projection_target_m", 0.0, p.solver.target_violation);
   p.solver.projection_damping = o.get_double("projection_damping", 0.0, 1.0);
+  p.solver.projection_candidates = o.get_int("projection_candidates", 0, 1000);
+  p.solver.projection_candidate_violation = o.get_double("projection_candidate_violation_m", 0.0, 10.0);
   p.solver.estimate_multipliers = o.get<bool>("estimate_multipliers");
   p.solver.estimate_margin = o.get_double("estimate_margin_m", 0.0, 10.0);
   p.solver.relax_max_obstacle_speed = o.get_double("relax_max_obstacle_speed_mps", 0.0, 100.0);

@@ -38,6 +38,13 @@ struct PlannerParams {
   Weights weights;
   Limits limits;
   SolverOptions solver;
+  // Ceres iterations of one planning cycle, all its solves together (the
+  // hard solve, the swerve restarts, the relaxed solve): a cycle in which
+  // the hard problem fails otherwise runs up to four solves' budgets
+  // (solver.max_total_iterations each). The restarts leave the relaxed
+  // solve its budget when it applies. Counted in iterations, not time, so
+  // that a replay plans exactly as the live run did.
+  int max_cycle_iterations = 900;
   DetourParams detour;
   // Inside d_safe of an obstacle that stands ahead and to one side, the
   // relaxed problem keeps h from falling (at its edge the D-CBF lets it fall

@@ -47,7 +47,6 @@ std::vector<double> shifted(const std::vector<double>& u, int steps) {
 PlannerCore::PlannerCore(PlannerParams params)
     : Core("planner"),
       p_(params),
-      solver_(params.solver),
       detour_(params.detour, params.d_safe_m),
       settled_(params.detour.memory_s),
       history_(params.curvefit_degree, params.curvefit_window_s),
@@ -278,8 +277,22 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   const auto t0 = std::chrono::steady_clock::now();
   // Controls only: with the previous multipliers (and their penalty) the
   // solves measured slower and costlier in bench_planner, so they start at 0.
-  SolveResult res = solver_.solve(pb, warm_u, p_.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_);
-  int iterations = res.iterations;
+  // Each solve gets what is left of the cycle's iteration budget (at most
+  // its own), less `reserve` kept for a later one:
+  // PlannerParams::max_cycle_iterations.
+  int iterations = 0;
+  auto budgeted = [&](int reserve = 0) -> std::optional<CeresMpcSolver> {
+    const int left = p_.max_cycle_iterations - iterations - reserve;
+    if (left <= 0) {
+      count("cycle_budget_spent");
+      return std::nullopt;
+    }
+    SolverOptions o = p_.solver;
+    o.max_total_iterations = std::min(o.max_total_iterations, left);
+    return CeresMpcSolver(o);
+  };
+  SolveResult res = budgeted()->solve(pb, warm_u, p_.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_);
+  iterations = res.iterations;
   std::vector<std::vector<double>> attempts;  // failed solves, candidates if nothing is feasible
   if (res.finite) attempts.push_back(res.u);
   // Before giving up: restart from a swerve to either side. A warm start
@@ -334,8 +347,12 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     // a mover closing in, getting out of its way at speed can beat all else
     for (double side : {1.0, -1.0}) attempts.push_back(swerve(side));
   } else if (hard_failed) {
+    // the relaxed solve, when it applies, comes next and keeps its budget
+    const int reserve = can_relax ? p_.solver.max_total_iterations : 0;
     for (double side : {1.0, -1.0}) {
-      SolveResult alt = solver_.solve(pb, swerve(side));
+      const std::optional<CeresMpcSolver> solver = budgeted(reserve);
+      if (!solver) break;
+      SolveResult alt = solver->solve(pb, swerve(side));
       iterations += alt.iterations;
       count("solver_restart");
       if (alt.finite) attempts.push_back(alt.u);
@@ -354,8 +371,9 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     // (standing misses it too); then the relaxed one (see solve_elastic),
     // when there is something to relax (computed above).
     SolveResult rec;
-    if (can_relax) {
-      rec = solver_.solve_elastic(pb, warm_u, &relax);
+    const std::optional<CeresMpcSolver> solver = can_relax ? budgeted() : std::nullopt;
+    if (solver) {
+      rec = solver->solve_elastic(pb, warm_u, &relax);
       iterations += rec.iterations;
       if (rec.finite && !rec.feasible) attempts.push_back(rec.u);
     }

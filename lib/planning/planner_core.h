@@ -44,7 +44,6 @@ class PlannerCore : public bus::Core {
                     double solve_us, int iterations, int num_obstacles);
 
   PlannerParams p_;
-  CeresMpcSolver solver_;
   RouteFollower route_;
   DetourPlanner detour_;
   SettledMemory settled_;

@@ -336,6 +336,31 @@ TEST(PlannerCore, InfeasibleProblemFallsBackThenStopsAndNeverNaN) {
   EXPECT_TRUE(saw_non_ok);
 }
 
+// When the hard problem fails a cycle runs several solves (restarts, the
+// relaxed problem); max_cycle_iterations bounds them all together.
+TEST(PlannerCore, NoCycleSpendsMoreCeresIterationsThanItsBudget) {
+  std::vector<SimObstacle> obs;  // as above: nothing keeps h >= 0
+  for (int i = 0; i < 8; ++i) {
+    const double a = i * M_PI / 4;
+    obs.push_back({3.0 * std::cos(a), 3.0 * std::sin(a), -2.0 * std::cos(a), -2.0 * std::sin(a), 0.4});
+  }
+  obs.push_back({1.0, 0.6, 0.0, 0.0, 0.2, 0.1});  // a start inside d_safe: the relaxed solve runs too
+  PlannerParams unbounded = default_params();
+  unbounded.max_cycle_iterations = 1'000'000;
+  int most = 0;
+  for (const auto& pl : run(unbounded, obs, 2.0).plan_log) most = std::max(most, static_cast<int>(pl.iterations));
+  const int budget = default_params().solver.max_total_iterations + 10;
+  ASSERT_GT(most, budget) << "the premise: a cycle that runs more than one solve";
+  for (int b : {budget, 5, 1}) {
+    PlannerParams p = default_params();
+    p.max_cycle_iterations = b;
+    RunResult r = run(p, obs, 2.0);
+    ASSERT_FALSE(r.plan_log.empty());
+    EXPECT_EQ(r.nan, 0);
+    for (const auto& pl : r.plan_log) EXPECT_LE(pl.iterations, b) << "budget " << b;
+  }
+}
+
 TEST(PlannerCore, LogReplayIsDeterministic) {
   // ROUTE, predictions at 10 Hz and odometry at 50 Hz (robot driving
   // straight past an oncoming obstacle, open loop) in a log; two replays

@@ -290,8 +290,8 @@ TEST(CeresSolver, ColdStartBesideAnObstacleDoesNotReturnTheStart) {
   const std::vector<double> rest(2 * pb.N, 0.0);
   const double standing = objective(pb, rest.data());
   const SolveResult r = CeresMpcSolver(opts()).solve(pb, rest);
-  std::printf("[figures] cold start beside an obstacle: cost %.1f (standing %.1f), x_N %.2f m\n", r.cost, standing,
-              r.states[3 * pb.N]);
+  std::printf("[figures] cold start beside an obstacle: cost %.1f (standing %.1f), x_N %.2f m, %d iterations, %d outer\n", r.cost, standing,
+              r.states[3 * pb.N], r.iterations, r.outer_iterations);
   ASSERT_TRUE(r.feasible);
   EXPECT_LT(r.cost, 0.85 * standing);
   EXPECT_GT(r.states[3 * pb.N], 0.3);  // driving on, not creeping
