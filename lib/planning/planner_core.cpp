@@ -191,13 +191,13 @@ void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
   if (r == DetourPlanner::Result::kDetour && way_round.set_route(way_x, way_y)) {
     count("detour");
     way_round.update_progress(odom.x, odom.y, p_.route_search_window_m);
-    way_round.reference(odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2, &pb->ref_x,
-                        &pb->ref_y, &pb->ref_yaw);
+    way_round.reference(odom.x, odom.y, odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2,
+                        &pb->ref_x, &pb->ref_y, &pb->ref_yaw);
     return;
   }
   if (r == DetourPlanner::Result::kNoWay) count("detour_no_way");
-  route_.reference(odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2, &pb->ref_x, &pb->ref_y,
-                   &pb->ref_yaw);
+  route_.reference(odom.x, odom.y, odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2,
+                   &pb->ref_x, &pb->ref_y, &pb->ref_yaw);
 }
 
 void PlannerCore::plan_cycle(const evade::odometry_t& odom) {

@@ -71,16 +71,26 @@ void RouteFollower::vertices_after(double s, std::vector<double>* x, std::vector
     }
 }
 
-void RouteFollower::reference(double yaw, int N, double dt, double speed, double end_decel, std::vector<double>* rx,
-                              std::vector<double>* ry, std::vector<double>* ryaw) const {
+void RouteFollower::reference(double px, double py, double yaw, int N, double dt, double speed, double end_decel,
+                              std::vector<double>* rx, std::vector<double>* ry, std::vector<double>* ryaw) const {
   rx->assign(N + 1, 0.0);
   ry->assign(N + 1, 0.0);
   ryaw->assign(N + 1, 0.0);
   double s = progress_;
+  // Level with the end or past it (an avoidance carried the robot beside or
+  // beyond it): every reference point is the end, and its heading, the
+  // path's last tangent, points away from the robot's way to it or across
+  // it. A robot that cannot reverse then stands still outside the goal
+  // tolerance: turning round raises the heading cost before any motion
+  // lowers the position cost. So head for the end.
+  const bool at_end = progress_ >= s_.back();
+  const double to_end_x = x_.back() - px, to_end_y = y_.back() - py;
+  const bool head_for_end = at_end && std::hypot(to_end_x, to_end_y) > 0.0;
   double prev_heading = 0;
   for (int k = 0; k <= N; ++k) {
     double heading;
     point_at(s, &(*rx)[k], &(*ry)[k], &heading);
+    if (head_for_end) heading = std::atan2(to_end_y, to_end_x);
     // unwrap: the first relative to the robot's yaw, then step by step
     (*ryaw)[k] = k == 0 ? yaw + wrap_angle(heading - yaw) : (*ryaw)[k - 1] + wrap_angle(heading - prev_heading);
     prev_heading = heading;

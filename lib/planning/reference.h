@@ -2,7 +2,8 @@
 // the current progress (monotone along the route, no jumping back to an
 // earlier part that passes close by), then arc-length steps at the
 // reference speed, slowing to a stop at the route's end; heading from the
-// path tangent, unwrapped relative to the robot's yaw.
+// path tangent (level with the end or past it: towards the end), unwrapped
+// relative to the robot's yaw.
 #pragma once
 
 #include <vector>
@@ -21,10 +22,12 @@ class RouteFollower {
   // `search_window` metres of arc length.
   void update_progress(double px, double py, double search_window);
 
-  // Reference states k = 0..N (yaw unwrapped so that ref_yaw[0] is within
-  // pi of `yaw`).
-  void reference(double yaw, int N, double dt, double speed, double end_decel, std::vector<double>* rx,
-                 std::vector<double>* ry, std::vector<double>* ryaw) const;
+  // Reference states k = 0..N for a robot at (px, py) with heading `yaw`
+  // (ref_yaw unwrapped so that ref_yaw[0] is within pi of `yaw`). With the
+  // progress at the route's end, the heading is the bearing from the robot
+  // to the end, not the path's tangent.
+  void reference(double px, double py, double yaw, int N, double dt, double speed, double end_decel,
+                 std::vector<double>* rx, std::vector<double>* ry, std::vector<double>* ryaw) const;
 
   // The route point at arc length s (clamped to the route).
   void position_at(double s, double* px, double* py) const {

@@ -230,6 +230,20 @@ TEST(PlannerCore, ReachesTheGoalAndStops) {
   EXPECT_NEAR(r.plan_log.back().v[0], 0.0, 0.15);
 }
 
+// Past the route's end (an avoidance overshot it) or level with it beside
+// the route, the end is behind or beside the robot: it turns to it and
+// stops there instead of standing still outside the goal tolerance.
+TEST(PlannerCore, ReachesTheGoalFromPastOrBesideTheRouteEnd) {
+  const PlannerParams p = default_params();
+  for (const auto& [x0, y0] : {std::pair{5.6, 0.0}, std::pair{5.7, 0.3}, std::pair{5.0, 0.6}}) {
+    RunResult r = run(p, {}, 20.0, 5.0, x0, y0);
+    ASSERT_FALSE(r.plan_log.empty());
+    EXPECT_EQ(r.plan_log.back().status, int8_t{evade::plan_t::STATUS_GOAL}) << "start " << x0 << ", " << y0;
+    EXPECT_LE(std::hypot(r.final_x - 5.0, r.final_y), p.goal_tolerance_m + 0.05) << "start " << x0 << ", " << y0;
+    EXPECT_EQ(r.nan, 0);
+  }
+}
+
 TEST(PlannerCore, NoRouteMeansZeroVelocity) {
   bus::MemoryBus bus;
   PlannerCore core(default_params());
@@ -488,7 +502,7 @@ TEST(Reference, HeadingFromTheTangentUnwrappedNearTheRobot) {
   ASSERT_TRUE(f.set_route({0, -10}, {0, 0}));  // heading pi
   f.update_progress(0, 0, 3.0);
   std::vector<double> rx, ry, ryaw;
-  f.reference(-3.0, 25, 0.1, 0.8, 0.5, &rx, &ry, &ryaw);  // robot yaw -3.0 ~ -pi
+  f.reference(0.0, 0.0, -3.0, 25, 0.1, 0.8, 0.5, &rx, &ry, &ryaw);  // robot yaw -3.0 ~ -pi
   EXPECT_NEAR(ryaw[0], -M_PI, 1e-9);                      // unwrapped next to -3.0, not +pi
   EXPECT_NEAR(rx[1], -0.08, 1e-9);
   EXPECT_NEAR(rx[25], -2.0, 1e-9);
@@ -499,7 +513,7 @@ TEST(Reference, SlowsToAStopAtTheEnd) {
   ASSERT_TRUE(f.set_route({0, 1}, {0, 0}));
   f.update_progress(0, 0, 3.0);
   std::vector<double> rx, ry, ryaw;
-  f.reference(0.0, 25, 0.1, 0.8, 0.5, &rx, &ry, &ryaw);
+  f.reference(0.0, 0.0, 0.0, 25, 0.1, 0.8, 0.5, &rx, &ry, &ryaw);
   EXPECT_LE(rx.back(), 1.0);
   EXPECT_GT(rx.back(), 0.9);
   for (int k = 1; k <= 25; ++k) EXPECT_GE(rx[k], rx[k - 1]);
