@@ -36,6 +36,7 @@ ElevationMapParams ElevationMapParams::from_config(const config::Node& s) {
   p.step_max_m = s.get_positive("step_max_m");
   p.step_includes_cell_extent = s.get<bool>("step_includes_cell_extent");
   p.blind_ground_radius_m = s.get_double("blind_ground_radius_m", 0.0, 100.0);
+  p.blind_ground_step_max_m = s.get_positive("blind_ground_step_max_m");
   s.close();
   return p;
 }
@@ -236,9 +237,11 @@ void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* L, Obs
       if (std::isnan(zc)) continue;
       // 3x3 window M; an empty or off-grid neighbour takes the centre value.
       // Beside the robot, where no beam reaches the ground, it is the ground
-      // plane the robot stands on for the step term only: a slope of a few
-      // per cent at the blind zone's edge would pass the Laplacian limit
-      // against it (0.04 m over a cell is 16 /m), but not the step limit.
+      // plane the robot stands on for a step term of its own only: a slope
+      // of a few per cent at the blind zone's edge would pass the Laplacian
+      // limit against it (0.04 m over a cell is 16 /m), and a steep ramp
+      // starting in the blind zone rises above step_max_m where the lowest
+      // ring first meets it (25 %: 0.11 m), hence blind_ground_step_max_m.
       bool near = false;
       if (blind2 > 0.0) {
         const double dx = L->origin_x + (c + 0.5) * L->resolution - robot->x;
@@ -246,17 +249,19 @@ void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* L, Obs
         near = dx * dx + dy * dy <= blind2;
       }
       double m[3][3];
-      double step = 0.0;
+      double step = 0.0, step_blind = 0.0;  // against measured neighbours; against the assumed ground plane
       for (int dr = -1; dr <= 1; ++dr) {
         for (int dc = -1; dc <= 1; ++dc) {
           const int rr = r + dr, cc = c + dc;
-          double v = zc, v_step = near ? 0.0 : zc;
+          double v = zc;
+          bool empty = true;
           if (rr >= 0 && cc >= 0 && rr < h && cc < w) {
             const float zn = z[L->index(rr, cc)];
-            if (!std::isnan(zn)) v = v_step = zn;
+            if (!std::isnan(zn)) v = zn, empty = false;
           }
           m[dr + 1][dc + 1] = v;
-          step = std::max(step, std::abs(v_step - zc));
+          if (!empty) step = std::max(step, std::abs(v - zc));
+          else if (near) step_blind = std::max(step_blind, std::abs(double(zc)));
         }
       }
       if (p.step_includes_cell_extent) step = std::max(step, double(zc - L->z_min[i]));
@@ -268,9 +273,12 @@ void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* L, Obs
       if (terms) {
         terms->sobel[i] = float(g_s);
         terms->laplace[i] = float(g_l);
-        terms->step[i] = float(step);
+        terms->step[i] = float(std::max(step, step_blind));
       }
-      L->obstacle[i] = (g_s > p.sobel_max || g_l > p.laplace_max_per_m || step > p.step_max_m) ? 1 : 0;
+      L->obstacle[i] = (g_s > p.sobel_max || g_l > p.laplace_max_per_m || step > p.step_max_m ||
+                        step_blind > p.blind_ground_step_max_m)
+                           ? 1
+                           : 0;
     }
   }
 }

@@ -35,7 +35,7 @@ struct ElevationMapParams {
   // obstacle layer limits (the robot's operating limits)
   double sobel_max = 0.6;            // S_max, m/m (slope; Sobel normalised by 8 * resolution)
   double laplace_max_per_m = 15.0;   // L_max, 1/m (Laplacian normalised by resolution^2)
-  double step_max_m = 0.15;          // h_max
+  double step_max_m = 0.10;          // h_max
   bool step_includes_cell_extent = true;  // h_step also counts max - min z inside the cell
   // Within this horizontal distance of the robot no beam reaches the ground
   // (mount height / tan(lowest beam)); there an empty neighbour in the
@@ -43,6 +43,10 @@ struct ElevationMapParams {
   // centre's value, so an object beside the robot, of which the LiDAR sees
   // only the object itself, is still an obstacle. 0 = off.
   double blind_ground_radius_m = 1.9;
+  // The step limit against that assumed ground plane: the plane is a guess
+  // (a 25 % ramp starting 1 m away is 0.11 m up where the lowest ring first
+  // meets it), so it keeps a margin above step_max_m.
+  double blind_ground_step_max_m = 0.15;
 
   int width() const;
   int height() const;

@@ -282,7 +282,8 @@ TEST(Builder, FlatGroundFromAVlp16RevolutionIsFree) {
 // empty neighbours taking the centre's value that face is flat; against
 // the ground plane the robot stands on it is a step. Without it the bin
 // vanished from the map, the tracker and the planner while the robot stood
-// beside it. A gentle ramp starting inside the blind zone stays free.
+// beside it. A gentle ramp starting inside the blind zone stays free (a steep
+// one: Builder.RampBelowTheLimitIsFree).
 TEST(Builder, AnObjectBesideTheRobotWhereNoGroundIsSeenIsAnObstacle) {
   SynthWorld world;
   world.cylinders.push_back({0.0, 0.55, 0.25, 0.5});  // x, y, radius, height
@@ -306,7 +307,7 @@ TEST(Builder, AnObjectBesideTheRobotWhereNoGroundIsSeenIsAnObstacle) {
   std::printf("[figures] bin 0.3 m beside the robot: obstacle cells %d with the ground plane, %d without\n",
               near_bin(with), near_bin(without));
   EXPECT_GE(near_bin(with), 3);  // a cluster for the tracker (dbscan_min_points)
-  EXPECT_GT(near_bin(with), 2 * near_bin(without));
+  EXPECT_GT(near_bin(with), near_bin(without));  // at step_max_m 0.15: 6 against 0
   EXPECT_EQ(count_obstacles(with.L), near_bin(with));  // nothing else
   SynthWorld ramp;
   ramp.ground_slope_x = 0.05;
@@ -314,6 +315,43 @@ TEST(Builder, AnObjectBesideTheRobotWhereNoGroundIsSeenIsAnObstacle) {
   const Built r = build_scan(ramp, opt, true, on);
   ASSERT_TRUE(r.ok);
   EXPECT_EQ(count_obstacles(r.L), 0);
+}
+
+// A football (0.22 m tall, 0.11 m radius) rolling towards the path: seen
+// from 0.5 m up, beyond about 3 m only one or two rings hit it, at 0.05 to
+// 0.2 m above the ground, so h_max decides how far away it is an obstacle.
+// With 0.15 m a ball in the ball_crossing scenario was found in 24 of 43
+// maps 3-4 m away (18 of 41 at 4-5 m); at 3 m/s that is a second of
+// warning. With 0.10 m: 43 of 43 and 22 of 41.
+TEST(Builder, AFootballAheadIsAnObstacleOutToFourMetres) {
+  const ElevationMapParams p = defaults();
+  ElevationMapParams high = p;
+  high.step_max_m = 0.15;
+  int missed_high = 0;
+  for (double d = 1.5; d <= 4.0 + 1e-9; d += 0.25) {
+    SynthWorld world;
+    world.cylinders.push_back({d, 0.3, 0.11, 0.22});  // x, y, radius, height
+    SynthScanOptions opt;
+    opt.range_noise_std_m = 0.01;
+    const Built b = build_scan(world, opt, true, p);
+    const Built h = build_scan(world, opt, true, high);
+    ASSERT_TRUE(b.ok && h.ok);
+    auto near_ball = [&](const Built& m) {
+      int n = 0;
+      for (int r = 0; r < m.L.height; ++r)
+        for (int c = 0; c < m.L.width; ++c) {
+          const double x = m.L.origin_x + (c + 0.5) * m.L.resolution, y = m.L.origin_y + (r + 0.5) * m.L.resolution;
+          if (m.L.obstacle[m.L.index(r, c)] && std::hypot(x - d, y - 0.3) < 0.3) ++n;
+        }
+      return n;
+    };
+    std::printf("[figures] ball %.2f m ahead: %d obstacle cells at h_max %.2f, %d at 0.15\n", d, near_ball(b),
+                p.step_max_m, near_ball(h));
+    EXPECT_GE(near_ball(b), 3) << d << " m";  // a cluster for the tracker (dbscan_min_points)
+    EXPECT_EQ(count_obstacles(b.L), near_ball(b)) << d << " m";  // nothing else
+    missed_high += near_ball(h) < 3;
+  }
+  EXPECT_GT(missed_high, 0);  // premise: with 0.15 m some of these are missed
 }
 
 // One builder and one pose buffer over 600 revolutions of a robot driving
