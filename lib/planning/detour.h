@@ -46,6 +46,11 @@ struct DetourParams {
   int max_cells = 40000;                // a larger grid is not searched (the route is followed as it is)
   double min_offset_m = 0.8;            // a way round within this of the route is left to the MPC
   double memory_s = 3.0;                // s a settled track's last ellipse is kept (SettledMemory)
+  // Slow leaders: a track ahead going the route's way slower than this
+  // (faster than max_obstacle_speed_mps)...
+  double leader_max_speed_mps = 0.6;
+  double leader_max_angle_deg = 30.0;   // ...within this of the route's heading...
+  double leader_sweep_s = 2.0;          // ...enters the grid as its ellipse swept this far ahead
 };
 
 // A settled obstacle's current ellipse (inflated, as published at k = 0).

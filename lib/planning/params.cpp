@@ -95,6 +95,9 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.detour.max_cells = d.get_int("max_cells", 1, 10000000);
   p.detour.min_offset_m = d.get_double("min_offset_m", 0.0, 100.0);
   p.detour.memory_s = d.get_double("memory_s", 0.0, 3600.0);
+  p.detour.leader_max_speed_mps = d.get_double("leader_max_speed_mps", 0.0, 100.0);
+  p.detour.leader_max_angle_deg = d.get_double("leader_max_angle_deg", 0.0, 90.0);
+  p.detour.leader_sweep_s = d.get_double("leader_sweep_s", 0.0, 60.0);
   d.close();
 
   const config::Node o = s.section("solver");

@@ -33,6 +33,11 @@ class PlannerCore : public bus::Core {
   // The reference of this cycle: along the route, or round the settled
   // obstacles standing on it (detour.h).
   void make_reference(const evade::odometry_t& odom, Problem* pb);
+  // A track ahead going the route's way between detour.max_obstacle_speed_mps
+  // and detour.leader_max_speed_mps (within leader_max_angle_deg of the
+  // route's heading): *swept gets its ellipse swept leader_sweep_s along its
+  // velocity, for the detour grid.
+  bool slow_leader(const evade::track_prediction_t& t, const evade::odometry_t& odom, SettledObstacle* swept) const;
   void watchdog();
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;

@@ -158,6 +158,29 @@ TEST(PlannerCore, WideStaticObstacleOnTheRouteIsGotAround) {
   EXPECT_LT(alone.final_x, 4.0);
 }
 
+// A walker ahead on the route's line going the same way at half the
+// robot's reference speed, its predicted ellipse growing as live ones do:
+// following it at the barrier's edge is a solution, and straight behind it
+// the barrier's gradient has no sideways part, so the MPC alone never
+// starts a swerve (slow_walker live: followed to the goal at 0.4 m/s). As a
+// slow leader in the detour grid it is overtaken.
+TEST(PlannerCore, ASlowWalkerAheadIsOvertaken) {
+  const std::vector<SimObstacle> walker = {{3.0, 0.0, 0.4, 0.0, 0.45, 0.14}};  // growing as predicted live
+  const double duration_s = 30.0;
+  const double walker_end_x = 3.0 + 0.4 * duration_s;
+  RunResult r = run(default_params(), walker, duration_s, 30.0);
+  EXPECT_EQ(r.nan, 0);
+  EXPECT_GT(r.final_x, walker_end_x + 1.0) << "still behind it";
+  EXPECT_GE(r.min_h, -0.01) << "clearance";
+  // the premise: without leaders in the detour grid it follows
+  PlannerParams follow = default_params();
+  follow.detour.leader_max_speed_mps = 0.0;
+  RunResult behind = run(follow, walker, duration_s, 30.0);
+  EXPECT_LT(behind.final_x, walker_end_x);
+  std::printf("[figures] slow walker ends at x = %.1f: robot at %.1f overtaking, %.1f without\n", walker_end_x,
+              r.final_x, behind.final_x);
+}
+
 // Squeezed inside d_safe of a static obstacle ahead and to the left (as
 // after dodging a walker): the relaxed problem keeps h from falling, and
 // getting away needs a turn on the spot of about 75 deg, the whole
