@@ -170,29 +170,41 @@ double PlannerCore::track_age_s(int64_t id, int64_t utime) const {
   return it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(utime - it->second);
 }
 
-bool PlannerCore::slow_leader(const evade::track_prediction_t& t, const evade::odometry_t& odom,
-                              SettledObstacle* swept) const {
-  // A walker ahead in the lane, going the route's way slower than the
-  // robot: the MPC's own swerve (2.5 s ahead) never costs less than
-  // following, so without it in the grid the robot follows it to the goal.
+bool PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom,
+                                SettledObstacle* swept) const {
   const DetourParams& d = p_.detour;
   const double speed = std::hypot(t.vx, t.vy);
-  if (speed > d.leader_max_speed_mps || route_.length() <= 0.0) return false;
-  const double dx = t.x[0] - odom.x, dy = t.y[0] - odom.y;
+  if (speed <= 0.0 || route_.length() <= 0.0) return false;
+  const double dx = t.x[0] - odom.x, dy = t.y[0] - odom.y, dist = std::hypot(dx, dy);
   // the route's heading about where the track is (its arc length ahead of
   // the robot's progress is at most its distance)
   constexpr double kHeadingBaseM = 0.5;  // chord over which the route's heading is taken
-  const double s = std::clamp(route_.progress() + std::hypot(dx, dy), 0.0,
-                              std::max(0.0, route_.length() - kHeadingBaseM));
+  const double s =
+      std::clamp(route_.progress() + dist, 0.0, std::max(0.0, route_.length() - kHeadingBaseM));
   double x0, y0, x1, y1;
   route_.position_at(s, &x0, &y0);
   route_.position_at(s + kHeadingBaseM, &x1, &y1);
   const double hx = x1 - x0, hy = y1 - y0, hn = std::hypot(hx, hy);
   if (hn <= 0.0) return false;
   if (dx * hx + dy * hy <= 0.0) return false;  // behind the robot
-  if ((t.vx * hx + t.vy * hy) / (speed * hn) < std::cos(d.leader_max_angle_deg * M_PI / 180.0)) return false;
+  const double along = (t.vx * hx + t.vy * hy) / (speed * hn);  // cosine to the route's heading
+  double sweep_m;
+  if (speed <= d.leader_max_speed_mps && along >= std::cos(d.leader_max_angle_deg * M_PI / 180.0)) {
+    // A walker ahead in the lane, going the route's way slower than the
+    // robot: straight behind it the barrier's gradient has no sideways
+    // part and following is a solution, so the MPC alone follows it.
+    sweep_m = speed * d.leader_sweep_s;
+  } else if (d.oncoming_sweep_s > 0.0 && -along >= std::cos(d.oncoming_max_angle_deg * M_PI / 180.0)) {
+    // Coming towards the robot: a group abreast is wider than any swerve
+    // the 2.5 s horizon can plan once it is near, and standing in its way
+    // is no escape from walkers who do not give way. Its way up to the
+    // robot (at most oncoming_sweep_s of it) is kept clear of, in time.
+    sweep_m = std::min(dist, speed * d.oncoming_sweep_s);
+  } else {
+    return false;
+  }
   // its ellipse (as a circle of its larger semi-axis) swept along its velocity
-  const double r = std::max(t.a[0], t.b[0]), half = 0.5 * speed * d.leader_sweep_s;
+  const double r = std::max(t.a[0], t.b[0]), half = 0.5 * sweep_m;
   swept->x = t.x[0] + t.vx / speed * half;
   swept->y = t.y[0] + t.vy / speed * half;
   swept->a = r + half;
@@ -204,15 +216,16 @@ bool PlannerCore::slow_leader(const evade::track_prediction_t& t, const evade::o
 void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
   std::vector<std::pair<int64_t, SettledObstacle>> settled;
   std::vector<int64_t> moving;
-  std::vector<SettledObstacle> leaders;
+  std::vector<SettledObstacle> swept_movers;
   if (predictions_ && p_.detour.enabled) {
     for (const auto& t : predictions_->tracks) {
       if (!valid_track(t)) continue;
-      const bool established = track_age_s(t.id, odom.utime) >= p_.detour.min_track_age_s;
+      const double age_s = track_age_s(t.id, odom.utime);
+      const bool established = age_s >= p_.detour.min_track_age_s;
       if (std::hypot(t.vx, t.vy) > p_.detour.max_obstacle_speed_mps) {
         moving.push_back(t.id);
         SettledObstacle swept;
-        if (established && slow_leader(t, odom, &swept)) leaders.push_back(swept);
+        if (age_s >= p_.detour.min_mover_age_s && swept_in_grid(t, odom, &swept)) swept_movers.push_back(swept);
         continue;
       }
       if (established) settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
@@ -220,8 +233,8 @@ void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
   }
   settled_.update(odom.utime, settled, moving);
   std::vector<SettledObstacle> in_grid = settled_.obstacles();
-  in_grid.insert(in_grid.end(), leaders.begin(), leaders.end());
-  if (!leaders.empty()) count("detour_leaders", static_cast<int64_t>(leaders.size()));
+  in_grid.insert(in_grid.end(), swept_movers.begin(), swept_movers.end());
+  if (!swept_movers.empty()) count("detour_movers", static_cast<int64_t>(swept_movers.size()));
   std::vector<double> way_x, way_y;
   const DetourPlanner::Result r = detour_.plan(route_, odom.x, odom.y, in_grid, &way_x, &way_y);
   RouteFollower way_round;

@@ -33,11 +33,13 @@ class PlannerCore : public bus::Core {
   // The reference of this cycle: along the route, or round the settled
   // obstacles standing on it (detour.h).
   void make_reference(const evade::odometry_t& odom, Problem* pb);
-  // A track ahead going the route's way between detour.max_obstacle_speed_mps
-  // and detour.leader_max_speed_mps (within leader_max_angle_deg of the
-  // route's heading): *swept gets its ellipse swept leader_sweep_s along its
-  // velocity, for the detour grid.
-  bool slow_leader(const evade::track_prediction_t& t, const evade::odometry_t& odom, SettledObstacle* swept) const;
+  // A mover ahead that the detour grid keeps clear of, as its ellipse swept
+  // along its velocity (*swept): a slow leader (going the route's way within
+  // detour.leader_max_angle_deg, slower than leader_max_speed_mps: swept
+  // leader_sweep_s) or an oncoming one (within oncoming_max_angle_deg of
+  // the route's reverse heading: swept up to the robot, at most
+  // oncoming_sweep_s).
+  bool swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, SettledObstacle* swept) const;
   void watchdog();
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;

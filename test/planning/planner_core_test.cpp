@@ -74,6 +74,7 @@ struct RunResult {
   double max_abs_y = 0;
   int plans = 0, ok = 0, nan = 0;
   int64_t restarts_skipped = 0;  // HEALTH counter restart_skipped at the end
+  int64_t detours = 0, detour_no_way = 0, detour_movers = 0;  // HEALTH counters at the end
   std::vector<evade::plan_t> plan_log;
   std::vector<double> robot_y;   // per plan
 };
@@ -130,6 +131,9 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   out.final_x = x;
   out.final_y = y;
   out.restarts_skipped = core.counter("restart_skipped");
+  out.detours = core.counter("detour");
+  out.detour_no_way = core.counter("detour_no_way");
+  out.detour_movers = core.counter("detour_movers");
   return out;
 }
 
@@ -181,6 +185,29 @@ TEST(PlannerCore, ASlowWalkerAheadIsOvertaken) {
               r.final_x, behind.final_x);
 }
 
+// Three walkers abreast, 1 m apart, coming head-on at 1.2 m/s and giving
+// no way: the gaps between them are narrower than the robot with d_safe,
+// the group is wider than any swerve the 2.5 s horizon plans once it is
+// near, and the robot cannot reverse. Its way, swept up to the robot, in
+// the detour grid takes the robot out of it in time.
+TEST(PlannerCore, AGroupAbreastComingHeadOnIsLeftInTime) {
+  std::vector<SimObstacle> group;
+  for (double y : {-0.9, 0.1, 1.1}) group.push_back({7.0, y, -1.2, 0.0, 0.4, 0.1});  // seen 7 m away
+  const PlannerParams p = default_params();
+  const double contact = 0.26 - p.d_safe_m;  // min_h at which the footprint circle touches
+  RunResult r = run(p, group, 25.0, 20.0);
+  EXPECT_EQ(r.nan, 0);
+  EXPECT_GT(r.min_h, contact + 0.05) << "too close to a walker";
+  EXPECT_GT(r.final_x, 10.0);
+  PlannerParams unswept = default_params();
+  unswept.detour.oncoming_sweep_s = 0.0;
+  RunResult in_way = run(unswept, group, 25.0, 20.0);
+  std::printf("[figures] group head-on: min h %.2f m with its way in the grid, %.2f without (contact at %.2f)\n",
+              r.min_h, in_way.min_h, contact);
+  EXPECT_GT(r.detour_movers, 0);
+  EXPECT_LT(in_way.min_h, contact);  // the premise: standing in its way, the robot is hit
+}
+
 // Squeezed inside d_safe of a static obstacle ahead and to the left (as
 // after dodging a walker): the relaxed problem keeps h from falling, and
 // getting away needs a turn on the spot of about 75 deg, the whole
@@ -212,7 +239,9 @@ TEST(PlannerCore, HeadOnMoverIsAvoided) {
 // the relaxed problem applies (the swelling), so the swerve restarts are
 // skipped; the mover still has to be got out of the way of.
 TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
-  RunResult r = run(default_params(), {{3.5, 1.1, 0.0, 0.0, 0.3, 0.25}, {9.0, 0.05, -1.0, 0.0, 0.3}}, 14.0);
+  PlannerParams p = default_params();
+  p.detour.oncoming_sweep_s = 0.0;  // the MPC's own reaction: the swept mover would detour the robot before it
+  RunResult r = run(p, {{3.5, 1.1, 0.0, 0.0, 0.3, 0.25}, {9.0, 0.05, -1.0, 0.0, 0.3}}, 14.0);
   EXPECT_GT(r.restarts_skipped, 0);  // the situation this test is about did arise
   EXPECT_EQ(r.nan, 0);
   EXPECT_GE(r.min_h, -0.05);
@@ -491,7 +520,10 @@ TEST(Modes, CurveFitExtrapolatesTheTrackHistory) {
 TEST(Modes, DcbfReactsEarlierThanMpcToAHeadOnMover) {
   // The paper (Table I): D-CBF over predictions reacts sooner and keeps a
   // larger margin than the distance constraint on current positions.
+  // The constraints alone: the oncoming mover's way in the detour grid
+  // would turn both aside at the same cycle.
   PlannerParams p = default_params();
+  p.detour.oncoming_sweep_s = 0.0;
   const std::vector<SimObstacle> obs = {{9.0, 0.05, -0.8, 0.0, 0.3}};
   auto first_swerve = [&](Mode m) {
     p.mode = m;
