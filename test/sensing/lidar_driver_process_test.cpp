@@ -59,7 +59,9 @@ std::string test_config(const std::string& model = "vlp16") {
   replace("rs_helios_msop_port: 6699", "rs_helios_msop_port: " + std::to_string(kTestMsopPort));
   replace("rs_helios_difop_port: 7788", "rs_helios_difop_port: " + std::to_string(kTestDifopPort));
   replace("model: vlp16 ", "model: " + model + " ");
-  std::string path = ::testing::TempDir() + "lidar_driver_test_" + model + ".yaml";
+  // one file per process: ctest runs this binary's tests side by side, and
+  // one reading the file while another rewrites it saw half a file
+  std::string path = ::testing::TempDir() + "lidar_driver_test_" + std::to_string(::getpid()) + "_" + model + ".yaml";
   std::ofstream(path) << text;
   return path;
 }
@@ -271,8 +273,8 @@ TEST(LidarDriverProcess, PcapModeFlushesExitsAndReplaysIdentically) {
   // sample_pcap_test checks them on the core.)
 
   // Log the scans, replay them through the binary, compare the clouds.
-  const std::string in_log = ::testing::TempDir() + "lidar_scan.lcmlog";
-  const std::string out_log = ::testing::TempDir() + "lidar_points_replayed.lcmlog";
+  const std::string in_log = ::testing::TempDir() + "lidar_scan_" + std::to_string(::getpid()) + ".lcmlog";
+  const std::string out_log = ::testing::TempDir() + "lidar_points_replayed_" + std::to_string(::getpid()) + ".lcmlog";
   {
     lcm::LogFile log(in_log, "w");
     ASSERT_TRUE(log.good());
@@ -328,7 +330,7 @@ TEST(LidarDriverProcess, PcapAtFullSpeedKeepsTheCaptureTimeSpacing) {
 }
 
 TEST(LidarDriverProcess, BadConfigExitsWithStatusTwo) {
-  std::string path = ::testing::TempDir() + "bad_lidar.yaml";
+  std::string path = ::testing::TempDir() + "bad_lidar_" + std::to_string(::getpid()) + ".yaml";
   std::ifstream in(test_config());
   std::stringstream ss;
   ss << in.rdbuf();
