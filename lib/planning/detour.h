@@ -53,10 +53,13 @@ struct DetourParams {
   double leader_sweep_s = 2.0;          // ...enters the grid as its ellipse swept this far ahead
   // An oncoming mover (within this of the route's reverse heading) enters
   // the grid swept up to the robot, at most oncoming_sweep_s ahead (0 =
-  // off, the default: a static object the robot drives up to reads as
-  // oncoming while its visible part changes).
+  // off), if its uncertainty inflation at k = 0 is at most
+  // oncoming_max_sigma_m: a static object the robot drives up to reads as
+  // oncoming while its visible part changes, and with the shape change
+  // comes a large sigma.
   double oncoming_max_angle_deg = 30.0;
-  double oncoming_sweep_s = 0.0;
+  double oncoming_sweep_s = 4.0;
+  double oncoming_max_sigma_m = 0.25;
   double min_mover_age_s = 0.5;         // a leader or oncoming mover is swept once tracked this long
 };
 

@@ -100,6 +100,7 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.detour.leader_sweep_s = d.get_double("leader_sweep_s", 0.0, 60.0);
   p.detour.oncoming_max_angle_deg = d.get_double("oncoming_max_angle_deg", 0.0, 90.0);
   p.detour.oncoming_sweep_s = d.get_double("oncoming_sweep_s", 0.0, 60.0);
+  p.detour.oncoming_max_sigma_m = d.get_double("oncoming_max_sigma_m", 0.0, 100.0);
   p.detour.min_mover_age_s = d.get_double("min_mover_age_s", 0.0, 3600.0);
   d.close();
 

@@ -193,8 +193,7 @@ TEST(PlannerCore, ASlowWalkerAheadIsOvertaken) {
 TEST(PlannerCore, AGroupAbreastComingHeadOnIsLeftInTime) {
   std::vector<SimObstacle> group;
   for (double y : {-0.9, 0.1, 1.1}) group.push_back({7.0, y, -1.2, 0.0, 0.4, 0.1});  // seen 7 m away
-  PlannerParams p = default_params();
-  p.detour.oncoming_sweep_s = 4.0;  // off by default (config/robot.yaml says why)
+  const PlannerParams p = default_params();
   const double contact = 0.26 - p.d_safe_m;  // min_h at which the footprint circle touches
   RunResult r = run(p, group, 25.0, 20.0);
   EXPECT_EQ(r.nan, 0);
