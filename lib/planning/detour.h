@@ -49,7 +49,7 @@ struct DetourParams {
   // Slow leaders: a track ahead going the route's way slower than this
   // (faster than max_obstacle_speed_mps)...
   double leader_max_speed_mps = 0.6;
-  double leader_max_angle_deg = 30.0;   // ...within this of the route's heading...
+  double leader_max_angle_rad = 0.5236; // ...within this of the route's heading (config: degrees)...
   double leader_sweep_s = 2.0;          // ...enters the grid as its ellipse swept this far ahead
   // An oncoming mover (within this of the route's reverse heading) enters
   // the grid swept up to the robot, at most oncoming_sweep_s ahead (0 =
@@ -57,7 +57,7 @@ struct DetourParams {
   // oncoming_max_sigma_m: a static object the robot drives up to reads as
   // oncoming while its visible part changes, and with the shape change
   // comes a large sigma.
-  double oncoming_max_angle_deg = 30.0;
+  double oncoming_max_angle_rad = 0.5236;  // config: degrees
   double oncoming_sweep_s = 4.0;
   double oncoming_max_sigma_m = 0.25;
   double min_mover_age_s = 0.5;         // a leader or oncoming mover is swept once tracked this long

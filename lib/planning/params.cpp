@@ -96,9 +96,9 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.detour.min_offset_m = d.get_double("min_offset_m", 0.0, 100.0);
   p.detour.memory_s = d.get_double("memory_s", 0.0, 3600.0);
   p.detour.leader_max_speed_mps = d.get_double("leader_max_speed_mps", 0.0, 100.0);
-  p.detour.leader_max_angle_deg = d.get_double("leader_max_angle_deg", 0.0, 90.0);
+  p.detour.leader_max_angle_rad = d.get_double("leader_max_angle_deg", 0.0, 90.0) * M_PI / 180.0;
   p.detour.leader_sweep_s = d.get_double("leader_sweep_s", 0.0, 60.0);
-  p.detour.oncoming_max_angle_deg = d.get_double("oncoming_max_angle_deg", 0.0, 90.0);
+  p.detour.oncoming_max_angle_rad = d.get_double("oncoming_max_angle_deg", 0.0, 90.0) * M_PI / 180.0;
   p.detour.oncoming_sweep_s = d.get_double("oncoming_sweep_s", 0.0, 60.0);
   p.detour.oncoming_max_sigma_m = d.get_double("oncoming_max_sigma_m", 0.0, 100.0);
   p.detour.min_mover_age_s = d.get_double("min_mover_age_s", 0.0, 3600.0);

@@ -189,13 +189,13 @@ bool PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade:
   if (dx * hx + dy * hy <= 0.0) return false;  // behind the robot
   const double along = (t.vx * hx + t.vy * hy) / (speed * hn);  // cosine to the route's heading
   double sweep_m;
-  if (speed <= d.leader_max_speed_mps && along >= std::cos(d.leader_max_angle_deg * M_PI / 180.0)) {
+  if (speed <= d.leader_max_speed_mps && along >= std::cos(d.leader_max_angle_rad)) {
     // A walker ahead in the lane, going the route's way slower than the
     // robot: straight behind it the barrier's gradient has no sideways
     // part and following is a solution, so the MPC alone follows it.
     sweep_m = speed * d.leader_sweep_s;
   } else if (d.oncoming_sweep_s > 0.0 && !t.sigma.empty() && t.sigma[0] <= d.oncoming_max_sigma_m &&
-             -along >= std::cos(d.oncoming_max_angle_deg * M_PI / 180.0)) {
+             -along >= std::cos(d.oncoming_max_angle_rad)) {
     // Coming towards the robot: a group abreast is wider than any swerve
     // the 2.5 s horizon can plan once it is near, and standing in its way
     // is no escape from walkers who do not give way. Its way up to the

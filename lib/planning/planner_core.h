@@ -35,8 +35,8 @@ class PlannerCore : public bus::Core {
   void make_reference(const evade::odometry_t& odom, Problem* pb);
   // A mover ahead that the detour grid keeps clear of, as its ellipse swept
   // along its velocity (*swept): a slow leader (going the route's way within
-  // detour.leader_max_angle_deg, slower than leader_max_speed_mps: swept
-  // leader_sweep_s) or an oncoming one (within oncoming_max_angle_deg of
+  // detour.leader_max_angle_rad, slower than leader_max_speed_mps: swept
+  // leader_sweep_s) or an oncoming one (within oncoming_max_angle_rad of
   // the route's reverse heading: swept up to the robot, at most
   // oncoming_sweep_s).
   bool swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, SettledObstacle* swept) const;

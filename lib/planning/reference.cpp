@@ -86,11 +86,12 @@ void RouteFollower::reference(double px, double py, double yaw, int N, double dt
   const bool at_end = progress_ >= s_.back();
   const double to_end_x = x_.back() - px, to_end_y = y_.back() - py;
   const bool head_for_end = at_end && std::hypot(to_end_x, to_end_y) > 0.0;
+  const double bearing_to_end = head_for_end ? std::atan2(to_end_y, to_end_x) : 0.0;
   double prev_heading = 0;
   for (int k = 0; k <= N; ++k) {
     double heading;
     point_at(s, &(*rx)[k], &(*ry)[k], &heading);
-    if (head_for_end) heading = std::atan2(to_end_y, to_end_x);
+    if (head_for_end) heading = bearing_to_end;
     // unwrap: the first relative to the robot's yaw, then step by step
     (*ryaw)[k] = k == 0 ? yaw + wrap_angle(heading - yaw) : (*ryaw)[k - 1] + wrap_angle(heading - prev_heading);
     prev_heading = heading;

@@ -74,7 +74,7 @@ struct RunResult {
   double max_abs_y = 0;
   int plans = 0, ok = 0, nan = 0;
   int64_t restarts_skipped = 0;  // HEALTH counter restart_skipped at the end
-  int64_t detours = 0, detour_no_way = 0, detour_movers = 0;  // HEALTH counters at the end
+  int64_t detour_movers = 0;     // HEALTH counter detour_movers at the end
   std::vector<evade::plan_t> plan_log;
   std::vector<double> robot_y;   // per plan
 };
@@ -131,8 +131,6 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   out.final_x = x;
   out.final_y = y;
   out.restarts_skipped = core.counter("restart_skipped");
-  out.detours = core.counter("detour");
-  out.detour_no_way = core.counter("detour_no_way");
   out.detour_movers = core.counter("detour_movers");
   return out;
 }

@@ -34,6 +34,11 @@ constexpr int kTestPort = 23680;
 
 std::string source(const std::string& rel) { return std::string(EVADE_SOURCE_DIR) + "/" + rel; }
 std::string sample_path() { return source("../shared/data/vlp16_sample.pcap"); }
+// A temp file of this process: ctest runs this binary's tests side by side,
+// and one reading a shared file while another rewrote it saw half a file.
+std::string temp_path(const std::string& stem, const std::string& ext) {
+  return ::testing::TempDir() + stem + "_" + std::to_string(::getpid()) + ext;
+}
 bool exists(const std::string& p) {
   struct stat st;
   return ::stat(p.c_str(), &st) == 0;
@@ -59,9 +64,7 @@ std::string test_config(const std::string& model = "vlp16") {
   replace("rs_helios_msop_port: 6699", "rs_helios_msop_port: " + std::to_string(kTestMsopPort));
   replace("rs_helios_difop_port: 7788", "rs_helios_difop_port: " + std::to_string(kTestDifopPort));
   replace("model: vlp16 ", "model: " + model + " ");
-  // one file per process: ctest runs this binary's tests side by side, and
-  // one reading the file while another rewrites it saw half a file
-  std::string path = ::testing::TempDir() + "lidar_driver_test_" + std::to_string(::getpid()) + "_" + model + ".yaml";
+  std::string path = temp_path("lidar_driver_test_" + model, ".yaml");
   std::ofstream(path) << text;
   return path;
 }
@@ -273,8 +276,8 @@ TEST(LidarDriverProcess, PcapModeFlushesExitsAndReplaysIdentically) {
   // sample_pcap_test checks them on the core.)
 
   // Log the scans, replay them through the binary, compare the clouds.
-  const std::string in_log = ::testing::TempDir() + "lidar_scan_" + std::to_string(::getpid()) + ".lcmlog";
-  const std::string out_log = ::testing::TempDir() + "lidar_points_replayed_" + std::to_string(::getpid()) + ".lcmlog";
+  const std::string in_log = temp_path("lidar_scan", ".lcmlog");
+  const std::string out_log = temp_path("lidar_points_replayed", ".lcmlog");
   {
     lcm::LogFile log(in_log, "w");
     ASSERT_TRUE(log.good());
@@ -330,7 +333,7 @@ TEST(LidarDriverProcess, PcapAtFullSpeedKeepsTheCaptureTimeSpacing) {
 }
 
 TEST(LidarDriverProcess, BadConfigExitsWithStatusTwo) {
-  std::string path = ::testing::TempDir() + "bad_lidar_" + std::to_string(::getpid()) + ".yaml";
+  std::string path = temp_path("bad_lidar", ".yaml");
   std::ifstream in(test_config());
   std::stringstream ss;
   ss << in.rdbuf();
