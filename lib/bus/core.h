@@ -69,6 +69,9 @@ class Core {
 
   // Counters by name (also what HEALTH reports).
   int64_t counter(const std::string& name) const;
+  // A counter the adapter or main sets from outside the core (e.g.
+  // bus_exposed_interfaces at start), reported in HEALTH like count().
+  void note(const std::string& name, int64_t n = 1) { count(name, n); }
 
  protected:
   template <class Msg>

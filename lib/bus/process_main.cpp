@@ -1,9 +1,11 @@
 #include "bus/process_main.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <cstdlib>
 #include <iostream>
 
+#include "bus/bus_guard.h"
 #include "bus/live_bus.h"
 #include "bus/log_replay.h"
 
@@ -13,7 +15,8 @@ void add_common_options(CLI::App& app, CommonOptions& opts) {
   app.add_option("--config", opts.config_path, "robot configuration (default config/robot.yaml)");
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   app.add_option("--replay", opts.replay_in, "run over this lcm-logger log instead of live LCM");
-  app.add_option("--replay-out", opts.replay_out, "with --replay: write the outputs to this log");
+  app.add_option("--replay-out", opts.replay_out, "with --replay: write the outputs to this log (a new file)");
+  app.add_flag("--force", opts.force, "with --replay-out: replace an existing file (never the input)");
 }
 
 config::Node load_config_or_exit(const std::string& process, const CommonOptions& opts) {
@@ -23,6 +26,29 @@ config::Node load_config_or_exit(const std::string& process, const CommonOptions
     std::fprintf(stderr, "%s: %s\n", process.c_str(), e.what());
     std::exit(2);
   }
+}
+
+void guard_bus(const std::string& process, const std::string& url, const config::Node& root,
+               const std::vector<Core*>& cores) {
+  const BusGuardParams params = BusGuardParams::from_config(root);
+  const int64_t exposed = warn_if_exposed(process, url, params);
+  for (Core* c : cores) c->note("bus_exposed_interfaces", exposed);
+}
+
+bool replay_paths_ok(const std::string& in, const std::string& out, bool force, std::string* why) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(out, ec)) {
+    if (fs::equivalent(in, out, ec)) {
+      *why = "--replay-out " + out + " is the input log itself; refusing to overwrite it";
+      return false;
+    }
+    if (!force) {
+      *why = "--replay-out " + out + " exists; refusing to overwrite it without --force";
+      return false;
+    }
+  }
+  return true;
 }
 
 int process_main(int argc, char** argv, const std::string& name,
@@ -51,6 +77,11 @@ int process_main(int argc, char** argv, const std::string& name,
       std::fprintf(stderr, "%s: --replay needs --replay-out\n", name.c_str());
       return 2;
     }
+    std::string why;
+    if (!replay_paths_ok(opts.replay_in, opts.replay_out, opts.force, &why)) {
+      std::fprintf(stderr, "%s: %s\n", name.c_str(), why.c_str());
+      return 2;
+    }
     try {
       int64_t n = replay_file({core.get()}, opts.replay_in, opts.replay_out);
       std::fprintf(stderr, "%s: replayed %s -> %s (%lld events out)\n", name.c_str(), opts.replay_in.c_str(),
@@ -64,11 +95,15 @@ int process_main(int argc, char** argv, const std::string& name,
 
   std::string url = opts.lcm_url.empty() ? default_lcm_url() : opts.lcm_url;
   try {
+    guard_bus(name, url, root, {core.get()});
     LiveBus bus(url);
     bus.add(*core);
     for (const auto& ch : options.conflate) bus.conflate(ch);
     std::fprintf(stderr, "%s: running on %s\n", name.c_str(), url.c_str());
     bus.run(stop_on_signals());
+  } catch (const config::ConfigError& e) {
+    std::fprintf(stderr, "%s: %s\n", name.c_str(), e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: %s\n", name.c_str(), e.what());
     return 1;

@@ -20,6 +20,7 @@ struct CommonOptions {
   std::string lcm_url;
   std::string replay_in;
   std::string replay_out;
+  bool force = false;  // --force: --replay-out may replace an existing file
 };
 
 void add_common_options(CLI::App& app, CommonOptions& opts);
@@ -27,6 +28,17 @@ void add_common_options(CLI::App& app, CommonOptions& opts);
 // Loads the configuration named by opts (or the default one); on error prints
 // "<process>: <file>:<line>: key '...': reason" and exits with status 2.
 config::Node load_config_or_exit(const std::string& process, const CommonOptions& opts);
+
+// For a live process: reads the `bus:` section, warns once on stderr when
+// the bus is reachable from an interface it does not allow (bus_guard.h),
+// and puts the number of such interfaces in each core's HEALTH counter
+// bus_exposed_interfaces. Throws config::ConfigError on a bad section.
+void guard_bus(const std::string& process, const std::string& url, const config::Node& root,
+               const std::vector<Core*>& cores);
+
+// Refuses to write a replay's output over its input, or over an existing
+// file unless `force` (tools never destroy logs): false with *why set.
+bool replay_paths_ok(const std::string& in, const std::string& out, bool force, std::string* why);
 
 using CoreFactory = std::function<std::unique_ptr<Core>(const config::Node& root)>;
 

@@ -1,5 +1,7 @@
 #include "config/config.h"
 
+#include "config/safety.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -152,6 +154,17 @@ double Node::get_positive(const std::string& key) const {
   return v;
 }
 
+std::vector<std::string> Node::get_strings(const std::string& key) const {
+  YAML::Node c = child(key);
+  if (!c.IsSequence() || c.size() == 0) fail(key, "expected a non-empty list of names, found " + type_name(c));
+  std::vector<std::string> out;
+  for (const auto& e : c) {
+    if (!e.IsScalar() || e.Scalar().empty()) fail(key, "expected a list of non-empty names");
+    out.push_back(e.Scalar());
+  }
+  return out;
+}
+
 std::vector<double> Node::get_doubles(const std::string& key, size_t count) const {
   YAML::Node c = child(key);
   if (!c.IsSequence()) fail(key, "expected a list of numbers, found " + type_name(c));
@@ -251,7 +264,7 @@ Node load_string(const std::string& text, const std::string& name) { return pars
 const std::vector<std::string>& robot_sections() {
   static const std::vector<std::string> sections = {"robot",   "lidar",       "sim",           "lidar_driver",
                                                     "base_driver", "elevation_map", "tracker", "predictor",
-                                                    "planner", "route",       "metrics"};
+                                                    "planner", "route",       "metrics", "bus"};
   return sections;
 }
 
@@ -259,7 +272,8 @@ Node load_robot_config(const std::string& path) {
   Node root = load_file(path);
   const auto& known = robot_sections();
   for (const auto& k : root.keys())
-    if (std::find(known.begin(), known.end(), k) == known.end()) root.fail(k, "unknown section");
+    if (k != kTestConfigKey && std::find(known.begin(), known.end(), k) == known.end()) root.fail(k, "unknown section");
+  check_safety(root);
   return root;
 }
 

@@ -40,6 +40,7 @@ class Node {
   int get_int(const std::string& key, int min, int max) const;
   double get_positive(const std::string& key) const;  // > 0
   std::vector<double> get_doubles(const std::string& key, size_t count) const;
+  std::vector<std::string> get_strings(const std::string& key) const;  // a non-empty list of non-empty strings
   std::vector<std::vector<double>> get_points(const std::string& key) const;  // [[x, y], ...]
   std::string get_choice(const std::string& key, const std::vector<std::string>& choices) const;
 
@@ -76,7 +77,8 @@ Node load_string(const std::string& text, const std::string& name);
 // them; load_robot_config rejects any other top-level key.
 const std::vector<std::string>& robot_sections();
 // load_file, then a ConfigError (file, line, key) for a top-level key that
-// is not one of robot_sections().
+// is not one of robot_sections() (or the flag `test_config`), and the
+// cross-section safety rules of config/safety.h.
 Node load_robot_config(const std::string& path);
 
 // The default robot configuration: $EVADE_CONFIG, else config/robot.yaml

@@ -156,6 +156,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s: --replay needs --replay-out\n", kName);
       return 2;
     }
+    std::string why;
+    if (!bus::replay_paths_ok(opts.replay_in, opts.replay_out, opts.force, &why)) {
+      std::fprintf(stderr, "%s: %s\n", kName, why.c_str());
+      return 2;
+    }
     try {
       bus::replay_file({core.get()}, opts.replay_in, opts.replay_out);
       return 0;
@@ -167,7 +172,11 @@ int main(int argc, char** argv) {
 
   const std::string url = opts.lcm_url.empty() ? bus::default_lcm_url() : opts.lcm_url;
   try {
+    bus::guard_bus(kName, url, root, {core.get()});
     return run_live(*core, url);
+  } catch (const evade::config::ConfigError& e) {
+    std::fprintf(stderr, "%s: %s\n", kName, e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: %s\n", kName, e.what());
     return 1;

@@ -133,6 +133,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s: --replay needs --replay-out and excludes --pcap\n", kName);
       return 2;
     }
+    std::string why;
+    if (!evade::bus::replay_paths_ok(opts.replay_in, opts.replay_out, opts.force, &why)) {
+      std::fprintf(stderr, "%s: %s\n", kName, why.c_str());
+      return 2;
+    }
     LidarDriverCore core(params, LidarDriverCore::Source::kScans);
     try {
       evade::bus::ReplayOptions ro;
@@ -150,10 +155,14 @@ int main(int argc, char** argv) {
   const std::string url = opts.lcm_url.empty() ? evade::bus::default_lcm_url() : opts.lcm_url;
   try {
     LidarDriverCore core(params, LidarDriverCore::Source::kPackets);
+    evade::bus::guard_bus(kName, url, root, {&core});
     evade::bus::LiveBus bus(url);
     bus.add(core);
     if (!pcap_path.empty()) return run_pcap(core, bus, pcap_path, rate);
     return run_live(core, bus);
+  } catch (const evade::config::ConfigError& e) {
+    std::fprintf(stderr, "%s: %s\n", kName, e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: %s\n", kName, e.what());
     return 1;

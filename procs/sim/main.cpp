@@ -198,9 +198,11 @@ int main(int argc, char** argv) {
   try {
     PseudoTerminal pty(params.device_path);
     UdpSender udp(params.lidar_dest_host, params.lidar_dest_port);
-    evade::bus::LiveBus bus(lcm_url.empty() ? evade::bus::default_lcm_url() : lcm_url);
-
+    const std::string url = lcm_url.empty() ? evade::bus::default_lcm_url() : lcm_url;
     SimCore core(scenario, params);
+    evade::bus::guard_bus("sim", url, root, {&core});
+    evade::bus::LiveBus bus(url);
+
     core.attach(&bus);  // publishes through LCM; the sim clock below drives it
     core.set_packet_sink([&](const evade::sim::Packet& p) {
       if (!udp.send(p.data(), p.size())) core.count_io("lidar_send_errors");

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include "config/config.h"
 
@@ -89,6 +90,57 @@ TEST(Config, SyntaxErrorHasLine) {
 TEST(Config, MissingFile) {
   EXPECT_EQ(error_of([] { load_file("/nonexistent/robot.yaml"); }),
             "/nonexistent/robot.yaml:0: key '': cannot open file");
+}
+
+// The repository's config/robot.yaml with one line replaced, loaded as a
+// robot configuration; the error text, or "" when it loads.
+std::string safety_error(const std::string& from, const std::string& to, const std::string& extra = "") {
+  std::ifstream in(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  const size_t at = text.find(from);
+  if (at == std::string::npos) return "test setup: '" + from + "' not in robot.yaml";
+  text.replace(at, from.size(), to);
+  const std::string path = ::testing::TempDir() + "/safety.yaml";
+  std::ofstream(path) << extra << text;
+  std::string err = error_of([&] { load_robot_config(path); });
+  std::remove(path.c_str());
+  return err;
+}
+
+TEST(Safety, TheRepositoryConfigIsSafe) {
+  EXPECT_EQ(safety_error("watchdog_timeout_s: 0.25", "watchdog_timeout_s: 0.25"), "");
+}
+
+TEST(Safety, AWatchdogAboveOneSecondIsRefusedWithFileLineKey) {
+  const std::string err = safety_error("watchdog_timeout_s: 0.25", "watchdog_timeout_s: 1.5");
+  EXPECT_NE(err.find("safety.yaml:"), std::string::npos) << err;
+  EXPECT_NE(err.find("key 'base_driver.watchdog_timeout_s': must be at most 1 s"), std::string::npos) << err;
+  EXPECT_EQ(safety_error("watchdog_timeout_s: 0.25", "watchdog_timeout_s: 1.0"), "");
+}
+
+TEST(Safety, APlannerPeriodNotBelowTheWatchdogIsRefused) {
+  // 4 Hz = 0.25 s, the watchdog's timeout: every gap would trip it
+  const std::string err = safety_error("  rate_hz: 10.0  ", "  rate_hz: 4.0  ");
+  EXPECT_NE(err.find("key 'planner.rate_hz': the planner's period"), std::string::npos) << err;
+  EXPECT_EQ(safety_error("  rate_hz: 10.0  ", "  rate_hz: 5.0  "), "");
+}
+
+TEST(Safety, PlanningWithoutPredictionsOnlyInATestConfig) {
+  const std::string err = safety_error("require_predictions: true", "require_predictions: false");
+  EXPECT_NE(err.find("key 'planner.require_predictions': false"), std::string::npos) << err;
+  // the line is the key's own
+  std::ifstream in(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  std::string line;
+  int n = 0, at = 0;
+  while (std::getline(in, line) && !at) {
+    ++n;
+    if (line.find("require_predictions:") != std::string::npos) at = n;
+  }
+  EXPECT_NE(err.find("safety.yaml:" + std::to_string(at) + ":"), std::string::npos) << err;
+  EXPECT_EQ(safety_error("require_predictions: true", "require_predictions: false", "test_config: true\n"), "");
+  EXPECT_NE(safety_error("require_predictions: true", "require_predictions: false", "test_config: false\n"), "");
 }
 
 }  // namespace
