@@ -32,6 +32,7 @@ BaseDriverParams BaseDriverParams::from_config(const config::Node& root) {
   p.baud_rate = std::stoi(s.get_choice("baud_rate", {"9600", "19200", "38400", "57600", "115200", "230400", "460800"}));
   p.command_rate_hz = s.get_double("command_rate_hz", 1.0, 1000.0);
   p.watchdog_timeout_s = s.get_double("watchdog_timeout_s", 0.001, 10.0);
+  p.cmd_vel_max_age_s = s.get_double("cmd_vel_max_age_s", 0.001, 10.0);
   p.link_timeout_s = s.get_double("link_timeout_s", 0.001, 10.0);
   p.status_rate_hz = s.get_double("status_rate_hz", 0.1, 1000.0);
   p.max_odometry_gap_s = s.get_double("max_odometry_gap_s", 0.001, 10.0);
@@ -69,16 +70,28 @@ BaseDriverCore::BaseDriverCore(const BaseDriverParams& params)
       params_(params),
       command_period_us_(std::max<int64_t>(1, to_us(1.0 / params.command_rate_hz))),
       pose_(params.initial_pose) {
-  subscribe<evade::cmd_vel_t>(kCmdVelChannel, [this](const evade::cmd_vel_t& m) { on_cmd_vel(m.v, m.omega); });
+  subscribe<evade::cmd_vel_t>(kCmdVelChannel, [this](const evade::cmd_vel_t& m) { on_cmd_vel(m.utime, m.v, m.omega); });
   every(command_period_us_, [this] { command_tick(); });
   every(std::max<int64_t>(1, to_us(1.0 / params.status_rate_hz)), [this] { publish_status(); });
 }
 
 // ------------------------------------------------------------- commands ----
 
-void BaseDriverCore::on_cmd_vel(double v, double omega) {
+void BaseDriverCore::on_cmd_vel(int64_t utime, double v, double omega) {
   if (!std::isfinite(v) || !std::isfinite(omega)) {
     count("cmd_vel_not_finite");
+    return;
+  }
+  const int64_t max_age = to_us(params_.cmd_vel_max_age_s);
+  // saturating: utime may be anything a sender put there
+  int64_t age;
+  if (__builtin_sub_overflow(now(), utime, &age)) age = utime < 0 ? bus::kNever : -bus::kNever;
+  if (age > max_age) {
+    count("cmd_vel_late");
+    return;
+  }
+  if (age < -max_age) {
+    count("cmd_vel_future");
     return;
   }
   target_ = Twist{v, omega};
@@ -109,13 +122,26 @@ void BaseDriverCore::command_tick() {
   }
 
   if (update_watchdog()) publish_status();
-  if (watchdog_tripped_) {
+  if (watchdog_tripped_ || !link_ok_) {
+    // no planner, or no word from the base: zero until both are back
     commanded_ = Twist{};
   } else {
     commanded_ = limit_step(commanded_, target_, params_.limits, command_period_us_ / kUsPerS);
   }
   if (!port_open_) return;  // nothing to send to; the ramp restarts when it opens
+  queue_motion_frame();
+}
 
+void BaseDriverCore::stop() {
+  target_ = Twist{};
+  commanded_ = Twist{};
+  have_cmd_ = false;
+  watchdog_tripped_ = true;
+  queue_motion_frame();
+  count("stopped");
+}
+
+void BaseDriverCore::queue_motion_frame() {
   MotionCommand cmd;
   cmd.control_mode = kControlModeSerial;
   cmd.linear_percent = linear_percent(commanded_.v);
@@ -198,12 +224,13 @@ void BaseDriverCore::on_motion_status(const MotionStatus& status) {
   measured_ = Twist{linear_mps(status), angular_radps(status)};
   last_motion_now_ = t;
   have_motion_ = true;
-  publish_odometry(measured_.v, measured_.omega);
+  publish_odometry(t, measured_.v, measured_.omega);
 }
 
-void BaseDriverCore::publish_odometry(double v, double omega) {
+void BaseDriverCore::publish_odometry(int64_t utime, double v, double omega) {
   evade::odometry_t m;
-  m.utime = now();
+  m.utime = utime;
+  m.epoch = params_.epoch;
   m.x = pose_.x;
   m.y = pose_.y;
   m.yaw = pose_.yaw;
@@ -258,11 +285,13 @@ void BaseDriverCore::set_link_ok(bool ok, const std::string& why) {
   if (!ok) {
     count("link_lost");
     // The robot is considered stopped: say so once, at the current pose, and
-    // do not integrate across the outage.
+    // do not integrate across the outage. Stamped with the last real
+    // odometry's time: the pose is from then, and nothing measured it since.
+    const bool had_motion = have_motion_;
     measured_ = Twist{};
     have_motion_ = false;
     commanded_ = Twist{};
-    publish_odometry(0.0, 0.0);
+    if (had_motion) publish_odometry(last_motion_now_, 0.0, 0.0);
   }
   publish_status();
 }

@@ -9,6 +9,9 @@
 //   frame is queued while the port is open: the latest CMD_VEL clamped to
 //   the robot's velocity limits and rate-limited by its acceleration limits
 //   (see limit_step in kinematics.h).
+// - A CMD_VEL stamped more than cmd_vel_max_age_s before (or after) the bus
+//   time it arrives at is late (or from a skewed clock) and ignored,
+//   counted as cmd_vel_late / cmd_vel_future: it does not feed the watchdog.
 // - Watchdog: when no CMD_VEL has arrived for watchdog_timeout_s (or none
 //   ever), zero velocity is commanded at once (the upstream planner is gone;
 //   stopping is the safe state and the base's own controller brakes) and
@@ -21,10 +24,20 @@
 //   max_odometry_gap_s are not integrated (the base's motion in a gap is
 //   unknown) and counted.
 // - Link: link_ok = port open and a valid status frame within
-//   link_timeout_s. When the link is lost the robot is considered stopped:
-//   one ODOMETRY with v = omega = 0 is published at the current pose,
-//   integration restarts at the next motion status, and the command ramp
-//   restarts from zero.
+//   link_timeout_s. While it is not ok every motion frame sent is zero
+//   speed (the base may still be listening), so after a silent link the
+//   robot does not resume on a stale command. When the link is lost the
+//   robot is considered stopped: one ODOMETRY with v = omega = 0 is
+//   published at the current pose, stamped with the time of the last real
+//   one (so no consumer takes it for a fresh measurement), integration
+//   restarts at the next motion status, and the command ramp restarts from
+//   zero.
+// - ODOMETRY.epoch is params.epoch (the driver's start time, set by its
+//   main): odometry of one epoch is one continuous frame; a new epoch (a
+//   restarted driver, its pose reset) tells the planner and the map to
+//   start over.
+// - stop(): queues one zero-speed frame, whatever the state (a main being
+//   stopped by a signal sends it before closing the port).
 #pragma once
 
 #include <cstdint>
@@ -47,6 +60,7 @@ struct BaseDriverParams {
   int baud_rate = 115200;
   double command_rate_hz = 50.0;
   double watchdog_timeout_s = 0.25;
+  double cmd_vel_max_age_s = 0.4;
   double link_timeout_s = 0.5;
   double status_rate_hz = 10.0;  // BASE_STATUS heartbeat (also sent on every change)
   double max_odometry_gap_s = 0.5;
@@ -54,6 +68,7 @@ struct BaseDriverParams {
   double reopen_backoff_max_s = 2.0;
   Pose2 initial_pose;
   VelocityLimits limits;
+  int64_t epoch = 0;  // ODOMETRY.epoch: not from config; the main sets its start time
 
   // Reads the `base_driver:` section (closed) and the velocity and
   // acceleration limits of the shared `robot:` section (not closed: other
@@ -72,6 +87,8 @@ class BaseDriverCore : public bus::Core {
   void on_serial_bytes(const uint8_t* data, size_t size);
   void on_link_opened();
   void on_link_lost(const std::string& reason);
+  // Queues one zero-speed motion frame and holds the command at zero.
+  void stop();
   // Bytes queued for the port since the last call.
   std::vector<uint8_t> take_tx();
   // Serial-side events the I/O owner counts in this core's HEALTH
@@ -89,7 +106,8 @@ class BaseDriverCore : public bus::Core {
   const BaseDriverParams& params() const { return params_; }
 
  private:
-  void on_cmd_vel(double v, double omega);
+  void on_cmd_vel(int64_t utime, double v, double omega);
+  void queue_motion_frame();
   void command_tick();
   // Trips the watchdog if CMD_VEL is stale at now(); true if it just tripped.
   bool update_watchdog();
@@ -97,7 +115,7 @@ class BaseDriverCore : public bus::Core {
   void on_motion_status(const MotionStatus& status);
   void set_link_ok(bool ok, const std::string& why);
   void publish_status();
-  void publish_odometry(double v, double omega);
+  void publish_odometry(int64_t utime, double v, double omega);
   void sync_parser_counters();
 
   BaseDriverParams params_;

@@ -20,10 +20,40 @@ std::string default_lcm_url() {
   return (env && *env) ? std::string(env) : std::string(kDefaultLcmUrl);
 }
 
-int64_t wall_utime() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
+namespace {
+class SystemClock : public Clock {
+ public:
+  int64_t wall_us() const override {
+    return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
+  }
+  int64_t monotonic_us() const override {
+    return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+};
+const SystemClock g_system_clock;
+struct Anchor {
+  const Clock* clock = &g_system_clock;
+  bool set = false;
+  int64_t wall0 = 0, mono0 = 0;
+};
+Anchor g_anchor;
+}  // namespace
+
+int64_t bus_utime() {
+  const int64_t mono = g_anchor.clock->monotonic_us();
+  if (!g_anchor.set) {
+    g_anchor.wall0 = g_anchor.clock->wall_us();
+    g_anchor.mono0 = mono;
+    g_anchor.set = true;
+  }
+  return g_anchor.wall0 + (mono - g_anchor.mono0);
+}
+
+void set_clock(const Clock* clock) {
+  g_anchor.clock = clock ? clock : &g_system_clock;
+  g_anchor.set = false;
 }
 
 LiveBus::LiveBus(const std::string& url) : lcm_(std::make_unique<lcm::LCM>(url)) {
@@ -48,7 +78,7 @@ void LiveBus::add(Core& core) {
 void LiveBus::conflate(const std::string& channel) { conflated_[channel]; }
 
 void LiveBus::deliver(const std::string& channel, const uint8_t* data, size_t size) {
-  int64_t now = wall_utime();
+  int64_t now = bus_utime();
   for (Core* c : cores_) c->deliver(channel, data, size, now);
 }
 
@@ -73,7 +103,7 @@ void LiveBus::remove_fd(int fd) { fds_.erase(fd); }
 void LiveBus::wake_at(int64_t utime) { wake_at_ = std::min(wake_at_, utime); }
 
 void LiveBus::spin_once(int timeout_ms) {
-  int64_t now = wall_utime();
+  int64_t now = bus_utime();
   for (Core* c : cores_) c->advance_to(now);
   int64_t deadline = wake_at_;
   for (Core* c : cores_) deadline = std::min(deadline, c->next_deadline());
@@ -85,7 +115,7 @@ void LiveBus::spin_once(int timeout_ms) {
   pfds.push_back(pollfd{lcm_->getFileno(), POLLIN, 0});
   for (const auto& [fd, fn] : fds_) pfds.push_back(pollfd{fd, POLLIN, 0});
   int r = ::poll(pfds.data(), pfds.size(), timeout_ms);
-  now = wall_utime();
+  now = bus_utime();
   if (wake_at_ <= now) wake_at_ = kNever;
   if (r > 0) {
     // Everything already queued is handled before the timers run, so that
@@ -108,11 +138,11 @@ void LiveBus::spin_once(int timeout_ms) {
       auto it = fds_.find(pfds[i].fd);  // a handler may have removed it
       if (it != fds_.end()) {
         auto fn = it->second;
-        fn(wall_utime());
+        fn(bus_utime());
       }
     }
   }
-  now = wall_utime();
+  now = bus_utime();
   for (Core* c : cores_) c->advance_to(now);
 }
 

@@ -1,6 +1,11 @@
-// Runs cores live on LCM (udpm multicast). The bus time is the host's
-// clock in microseconds since the epoch; this is the only place where a
-// process core's time comes from a clock. Extra file descriptors (a UDP
+// Runs cores live on LCM (udpm multicast). The bus time is microseconds
+// since the epoch: the host's wall clock read once, at the process's first
+// reading, then advanced by the monotonic clock (bus_utime). A wall-clock
+// step (NTP, an operator) therefore neither stops timers nor makes ages
+// negative; processes started on either side of a step disagree by the
+// step, see each other's messages as too old or from the future, refuse
+// them and stop the robot (restart the stack after a step). This is the
+// only place where a process core's time comes from a clock. Extra file descriptors (a UDP
 // socket, a serial port) are polled in the same loop, so a process stays
 // single-threaded and its core never sees concurrency.
 #pragma once
@@ -27,7 +32,20 @@ namespace evade::bus {
 std::string default_lcm_url();
 inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608";
 
-int64_t wall_utime();
+// The clocks the bus time is made of; tests inject their own (set_clock).
+class Clock {
+ public:
+  virtual ~Clock() = default;
+  virtual int64_t wall_us() const = 0;       // may step
+  virtual int64_t monotonic_us() const = 0;  // never steps
+};
+// The process's bus time (see above).
+int64_t bus_utime();
+// The former name of bus_utime.
+inline int64_t wall_utime() { return bus_utime(); }
+// Replaces the clock bus_utime reads (nullptr: the system's) and anchors
+// the bus time again at the new clock's wall time. For tests.
+void set_clock(const Clock* clock);
 
 class LiveBus : public Sink {
  public:

@@ -20,6 +20,14 @@ void ElevationMapCore::on_odometry(const evade::odometry_t& m) {
     count("odometry_invalid");
     return;
   }
+  if (have_epoch_ && m.epoch != epoch_) {
+    // A new odometry frame (base_driver restarted, pose reset): poses of
+    // the old one would place the next clouds in the wrong frame.
+    poses_ = PoseBuffer(builder_.params().odometry_history_us);
+    count("odometry_epoch_changed");
+  }
+  epoch_ = m.epoch;
+  have_epoch_ = true;
   OdometrySample s;
   s.utime = m.utime;
   s.pose = {m.x, m.y, m.yaw};

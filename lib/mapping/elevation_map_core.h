@@ -20,7 +20,9 @@ class ElevationMapCore : public bus::Core {
   void on_cloud(const evade::pointcloud_t& m);
 
   ElevationMapBuilder builder_;
-  PoseBuffer poses_;
+  PoseBuffer poses_;  // emptied when ODOMETRY.epoch changes (issue 20)
+  int64_t epoch_ = 0;
+  bool have_epoch_ = false;
   ElevationLayers layers_;
   evade::grid_map_t msg_;
 };

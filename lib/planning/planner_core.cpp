@@ -7,6 +7,7 @@
 
 #include "evade/cmd_vel_t.hpp"
 #include "evade/path_t.hpp"
+#include "planning/input_checks.h"
 
 namespace evade::planning {
 namespace {
@@ -60,6 +61,7 @@ PlannerCore::PlannerCore(PlannerParams params)
       count("predictions_invalid");
       return;
     }
+    if (!accept_predictions(m)) return;
     predictions_ = m;
     predictions_rx_ = now();
     history_.add(m);
@@ -133,6 +135,7 @@ void PlannerCore::on_odometry(const evade::odometry_t& odom) {
     count("odometry_invalid");
     return;
   }
+  if (!accept_odometry(odom)) return;
   odometry_rx_ = now();
   last_odometry_ = odom;
   // Perception that has just gone stale is acted on at the odometry rate,
@@ -256,7 +259,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
   const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
 
-  if (now() - odom.utime > std::llround(p_.odometry_max_age_s * 1e6)) {
+  if (age_us(now(), odom.utime) > std::llround(p_.odometry_max_age_s * 1e6)) {
     count("stale_odometry");
     publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
     return;
@@ -276,6 +279,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
     return;
   }
+  if (brake_for_invalid_track(odom, v0, w0)) return;
 
   Problem pb;
   pb.N = N;

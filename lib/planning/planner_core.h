@@ -73,6 +73,20 @@ class PlannerCore : public bus::Core {
   int64_t feasible_utime_ = -1;
   std::optional<evade::plan_t> last_plan_;
   bool predictions_stale() const;  // no predictions (when required) or older than predictions_max_age_s
+  // ---- input gate (planner_inputs.cpp, issue 20) ----
+  // False when this odometry must not be used: late, from the future, not
+  // newer than the last, or the first of a new epoch (then start_new_epoch
+  // has stopped the robot and dropped every state of the old frame).
+  bool accept_odometry(const evade::odometry_t& odom);
+  void start_new_epoch(const evade::odometry_t& odom);
+  // False for predictions late, from the future, or older than the epoch.
+  bool accept_predictions(const evade::prediction_list_t& m);
+  // A track that cannot be constrained against near the robot: publishes a
+  // braking plan (STATUS_STOPPING) and returns true.
+  bool brake_for_invalid_track(const evade::odometry_t& odom, double v0, double w0);
+  bool have_epoch_ = false;
+  int64_t epoch_ = 0;
+  int64_t epoch_start_utime_ = -1;  // first odometry of the current epoch, once it changed
   double last_cmd_v_ = 0, last_cmd_omega_ = 0;
   int64_t last_cmd_now_ = -1;
 };

@@ -73,7 +73,7 @@ int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
 
   const auto& stop = bus::stop_on_signals();
   while (!stop.load()) {
-    const int64_t now = bus::wall_utime();
+    const int64_t now = bus::bus_utime();
     std::string message;
     switch (link.try_open(now, &message)) {
       case SerialLink::OpenResult::kOpened:
@@ -100,11 +100,24 @@ int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
     // The command timer fires inside spin_once; send what it queued.
     std::vector<uint8_t> tx = core.take_tx();
     if (!tx.empty() && link.is_open()) {
-      const int64_t t = bus::wall_utime();
+      const int64_t t = bus::bus_utime();
       std::string why;
       if (!link.write(t, tx.data(), tx.size(), &why)) lost(t, why);
       report_link_counters(t);
     }
+  }
+  // Stopped (SIGTERM, SIGINT) while perhaps driving: the last frame the
+  // base gets says zero speed, rather than the last command in force until
+  // the base's own timeout.
+  if (link.is_open()) {
+    const int64_t t = bus::bus_utime();
+    core.input(t, [&] { core.stop(); });
+    std::vector<uint8_t> tx = core.take_tx();
+    std::string why;
+    if (link.write(t, tx.data(), tx.size(), &why))
+      std::fprintf(stderr, "%s: stopping: zero speed sent\n", kName);
+    else
+      std::fprintf(stderr, "%s: stopping: the zero-speed frame was not sent: %s\n", kName, why.c_str());
   }
   if (link.dropped_tx_bytes() > 0)
     std::fprintf(stderr, "%s: %llu command bytes dropped (port busy)\n", kName,
@@ -148,6 +161,9 @@ int main(int argc, char** argv) {
     }
   }
 
+  // ODOMETRY.epoch: this run's odometry frame (a restart resets the pose);
+  // 0 in a replay, which stays deterministic.
+  params.epoch = opts.replay_in.empty() ? bus::bus_utime() : 0;
   auto core = std::make_unique<base::BaseDriverCore>(params);
   if (!opts.replay_in.empty()) {
     // A log holds no serial bytes: the replay exercises the command side

@@ -43,11 +43,11 @@ int run_pcap(LidarDriverCore& core, evade::bus::LiveBus& bus, const std::string&
   while (!stop.load() && reader.next(&d)) {
     if (first_capture < 0) {
       first_capture = d.utime;
-      start_wall = evade::bus::wall_utime();
+      start_wall = evade::bus::bus_utime();
     }
     if (rate > 0.0) {
       const int64_t due = start_wall + static_cast<int64_t>(std::llround((d.utime - first_capture) / rate));
-      for (int64_t now = evade::bus::wall_utime(); now < due && !stop.load(); now = evade::bus::wall_utime())
+      for (int64_t now = evade::bus::bus_utime(); now < due && !stop.load(); now = evade::bus::bus_utime())
         bus.spin_once(static_cast<int>(std::min<int64_t>((due - now) / 1000 + 1, kMaxWaitMs)));
     } else if (packets % kPacketsPerSpin == 0) {
       bus.spin_once(0);

@@ -9,7 +9,7 @@
 // a UDP socket that sends the VLP-16 packets to lidar_driver, and LCM for
 // SIM_TRUTH and HEALTH.
 //
-// Time: the sim clock is the host clock (bus::wall_utime), so every
+// Time: the sim clock is the host clock (bus::bus_utime), so every
 // process's utimes agree. --speed X runs the world X times faster (or
 // slower) than the wall clock: sim time = t0 + X (wall - t0). Only X = 1
 // suits the live stack (the other processes stamp with the wall clock and
@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
     });
 
     // Sim clock: t0 + speed * (wall - t0); the identity at speed 1.
-    const int64_t t0 = evade::bus::wall_utime();
+    const int64_t t0 = evade::bus::bus_utime();
     auto sim_now = [&](int64_t wall) { return t0 + std::llround(speed * static_cast<double>(wall - t0)); };
     auto wall_of = [&](int64_t sim) { return t0 + std::llround(static_cast<double>(sim - t0) / speed); };
 
@@ -235,12 +235,12 @@ int main(int argc, char** argv) {
                  scenario.name.c_str(), scenario.obstacles.size(), scenario.duration_s, params.device_path.c_str(),
                  pty.slave_path().c_str(), params.lidar_dest_host.c_str(), params.lidar_dest_port, speed);
     const std::atomic<bool>& stop = evade::bus::stop_on_signals();
-    core.advance_to(sim_now(evade::bus::wall_utime()));
+    core.advance_to(sim_now(evade::bus::bus_utime()));
     while (!stop.load() && !core.finished()) {
       int64_t next = core.next_deadline();
       if (next != evade::bus::kNever) bus.wake_at(wall_of(next));
       bus.spin_once(50);
-      core.advance_to(sim_now(evade::bus::wall_utime()));
+      core.advance_to(sim_now(evade::bus::bus_utime()));
     }
     if (core.finished()) std::fprintf(stderr, "sim: scenario duration %.0f s reached\n", scenario.duration_s);
   } catch (const std::exception& e) {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "bus/memory_bus.h"
 #include "config/config.h"
@@ -63,11 +64,18 @@ struct Rig {
   }
   // Moves bus time forward one command period at a time (one jump of more
   // than Core::kMaxCatchUp periods would be a stalled process, which skips).
+  // With base_alive, the base sends a system status frame just before each
+  // step (the link is ok; without it every motion frame is zero).
   void run_to(int64_t t) {
-    for (int64_t u = last_run_ + kTick; u < t; u += kTick) bus.advance_to(u);
-    bus.advance_to(t);
+    for (int64_t u = last_run_ + kTick; u < t; u += kTick) step(u);
+    step(t);
     last_run_ = t;
   }
+  void step(int64_t u) {
+    if (base_alive) status(u - 1, SystemStatus{});
+    bus.advance_to(u);
+  }
+  bool base_alive = false;
   bus::MemoryBus bus;
   BaseDriverCore core;
   int64_t last_run_ = kT0;
@@ -149,8 +157,9 @@ TEST(Kinematics, ExactArcIsExactOnACircleAndStraightLine) {
 
 TEST(BaseDriverCore, CommandsAreClampedAndRampedAt50Hz) {
   Rig r;
+  r.base_alive = true;
   for (int k = 1; k <= 60; ++k) {  // a planner sending 50 Hz, just before each tick
-    r.bus.inject(kCmdVelChannel, cmd(2.0, -1.0), kT0 + k * kTick - 1);
+    r.bus.inject(kCmdVelChannel, cmd(2.0, -1.0, kT0 + k * kTick - 1), kT0 + k * kTick - 1);
     r.run_to(kT0 + k * kTick);
   }
   auto cmds = commands(r.core.take_tx());
@@ -172,7 +181,8 @@ TEST(BaseDriverCore, CommandsAreClampedAndRampedAt50Hz) {
 
 TEST(BaseDriverCore, WatchdogStopsAndRecovers) {
   Rig r;
-  r.bus.inject(kCmdVelChannel, cmd(0.3, 0.0), kT0);
+  r.base_alive = true;
+  r.bus.inject(kCmdVelChannel, cmd(0.3, 0.0, kT0), kT0);
   r.run_to(kT0 + 12 * kTick);  // 0.24 s: within the watchdog time
   EXPECT_FALSE(r.core.watchdog_tripped());
   EXPECT_GT(r.core.commanded().v, 0.0);
@@ -194,7 +204,7 @@ TEST(BaseDriverCore, WatchdogStopsAndRecovers) {
   for (const auto& c : commands(r.core.take_tx())) EXPECT_EQ(c.linear_percent, 0);
 
   // Commands return: the trip clears at once and the ramp restarts from 0.
-  r.bus.inject(kCmdVelChannel, cmd(0.3, 0.0), kT0 + 40 * kTick + 1);
+  r.bus.inject(kCmdVelChannel, cmd(0.3, 0.0, kT0 + 40 * kTick + 1), kT0 + 40 * kTick + 1);
   EXPECT_FALSE(r.core.watchdog_tripped());
   EXPECT_FALSE(r.bus.decoded<evade::base_status_t>(kBaseStatusChannel).back().watchdog_tripped);
   r.run_to(kT0 + 41 * kTick);
@@ -206,7 +216,7 @@ TEST(BaseDriverCore, WatchdogStopsAndRecovers) {
 
 TEST(BaseDriverCore, NonFiniteCmdVelIsCountedAndIgnored) {
   Rig r;
-  r.bus.inject(kCmdVelChannel, cmd(NAN, 0.0), kT0 + 1);
+  r.bus.inject(kCmdVelChannel, cmd(NAN, 0.0, kT0 + 1), kT0 + 1);
   EXPECT_EQ(r.core.counter("cmd_vel_not_finite"), 1);
   EXPECT_TRUE(r.core.watchdog_tripped());
 }
@@ -337,21 +347,106 @@ TEST(BaseDriverCore, SilentLinkStopsTheRobotAndRecovers) {
 
 TEST(BaseDriverCore, ClosedPortSendsNothingAndRampRestarts) {
   Rig r;
-  r.bus.inject(kCmdVelChannel, cmd(1.0, 0.0), kT0 + 1);
+  r.base_alive = true;
+  r.bus.inject(kCmdVelChannel, cmd(1.0, 0.0, kT0 + 1), kT0 + 1);
   r.run_to(kT0 + 10 * kTick);
   r.bus.input(r.core, kT0 + 10 * kTick + 1, [&] { r.core.on_link_lost("test hang-up"); });
   r.core.take_tx();
   for (int k = 11; k <= 12; ++k) {
-    r.bus.inject(kCmdVelChannel, cmd(1.0, 0.0), kT0 + k * kTick - 1);
+    r.bus.inject(kCmdVelChannel, cmd(1.0, 0.0, kT0 + k * kTick - 1), kT0 + k * kTick - 1);
     r.run_to(kT0 + k * kTick);
   }
   EXPECT_TRUE(r.core.take_tx().empty());
   r.bus.input(r.core, kT0 + 12 * kTick + 1, [&] { r.core.on_link_opened(); });
-  r.bus.inject(kCmdVelChannel, cmd(1.0, 0.0), kT0 + 13 * kTick - 1);
+  r.bus.inject(kCmdVelChannel, cmd(1.0, 0.0, kT0 + 13 * kTick - 1), kT0 + 13 * kTick - 1);
   r.run_to(kT0 + 13 * kTick);
   auto cmds = commands(r.core.take_tx());
   ASSERT_EQ(cmds.size(), 1u);
   EXPECT_EQ(cmds[0].linear_percent, linear_percent(0.02));  // from zero again
+}
+
+// ---- issue 20: fault holes ----
+
+TEST(BaseDriverCore, SilentLinkMakesEveryFrameAfterTheLossZero) {
+  Rig r;
+  r.base_alive = true;
+  int k = 1;
+  for (; k <= 30; ++k) {
+    r.bus.inject(kCmdVelChannel, cmd(0.5, 0.2, kT0 + k * kTick - 1), kT0 + k * kTick - 1);
+    r.run_to(kT0 + k * kTick);
+  }
+  ASSERT_GT(commands(r.core.take_tx()).back().linear_percent, 0);
+  r.base_alive = false;  // the base goes silent; the planner keeps commanding
+  bool lost = false;
+  std::vector<MotionCommand> after;
+  for (; k <= 100; ++k) {
+    r.bus.inject(kCmdVelChannel, cmd(0.5, 0.2, kT0 + k * kTick - 1), kT0 + k * kTick - 1);
+    r.run_to(kT0 + k * kTick);
+    auto cmds = commands(r.core.take_tx());
+    if (lost) after.insert(after.end(), cmds.begin(), cmds.end());
+    lost = lost || !r.core.link_ok();
+  }
+  ASSERT_TRUE(lost);
+  ASSERT_GE(after.size(), 40u);
+  for (const auto& c : after) {
+    EXPECT_EQ(c.linear_percent, 0);
+    EXPECT_EQ(c.angular_percent, 0);
+  }
+}
+
+TEST(BaseDriverCore, TheStoppedOdometryAfterALostLinkIsStampedWithTheLastRealOne) {
+  Rig r;
+  r.status(kT0 + 20'000, MotionStatus{1000, 0});
+  r.status(kT0 + 40'000, MotionStatus{1000, 0});
+  r.run_to(kT0 + 700'000);  // silent for more than link_timeout_s
+  ASSERT_FALSE(r.core.link_ok());
+  auto odo = r.bus.decoded<evade::odometry_t>(kOdometryChannel);
+  ASSERT_EQ(odo.size(), 3u);
+  EXPECT_EQ(odo[2].v, 0.0);
+  EXPECT_EQ(odo[2].utime, odo[1].utime);  // not fresh: nothing measured it since
+}
+
+TEST(BaseDriverCore, LateAndFutureCommandsAreIgnored) {
+  Rig r;
+  r.base_alive = true;
+  const int64_t t = kT0 + 5 * kTick - 1;
+  r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, t - 500'000), t);  // 0.5 s old
+  r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, t + 10'000'000), t);  // 10 s ahead
+  r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, std::numeric_limits<int64_t>::max()), t);
+  r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, std::numeric_limits<int64_t>::min()), t);
+  EXPECT_EQ(r.core.counter("cmd_vel_late"), 2);
+  EXPECT_EQ(r.core.counter("cmd_vel_future"), 2);
+  r.run_to(kT0 + 10 * kTick);
+  EXPECT_TRUE(r.core.watchdog_tripped());
+  for (const auto& c : commands(r.core.take_tx())) EXPECT_EQ(c.linear_percent, 0);
+  // a fresh one (0.1 s old: within cmd_vel_max_age_s) is obeyed
+  r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, kT0 + 10 * kTick - 100'000), kT0 + 10 * kTick + 1);
+  EXPECT_FALSE(r.core.watchdog_tripped());
+}
+
+TEST(BaseDriverCore, StopQueuesAZeroFrameWhileDriving) {
+  Rig r;
+  r.base_alive = true;
+  for (int k = 1; k <= 20; ++k) {
+    r.bus.inject(kCmdVelChannel, cmd(0.8, 0.3, kT0 + k * kTick - 1), kT0 + k * kTick - 1);
+    r.run_to(kT0 + k * kTick);
+  }
+  ASSERT_GT(commands(r.core.take_tx()).back().linear_percent, 0);
+  r.bus.input(r.core, kT0 + 20 * kTick + 5, [&] { r.core.stop(); });
+  auto cmds = commands(r.core.take_tx());
+  ASSERT_EQ(cmds.size(), 1u);
+  EXPECT_EQ(cmds[0].linear_percent, 0);
+  EXPECT_EQ(cmds[0].angular_percent, 0);
+}
+
+TEST(BaseDriverCore, OdometryCarriesTheDriversEpoch) {
+  BaseDriverParams p = test_params();
+  p.epoch = 1234567;
+  Rig r(p);
+  r.status(kT0 + 20'000, MotionStatus{1000, 0});
+  auto odo = r.bus.decoded<evade::odometry_t>(kOdometryChannel);
+  ASSERT_EQ(odo.size(), 1u);
+  EXPECT_EQ(odo[0].epoch, 1234567);
 }
 
 }  // namespace

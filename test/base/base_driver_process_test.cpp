@@ -92,6 +92,9 @@ class BaseDriverProcess : public ::testing::Test {
         next_send += std::chrono::milliseconds(20);
         if (!std::isnan(cmd_v)) {
           evade::cmd_vel_t c{};
+          c.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                        std::chrono::system_clock::now().time_since_epoch())
+                        .count();  // base_driver ignores late commands
           c.v = cmd_v;
           lcm_.publish("CMD_VEL", &c);
         }
@@ -178,6 +181,48 @@ TEST_F(BaseDriverProcess, SurvivesHangUpAndReconnects) {
   EXPECT_NE(text.find("cannot open " + path_ + ": No such file or directory"), std::string::npos) << text;
   EXPECT_NE(text.find("hang-up"), std::string::npos) << text;
   EXPECT_NE(text.find("opened " + path_), std::string::npos) << text;
+}
+
+// Issue 20: killed while driving, the last frame on the wire is zero speed.
+TEST_F(BaseDriverProcess, SigtermWhileDrivingSendsZeroSpeedLast) {
+  start();
+  auto base = std::make_unique<PtyPeer>(path_);
+  for (int i = 0; i < 100 && commands_.size() < 5; ++i) pump(base.get(), 50);
+  pump(base.get(), 800, 0.6, 600);  // driving: commands ramped up
+  ASSERT_FALSE(commands_.empty());
+  ASSERT_GT(commands_.back().linear_percent, 0) << log();
+  ASSERT_EQ(::kill(pid_, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid_, &status, 0), pid_);
+  pid_ = -1;
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << log();
+  pump(base.get(), 100);  // what was written before the port closed
+  ASSERT_FALSE(commands_.empty());
+  EXPECT_EQ(commands_.back().linear_percent, 0) << log();
+  EXPECT_EQ(commands_.back().angular_percent, 0);
+}
+
+TEST_F(BaseDriverProcess, ReplayNeverOverwritesALog) {
+  std::vector<bus::LogEvent> in;
+  evade::cmd_vel_t c{};
+  c.utime = 1'700'000'000'000'000;
+  in.push_back(bus::LogEvent{c.utime, "CMD_VEL", bus::encode(c)});
+  bus::write_log(dir_ + "/in.lcmlog", in);
+  const std::string bin = std::string(EVADE_BIN_DIR) + "/base_driver --replay " + dir_ + "/in.lcmlog";
+  // onto its own input: refused, even with --force; the input intact
+  int rc = std::system((bin + " --replay-out " + dir_ + "/in.lcmlog --force 2>/dev/null").c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+  EXPECT_EQ(bus::read_log(dir_ + "/in.lcmlog").size(), 1u);
+  // onto an existing file: refused without --force
+  std::ofstream(dir_ + "/old.lcmlog") << "precious";
+  rc = std::system((bin + " --replay-out " + dir_ + "/old.lcmlog 2>/dev/null").c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+  std::ifstream old(dir_ + "/old.lcmlog");
+  std::string text;
+  old >> text;
+  EXPECT_EQ(text, "precious");
+  rc = std::system((bin + " --replay-out " + dir_ + "/old.lcmlog --force 2>/dev/null").c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 0);
 }
 
 TEST_F(BaseDriverProcess, BadConfigExitsWithStatus2) {

@@ -29,7 +29,7 @@ constexpr int64_t kT0 = 1'000'000'000;
 constexpr int64_t kTick = 20'000;
 
 evade::cmd_vel_t cmd(double v, double omega) {
-  evade::cmd_vel_t m{};
+  evade::cmd_vel_t m{};  // utime: set by Driver::tick (late commands are ignored)
   m.v = v;
   m.omega = omega;
   return m;
@@ -56,9 +56,13 @@ struct Driver {
     if (r == SerialLink::OpenResult::kOpened) bus.input(core, t, [&] { core.on_link_opened(); });
     return r;
   }
-  // One command period: CMD_VEL just before the tick, then the tick, then
-  // the queued bytes go out on the port.
-  void tick(int k, const evade::cmd_vel_t& c) {
+  // One command period: a status frame from the base (alive: the link is
+  // ok, or every motion frame would be zero) and CMD_VEL just before the
+  // tick, then the tick, then the queued bytes go out on the port.
+  void tick(int k, evade::cmd_vel_t c) {
+    const FrameBytes status = encode(SystemStatus{}, 0);
+    bus.input(core, kT0 + k * kTick - 2, [&] { core.on_serial_bytes(status.data(), status.size()); });
+    c.utime = kT0 + k * kTick - 1;
     bus.inject(kCmdVelChannel, c, kT0 + k * kTick - 1);
     bus.advance_to(kT0 + k * kTick);
     flush(kT0 + k * kTick);
@@ -190,7 +194,7 @@ TEST(BaseDriverPty, HangUpThenReconnectAtTheSamePath) {
   auto odo = d.bus.decoded<evade::odometry_t>(kOdometryChannel);
   ASSERT_EQ(odo.size(), 2u);
   EXPECT_EQ(odo.back().v, 0.0);  // considered stopped
-  EXPECT_EQ(odo.back().utime, t_lost);
+  EXPECT_EQ(odo.back().utime, kT0 + 1000);  // stamped with the last real odometry: not fresh
   EXPECT_FALSE(d.bus.decoded<evade::base_status_t>(kBaseStatusChannel).back().link_ok);
   // libserial could not Close() the hung-up port: the link leaked the object
   // instead of letting its destructor abort the process (we are still here).

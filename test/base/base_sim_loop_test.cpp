@@ -84,6 +84,9 @@ TEST(BaseSimLoop, OdometryFollowsTheSimulatedRobot) {
       if (send && Clock::now() >= next) {
         next += std::chrono::milliseconds(20);
         evade::cmd_vel_t cmd{};
+        cmd.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                        std::chrono::system_clock::now().time_since_epoch())
+                        .count();  // base_driver ignores late commands
         cmd.v = 0.6;
         cmd.omega = 0.3;
         lcm.publish("CMD_VEL", &cmd);

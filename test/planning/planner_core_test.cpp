@@ -94,7 +94,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
     const double t = i * 0.02;
     const int64_t now = t0 + static_cast<int64_t>(std::llround(t * 1e6));
     if (i % 5 == 0) bus.inject("OBSTACLE_PREDICTIONS", predictions(obs, now, t), now);
-    evade::odometry_t o;
+    evade::odometry_t o{};
     o.utime = now;
     o.x = x;
     o.y = y;

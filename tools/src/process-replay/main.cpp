@@ -5,7 +5,8 @@
 // the outputs with logs/<case>/refs/<process>.lcmlog (see process_replay.h).
 // Exit 0 when everything matches. --update-refs rewrites the references
 // from the current code and configuration (a deliberate behaviour change).
-// --cut makes a new case from a run log (e.g. one left by run_scenario).
+// --cut makes a new case from a run log (e.g. one left by run_scenario); it
+// refuses to replace an existing case's input without --force.
 #include <CLI/CLI.hpp>
 
 #include <sys/stat.h>
@@ -31,6 +32,8 @@ int main(int argc, char** argv) {
   app.add_option("--cut", cut, "make a case from this run log");
   app.add_option("--start-s", start_s, "with --cut: window start after the log's first event");
   app.add_option("--duration-s", duration_s, "with --cut: window length");
+  bool force = false;
+  app.add_flag("--force", force, "with --cut: replace an existing case");
   CLI11_PARSE(app, argc, argv);
   if (config_path.empty()) config_path = std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml";
 
@@ -38,6 +41,12 @@ int main(int argc, char** argv) {
     auto root = evade::config::load_robot_config(config_path);
     if (!cut.empty()) {
       if (only_case.empty()) throw std::runtime_error("--cut needs --case NAME");
+      const std::string existing = logs + "/" + only_case + "/input.lcmlog";
+      if (fs::exists(existing) && !force) {
+        std::fprintf(stderr, "process-replay: case %s exists (%s); refusing to replace it without --force\n",
+                     only_case.c_str(), existing.c_str());
+        return 2;
+      }
       std::vector<std::string> channels{"LIDAR_SCAN", "ODOMETRY",  "ROUTE",   "ELEVATION_MAP", "OBSTACLES",
                                         "OBSTACLE_PREDICTIONS", "PLAN", "CMD_VEL", "SIM_TRUTH"};
       auto events = evade::replay::cut_case(evade::bus::read_log(cut), start_s, duration_s, channels);

@@ -1,0 +1,85 @@
+// PlannerCore's input gate (issue 20), kept apart from the planning itself:
+// what of ODOMETRY and OBSTACLE_PREDICTIONS the planner may act on.
+#include <algorithm>
+#include <cmath>
+
+#include "evade/plan_t.hpp"
+#include "planning/input_checks.h"
+#include "planning/planner_core.h"
+
+namespace evade::planning {
+
+bool PlannerCore::accept_odometry(const evade::odometry_t& odom) {
+  // Late odometry is not used: the watchdog brakes once the last usable
+  // one is older than odometry_max_age_s. Odometry from the future would
+  // hold the rate limiter (and its age) hostage for as long as it claims.
+  switch (arrival(now(), odom.utime, std::llround(p_.odometry_max_age_s * 1e6))) {
+    case Arrival::kLate: count("odometry_late"); return false;
+    case Arrival::kFuture: count("odometry_future"); return false;
+    case Arrival::kOnTime: break;
+  }
+  if (have_epoch_ && odom.epoch != epoch_) {
+    start_new_epoch(odom);
+    return false;
+  }
+  epoch_ = odom.epoch;
+  have_epoch_ = true;
+  // Not newer than the last: a repeat, or base_driver's "stopped" message
+  // after a lost link (stamped with the last real odometry's time).
+  if (last_odometry_ && odom.utime <= last_odometry_->utime) {
+    count("odometry_not_newer");
+    return false;
+  }
+  return true;
+}
+
+void PlannerCore::start_new_epoch(const evade::odometry_t& odom) {
+  // base_driver restarted: its pose starts again from its initial pose, so
+  // everything held in the old frame is void. Stop, then plan from scratch
+  // once predictions made after this moment arrive.
+  count("odometry_epoch_changed");
+  epoch_ = odom.epoch;
+  epoch_start_utime_ = odom.utime;
+  predictions_.reset();
+  predictions_rx_ = -1;
+  first_seen_.clear();
+  history_ = CurveFitHistory(p_.curvefit_degree, p_.curvefit_window_s);
+  settled_ = SettledMemory(p_.detour.memory_s);
+  prev_u_.clear();
+  prev_utime_ = -1;
+  prev_multipliers_.clear();
+  prev_penalty_ = 0;
+  prev_ids_.clear();
+  feasible_u_.clear();
+  feasible_utime_ = -1;
+  next_plan_utime_ = -1;
+  odometry_rx_ = now();
+  last_odometry_ = odom;
+  const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
+  const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
+  publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
+}
+
+bool PlannerCore::accept_predictions(const evade::prediction_list_t& m) {
+  switch (arrival(now(), m.utime, std::llround(p_.predictions_max_age_s * 1e6))) {
+    case Arrival::kLate: count("predictions_late"); return false;
+    case Arrival::kFuture: count("predictions_future"); return false;
+    case Arrival::kOnTime: break;
+  }
+  if (epoch_start_utime_ >= 0 && m.utime < epoch_start_utime_) {
+    count("predictions_before_epoch");  // perceived in the old odometry frame
+    return false;
+  }
+  return true;
+}
+
+bool PlannerCore::brake_for_invalid_track(const evade::odometry_t& odom, double v0, double w0) {
+  if (!predictions_ || !invalid_track_near(*predictions_, odom.x, odom.y, p_.obstacle_consider_radius_m))
+    return false;
+  // Something is there that cannot be constrained against: brake.
+  count("tracks_invalid_near");
+  publish_plan(odom, evade::plan_t::STATUS_STOPPING, nullptr, braking_controls(v0, w0), 0, 0, 0);
+  return true;
+}
+
+}  // namespace evade::planning
