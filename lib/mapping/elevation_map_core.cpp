@@ -3,6 +3,18 @@
 #include <cmath>
 
 namespace evade::mapping {
+namespace {
+
+// A stamp farther from the bus time than the odometry history (either way)
+// comes from another clock or was made up: its poses could never be used,
+// and arithmetic near INT64_MIN/MAX would overflow.
+bool near_now(int64_t now, int64_t utime, int64_t window_us) {
+  int64_t d;
+  if (__builtin_sub_overflow(now, utime, &d)) return false;
+  return d <= window_us && d >= -window_us;
+}
+
+}  // namespace
 
 ElevationMapCore::ElevationMapCore(const ElevationMapParams& params)
     : bus::Core("elevation_map"), builder_(params), poses_(params.odometry_history_us) {
@@ -18,6 +30,10 @@ void ElevationMapCore::on_odometry(const evade::odometry_t& m) {
   if (!std::isfinite(m.x) || !std::isfinite(m.y) || !std::isfinite(m.yaw) || !std::isfinite(m.v) ||
       !std::isfinite(m.omega)) {
     count("odometry_invalid");
+    return;
+  }
+  if (!near_now(now(), m.utime, builder_.params().odometry_history_us)) {
+    count("odometry_implausible_time");
     return;
   }
   if (have_epoch_ && m.epoch != epoch_) {
@@ -45,6 +61,10 @@ void ElevationMapCore::on_cloud(const evade::pointcloud_t& m) {
   if (m.n < 0 || !std::isfinite(mp.x) || !std::isfinite(mp.y) || !std::isfinite(mp.z) || !std::isfinite(mp.roll) ||
       !std::isfinite(mp.pitch) || !std::isfinite(mp.yaw)) {
     count("cloud_invalid");
+    return;
+  }
+  if (!near_now(now(), m.utime, builder_.params().odometry_history_us)) {
+    count("cloud_implausible_time");
     return;
   }
   CloudView view;

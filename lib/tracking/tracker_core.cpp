@@ -18,6 +18,14 @@ void TrackerCore::on_map(const evade::grid_map_t& m) {
     count("map_invalid");
     return;
   }
+  // Cells beyond kMaxCoordinateM of the odometry origin are not a map any
+  // robot builds; their coordinates would overflow the split lattice.
+  constexpr double kMaxCoordinateM = 1e6;
+  if (std::fabs(m.origin[0]) + std::fabs(m.origin[1]) + (double(m.width) + double(m.height) + 2.0) * m.resolution >
+      kMaxCoordinateM) {
+    count("map_invalid");
+    return;
+  }
   // A map whose cells are so small that eps spans more than kMaxEpsCells
   // cells would make the neighbourhood list (and DBSCAN) quadratic in eps:
   // not a map this tracker was configured for.

@@ -655,6 +655,38 @@ TEST(Core, PublishesTheMapStampedWithTheCloudTime) {
   EXPECT_EQ(bus.decoded<evade::grid_map_t>("ELEVATION_MAP").size(), 1u);
 }
 
+// Issue 20: base_driver restarted (a new odometry epoch, its pose reset to
+// the origin): a cloud is placed with the new frame's poses only.
+TEST(Core, ANewOdometryEpochDropsThePosesOfTheOldFrame) {
+  bus::MemoryBus bus;
+  ElevationMapCore core(defaults());
+  bus.add(core);
+  SynthWorld w;
+  w.cylinders.push_back({2.0, 2.0, 0.3, 1.0});
+  SynthScanOptions opt;
+  opt.robot_start = {1.0, 1.0, 0.0};
+  const SynthCloud c = synth_vlp16(w, opt);
+  auto odometry = [&](int64_t t, double x, int64_t epoch) {
+    evade::odometry_t o{};
+    o.utime = t;
+    o.x = x;
+    o.y = 1.0;
+    o.epoch = epoch;
+    bus.inject("ODOMETRY", o, t);
+  };
+  for (int64_t t = 1'000'000; t <= 1'300'000; t += 20'000) odometry(t, 5.0, 1);
+  // restarted at 1.32 s: the robot is at x = 1 in the new frame
+  for (int64_t t = 1'320'000; t <= 1'500'000; t += 20'000) odometry(t, 1.0, 2);
+  EXPECT_EQ(core.counter("odometry_epoch_changed"), 1);
+  // a cloud from before the restart has no pose in the new frame
+  bus.inject("LIDAR_POINTS", cloud_msg(1'100'000, c), 1'500'000);
+  EXPECT_TRUE(bus.decoded<evade::grid_map_t>("ELEVATION_MAP").empty());
+  bus.inject("LIDAR_POINTS", cloud_msg(1'400'000, c), 1'500'000);
+  const auto maps = bus.decoded<evade::grid_map_t>("ELEVATION_MAP");
+  ASSERT_EQ(maps.size(), 1u);
+  EXPECT_NEAR(maps[0].robot_x, 1.0, 1e-9);
+}
+
 TEST(Core, HostileInputNeitherCrashesNorPoisonsLaterMaps) {
   bus::MemoryBus bus;
   ElevationMapCore core(defaults());
