@@ -117,7 +117,8 @@ std::vector<std::string> igmp_members(const std::string& proc_net_igmp, uint32_t
     std::istringstream f(line);
     if (line[0] != '\t' && line[0] != ' ') {
       std::string idx;
-      f >> idx >> device;  // "1\tlo        :     1      V3"
+      f >> idx >> device;  // "1\tlo        :     1      V3"; a long name touches the ':'
+      device = device.substr(0, device.find(':'));
       continue;
     }
     std::string hex;

@@ -60,9 +60,18 @@ attack() {
   [ "$own" -eq "$routes" ] || fail "$1: the robot's own ROUTE: $own of $routes recorded"
   return 0
 }
-# A process's start-up warning (planner: any live process runs the check).
+# A process's start-up warning (planner: any live process runs the check);
+# sets exposed to its HEALTH counter bus_exposed_interfaces.
 planner_warns() {
+  local log="$TMP/health-$1.lcmlog"
+  ip netns exec "$R" lcm-logger --lcm-url="$URL" "$log" > /dev/null 2>&1 &
+  local logger=$!
+  sleep 0.3
   in_r timeout 2 "$BIN/planner" --config "$CONFIG" > /dev/null 2> "$TMP/planner-$1.err" || true
+  kill -INT $logger
+  wait $logger 2> /dev/null || true
+  exposed=$("$BIN/lcmlog-export" "$log" --channel HEALTH | grep '"planner"' | head -1 |
+            grep -o '"name":"bus_exposed_interfaces","value":[0-9]*' | grep -o '[0-9]*$' || true)
   grep -q "warning: the LCM bus" "$TMP/planner-$1.err"
 }
 sent=$("$BIN/lcmlog-export" "$LOG" --channel CMD_VEL | wc -l)
@@ -73,8 +82,9 @@ routes=$("$BIN/lcmlog-export" "$LOG" --channel ROUTE | wc -l)
 attack open
 echo "open: robot recorded $n of $sent attacker CMD_VEL"
 [ "$n" -gt 0 ] || fail "premise: without the closure the attacker's CMD_VEL should arrive"
-in_r "$BIN/bus-check" --config "$CONFIG" > /dev/null && fail "bus-check says closed on an open bus"
+in_r "$BIN/bus-check" --config "$CONFIG" && fail "bus-check says closed on an open bus"
 planner_warns open || fail "planner did not warn on an open bus: $(cat "$TMP/planner-open.err")"
+[ "$exposed" = 1 ] || fail "planner's HEALTH bus_exposed_interfaces: '$exposed', expected 1"
 
 # 2. Closed: route and nft.
 in_r env EVADE_BUS_CHECK="$BIN/bus-check" "$SRC/tools/bus-firewall" apply --config "$CONFIG"
@@ -83,6 +93,7 @@ echo "closed (route + nft): robot recorded $n"
 [ "$n" -eq 0 ] || fail "closed bus: $n attacker CMD_VEL arrived"
 in_r "$BIN/bus-check" --config "$CONFIG" > /dev/null || fail "bus-check says exposed on a closed bus"
 planner_warns closed && fail "planner warned on a closed bus: $(cat "$TMP/planner-closed.err")"
+[ "$exposed" = 0 ] || fail "planner's HEALTH bus_exposed_interfaces on a closed bus: '$exposed', expected 0"
 
 # 3. The route alone.
 ip netns exec "$R" nft delete table inet evade_bus

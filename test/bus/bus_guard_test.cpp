@@ -56,6 +56,14 @@ TEST(BusGuard, IgmpMembersOfTheGroup) {
   EXPECT_EQ(igmp_members(kIgmpBusOnEth0, kGroup), (std::vector<std::string>{"lo", "eth0"}));
 }
 
+TEST(BusGuard, ALongInterfaceNameTouchesTheColon) {
+  const char* igmp =
+      "Idx\tDevice    : Count Querier\tGroup    Users Timer\tReporter\n"
+      "5\tenp0s31f6veth: 1      V3\n"
+      "\t\t\t\t434CFFEF     1 0:00000000\t\t0\n";
+  EXPECT_EQ(igmp_members(igmp, kGroup), std::vector<std::string>{"enp0s31f6veth"});
+}
+
 TEST(BusGuard, ALanDefaultRouteExposesTheBus) {
   Exposure e = exposure(kLanRoutes, kIgmpAllHosts, kGroup, {"lo"});
   EXPECT_FALSE(e.closed());
