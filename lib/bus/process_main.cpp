@@ -43,7 +43,7 @@ bool replay_paths_ok(const std::string& in, const std::string& out, bool force, 
       *why = "--replay-out " + out + " is the input log itself; refusing to overwrite it";
       return false;
     }
-    if (!force) {
+    if (!force && fs::is_regular_file(out, ec)) {  // /dev/null and the like are no log
       *why = "--replay-out " + out + " exists; refusing to overwrite it without --force";
       return false;
     }

@@ -37,7 +37,8 @@ void guard_bus(const std::string& process, const std::string& url, const config:
                const std::vector<Core*>& cores);
 
 // Refuses to write a replay's output over its input, or over an existing
-// file unless `force` (tools never destroy logs): false with *why set.
+// regular file unless `force` (tools never destroy logs): false with *why
+// set. /dev/null and other non-regular files are fine.
 bool replay_paths_ok(const std::string& in, const std::string& out, bool force, std::string* why);
 
 using CoreFactory = std::function<std::unique_ptr<Core>(const config::Node& root)>;

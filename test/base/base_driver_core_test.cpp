@@ -98,7 +98,7 @@ TEST(BaseDriverConfig, UnknownKeyIsAnError) {
       "robot: {max_v_mps: 1.0, min_v_mps: 0.0, max_omega_radps: 0.5, max_accel_mps2: 1.0,\n"
       "        max_decel_mps2: 1.5, max_alpha_radps2: 3.0}\n"
       "base_driver: {device: /dev/ttyUSB0, baud_rate: 115200, command_rate_hz: 50.0,\n"
-      "  watchdog_timeout_s: 0.25, link_timeout_s: 0.5, status_rate_hz: 10.0, max_odometry_gap_s: 0.5,\n"
+      "  watchdog_timeout_s: 0.25, cmd_vel_max_age_s: 0.4, link_timeout_s: 0.5, status_rate_hz: 10.0, max_odometry_gap_s: 0.5,\n"
       "  reopen_backoff_min_s: 0.1, reopen_backoff_max_s: 2.0, initial_pose: [0, 0, 0], watchdog_s: 1}\n",
       "test.yaml");
   try {

@@ -140,7 +140,7 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
     std::string msg = "\"type\":\"odometry_t\",\"msg\":{\"utime\":" + std::to_string(o.utime) +
                       ",\"x\":" + fmt("%.17g", o.x) + ",\"y\":" + fmt("%.17g", o.y) +
                       ",\"yaw\":" + fmt("%.17g", o.yaw) + ",\"v\":" + fmt("%.17g", o.v) +
-                      ",\"omega\":" + fmt("%.17g", o.omega) + "}}";
+                      ",\"omega\":" + fmt("%.17g", o.omega) + ",\"epoch\":" + std::to_string(o.epoch) + "}}";
     EXPECT_NE(json.find("{\"channel\":\"ODOMETRY\",\"utime\":"), std::string::npos);
     EXPECT_NE(json.find(msg), std::string::npos) << "missing odometry " << i;
     std::string reply = "\"type\":\"cmd_vel_t\",\"msg\":{\"utime\":" + std::to_string(o.utime) +

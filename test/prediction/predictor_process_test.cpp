@@ -47,6 +47,8 @@ TEST(PredictorProcess, ReplayIsStampedAndDeterministic) {
     events.push_back({l.utime + 5'000, "OBSTACLES", bus::encode(l)});
   }
   bus::write_log(tmp("in.lcmlog"), events);
+  std::remove(tmp("out1.lcmlog").c_str());  // --replay-out never replaces a file without --force
+  std::remove(tmp("out2.lcmlog").c_str());
   ASSERT_EQ(run("--replay " + tmp("in.lcmlog") + " --replay-out " + tmp("out1.lcmlog"), "replay1.err"), 0);
   ASSERT_EQ(run("--replay " + tmp("in.lcmlog") + " --replay-out " + tmp("out2.lcmlog"), "replay2.err"), 0);
   const auto out1 = bus::read_log(tmp("out1.lcmlog"));
