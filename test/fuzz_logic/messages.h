@@ -1,7 +1,7 @@
 // Well-formed messages for the logic fuzzers (sequence.h), their fields
 // drawn from the fuzzer's bytes. Array lengths always match their count
 // fields; their sizes reach what a sender within the system's limits could
-// produce (a 16 x 16 m map at 0.05 m, 256 tracks, a revolution of points).
+// produce (a 16 x 16 m map at 0.05 m, 300 obstacles, 64 predicted tracks, a revolution of points).
 #pragma once
 
 #include "bus/core.h"
