@@ -7,7 +7,8 @@
 #   <P>a  the attacker: publishes the golden log (CMD_VEL among it) with ttl=1
 # Phases: open (the premise: an lcm-logger on the robot records the
 # attacker's CMD_VEL, and bus-check and a process warn), closed by apply
-# (route + nft), route alone, nft alone: the logger records nothing.
+# (route + nft), route alone, nft alone: the logger records nothing; then
+# the LAN allowed as a robot link: the group is routed over it and it works.
 #   bus_closure_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 BIN=$1; SRC=$2
@@ -108,6 +109,21 @@ in_r "$BIN/bus-check" --config "$CONFIG" > /dev/null && fail "bus-check should s
 attack nft-only
 echo "nft only: robot recorded $n"
 [ "$n" -eq 0 ] || fail "nft only: $n attacker CMD_VEL arrived"
+
+# 5. Two hosts: the LAN is the robot link (allowed). apply routes the group
+# over it, the bus is closed by the rule and the link works: a host on the
+# link reaches the robot, which only authentication could stop.
+LINK_CONFIG="$TMP/link.yaml"
+sed "s/^  allowed_interfaces: \[lo\]/  allowed_interfaces: [lo, ${P}vr]/" "$CONFIG" > "$LINK_CONFIG"
+grep -q "allowed_interfaces: \[lo, ${P}vr\]" "$LINK_CONFIG" || fail "test setup: bus.allowed_interfaces not found"
+ip netns exec "$R" nft delete table inet evade_bus
+in_r env EVADE_BUS_CHECK="$BIN/bus-check" "$SRC/tools/bus-firewall" apply --config "$LINK_CONFIG"
+[ -n "$(ip -n "$R" route show 239.255.76.67/32 dev "${P}vr")" ] || fail "the group is not routed over the robot link"
+attack robot-link
+echo "robot link allowed: robot recorded $n of $sent (the link is trusted)"
+[ "$n" -eq "$sent" ] || fail "robot link: $n of $sent arrived"
+in_r env EVADE_BUS_CHECK="$BIN/bus-check" "$SRC/tools/bus-firewall" remove --config "$LINK_CONFIG" > /dev/null
+[ -z "$(ip -n "$R" route show 239.255.76.67/32)" ] || fail "remove left the route"
 
 # remove leaves the namespace as it was
 in_r env EVADE_BUS_CHECK="$BIN/bus-check" "$SRC/tools/bus-firewall" remove --config "$CONFIG"
