@@ -243,6 +243,8 @@ int main(int argc, char** argv) {
       core.advance_to(sim_now(evade::bus::bus_utime()));
     }
     if (core.finished()) std::fprintf(stderr, "sim: scenario duration %.0f s reached\n", scenario.duration_s);
+  } catch (const evade::config::ConfigError& e) {  // the bus: section
+    die(e.what(), 2);
   } catch (const std::exception& e) {
     die(e.what());
   }
