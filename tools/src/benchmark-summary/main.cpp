@@ -39,7 +39,7 @@ int run_row(const bm::EpisodeId& id, const std::string& metrics_path, const std:
         std::puts(bm::make_row(id, *text).c_str());
         return 0;
       } catch (const std::exception& e) {
-        why = metrics_path + ": " + e.what();
+        why = e.what();
       }
     } else {
       why = "run_scenario exit " + std::to_string(id.exit_code) + " wrote no " + metrics_path;

@@ -1,10 +1,12 @@
 // metrics LOG [--out metrics.json] [--plot trajectory.png] [--config robot.yaml]
 // metrics --table MODE=LOG [MODE=LOG ...]   (the paper's Table I beside ours)
+// metrics --stats RESULTS.jsonl              (the same over many runs: mean ± sd)
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <fstream>
 
+#include "benchmark/benchmark_summary.h"
 #include "bus/log.h"
 #include "metrics/run_metrics.h"
 #include "metrics/trajectory_plot.h"
@@ -33,6 +35,48 @@ std::string fmt(const std::optional<double>& v, const char* f = "%.3f") {
   return b;
 }
 
+std::string mean_sd(const std::optional<evade::benchmark::MeanSd>& s, const char* f) {
+  if (!s) return "-";
+  return s->n > 1 ? fmt(s->mean, f) + " ± " + fmt(s->sd, f) : fmt(s->mean, f);
+}
+
+// Pads to a width in characters (UTF-8: "±" is two bytes, one character).
+std::string pad(std::string s, size_t width) {
+  size_t chars = 0;
+  for (unsigned char c : s) chars += (c & 0xC0) != 0x80;
+  if (chars < width) s.append(width - chars, ' ');
+  return s;
+}
+
+// Table I over the runs of a benchmark's results.jsonl (tools/table1 --runs N):
+// mean ± sample sd per metric, the paper's value, and the collision counts.
+void print_stats(const std::string& results) {
+  const size_t w[] = {18, 4, 30, 22, 22, 26, 9};
+  auto row = [&](const std::vector<std::string>& cells, const std::string& last) {
+    std::string line;
+    for (size_t i = 0; i < cells.size(); ++i) line += pad(cells[i], w[i]) + " | ";
+    std::printf("%s%s\n", line.c_str(), last.c_str());
+  };
+  row({"algorithm", "runs", "min dist (m)", "time (s)", "reaction (s)", "speed var", "goal"}, "runs with contacts");
+  row({"", "", "mean ± sd / paper", "mean ± sd / paper", "mean ± sd / paper", "mean ± sd / paper", "reached"},
+      "at fault / not");
+  for (const auto& s : evade::benchmark::mode_stats(evade::benchmark::read_results(results))) {
+    const PaperRow* paper = nullptr;
+    for (const auto& r : kPaper)
+      if (s.mode == r.mode) paper = &r;
+    auto cell = [&](const std::optional<evade::benchmark::MeanSd>& v, const char* f, const char* p) {
+      return mean_sd(v, f) + " / " + (paper ? p : "");
+    };
+    std::string goal = std::to_string(s.reached_goal) + "/" + std::to_string(s.runs);
+    if (s.errors > 0) goal += " +" + std::to_string(s.errors) + " err";
+    row({paper ? paper->name : s.mode, std::to_string(s.runs), cell(s.min_dist_m, "%.3f", paper ? paper->min_dist : ""),
+         cell(s.time_to_goal_s, "%.2f", paper ? paper->time : ""),
+         cell(s.reaction_time_s, "%.3f", paper ? paper->reaction : ""),
+         cell(s.speed_var, "%.4f", paper ? paper->speed_var : ""), goal},
+        std::to_string(s.runs_at_fault) + " / " + std::to_string(s.runs_not_at_fault));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -45,6 +89,10 @@ int main(int argc, char** argv) {
   app.add_option("--plot", plot, "write the trajectory picture (PNG) here");
   app.add_option("--config", config_path, "robot configuration (section metrics:)");
   app.add_option("--table", table, "MODE=LOG pairs: print Table I for these runs beside the paper's");
+  std::string stats;
+  app.add_option("--stats", stats,
+                 "RESULTS.jsonl of tools/benchmark: Table I as mean ± sd over the runs of each mode "
+                 "(time over the runs that reached the goal), beside the paper's");
   CLI11_PARSE(app, argc, argv);
 
   evade::metrics::MetricsParams params;
@@ -57,6 +105,10 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (!stats.empty()) {
+      print_stats(stats);
+      return 0;
+    }
     if (!table.empty()) {
       std::printf("%-18s | %-22s | %-14s | %-14s | %-16s\n", "algorithm", "min dist (m)", "time (s)", "reaction (s)",
                   "speed var");
