@@ -107,6 +107,39 @@ TEST(BenchmarkTool, RunsEveryEpisodeAndKeepsOnlyFailedLogs) {
   EXPECT_NE(slurp(out / "command.txt").find("commit: "), std::string::npos);
 }
 
+std::string output_of(const std::string& cmd) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  pclose(p);
+  return out;
+}
+
+// metrics --stats: Table I over the rows, mean ± sd per mode beside the paper.
+TEST(BenchmarkTool, MetricsStatsOverTheRows) {
+  fs::path out = fresh_dir("stats");
+  // Seeds 1..4, mode mpc (length 3): seed 1 collides at fault, 2 times out.
+  ASSERT_EQ(run(benchmark(out, "--families crossing --episodes 4 --modes mpc,dcbf")), 0);
+  std::string table = output_of(kRoot + "/build/bin/metrics --stats " + (out / "results.jsonl").string());
+  std::istringstream lines(table);
+  std::string line, mpc, dcbf;
+  while (std::getline(lines, line)) {
+    if (line.rfind("MPC ", 0) == 0) mpc = line;
+    if (line.rfind("Ours (MPC-D-CBF)", 0) == 0) dcbf = line;
+  }
+  // min dist: 1.25, 2.25, 3.25, 4.25 -> 2.750 ± 1.291; time over the 3 that
+  // reached the goal: 21.5, 23.5, 24.5 -> 23.17 ± 1.53; 3 reached, 1 at fault.
+  EXPECT_NE(mpc.find("| 4    | 2.750 ± 1.291 / 0 (collided)"), std::string::npos) << table;
+  EXPECT_NE(mpc.find("23.17 ± 1.53 / -"), std::string::npos) << table;
+  EXPECT_NE(mpc.find("| 3/4       | 1 / 0"), std::string::npos) << table;
+  // dcbf (length 4): seed 4 collides at fault, seed 1 times out.
+  EXPECT_NE(dcbf.find("/ 0.828"), std::string::npos) << table;
+  EXPECT_NE(dcbf.find("| 3/4       | 1 / 0"), std::string::npos) << table;
+}
+
 TEST(BenchmarkTool, FailOnAtFaultAndErrors) {
   fs::path out = fresh_dir("fail");
   // Seeds 1..2 with mode "mpc" (length 3): seed 1 collides at fault.
