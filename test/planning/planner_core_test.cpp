@@ -600,7 +600,8 @@ evade::plan_t one_plan(Mode mode, const std::vector<SimObstacle>* obs_msg, const
 
 double max_plan_difference(const evade::plan_t& a, const evade::plan_t& b) {
   double d = 0;
-  for (size_t k = 0; k < a.x.size() && k < b.x.size(); ++k) d = std::max(d, std::hypot(a.x[k] - b.x[k], a.y[k] - b.y[k]));
+  for (size_t k = 0; k < a.x.size() && k < b.x.size(); ++k)
+    d = std::max(d, std::hypot(a.x[k] - b.x[k], a.y[k] - b.y[k]));
   return d;
 }
 
@@ -617,6 +618,32 @@ TEST(Modes, MpcReactsToAnObservedEllipseWithoutPredictions) {
   EXPECT_GE(pl.min_barrier, -1e-3);
   EXPECT_GT(max_plan_difference(pl, free), 0.2) << "the plan did not react to the ellipse";
   EXPECT_EQ(one_plan(Mode::kEvade, &bin, nullptr).status, int8_t{evade::plan_t::STATUS_STALE_INPUT});
+}
+
+// A non-finite or degenerate observed ellipse is skipped and counted; the
+// others still constrain the plan.
+TEST(Modes, InvalidObservedEllipsesAreCountedAndSkipped) {
+  PlannerParams p = default_params();
+  p.mode = Mode::kCbf;
+  bus::MemoryBus bus;
+  PlannerCore core(p);
+  bus.add(core);
+  bus.inject("ROUTE", straight_route(0, 10), 1'000'000);
+  const std::vector<SimObstacle> three = {{2.0, 0.05, 0.0, 0.0, 0.3}, {3.0, 0.0, 0.0, 0.0, 0.3},
+                                         {4.0, 0.0, 0.0, 0.0, 0.3}};
+  evade::obstacle_list_t m = observed(three, 1'000'000, 0.0);
+  m.obstacles[1].x = std::nan("");
+  m.obstacles[2].b = 0.0;
+  bus.inject("OBSTACLES", m, 1'000'000);
+  evade::odometry_t o{};
+  o.utime = 1'020'000;
+  bus.inject("ODOMETRY", o, o.utime);
+  auto plans = bus.decoded<evade::plan_t>("PLAN");
+  ASSERT_EQ(plans.size(), 1u);
+  EXPECT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_OK});
+  ASSERT_EQ(plans[0].num_obstacles, 1);
+  EXPECT_EQ(plans[0].obstacle_id[0], 1);
+  EXPECT_EQ(core.counter("tracks_invalid"), 2);
 }
 
 // A walker beside the route, 1.6 m off it, about to cross: the predictions
