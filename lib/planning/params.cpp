@@ -25,6 +25,8 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
 
   const config::Node s = root.section("planner");
   p.mode = parse_mode(s.get_choice("mode", mode_names()));
+  p.paper_fallback =
+      s.get_choice("paper_fallback", {"brake", "last_plan"}) == "brake" ? PaperFallback::kBrake : PaperFallback::kLastPlan;
   p.rate_hz = s.get_positive("rate_hz");
   p.horizon_steps = s.get_int("horizon_steps", 2, 64);
   p.dt_s = s.get_positive("dt_s");

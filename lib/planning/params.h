@@ -12,8 +12,16 @@
 
 namespace evade::planning {
 
+// What the paper's modes do when the solve ends outside the constraints.
+enum class PaperFallback {
+  kBrake,     // brake at the deceleration limits (STATUS_STOPPING)
+  kLastPlan,  // the last solved plan shifted, its tail braking (STATUS_FALLBACK), else brake; what
+              // the paper's released code does (it replays its last solution)
+};
+
 struct PlannerParams {
   Mode mode = Mode::kEvade;  // modes.h
+  PaperFallback paper_fallback = PaperFallback::kBrake;
   double rate_hz = 10;
   int horizon_steps = 25;
   double dt_s = 0.1;

@@ -355,12 +355,18 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   if (mode_.evade_layers) {
     if (!(res.finite && res.feasible)) status = recover(pb, warm_u, odom, v0, w0, &res, &u, &iterations);
   } else if (!(res.finite && res.feasible)) {
-    // The paper's planner: no recovery of evade's; braking at the limits
-    // is the plan that needs no solution.
+    // The paper's planner: none of evade's recovery. Braking at the limits
+    // needs no solution; the paper's released code replays its last plan.
     count("solver_infeasible");
-    count("stopping");
-    status = evade::plan_t::STATUS_STOPPING;
-    u = braking_controls(v0, w0);
+    if (p_.paper_fallback == PaperFallback::kLastPlan && last_feasible_shifted(odom, &u)) {
+      count("fallback");
+      status = evade::plan_t::STATUS_FALLBACK;
+      project_controls(pb, &u);  // consistent with the measured speed and the limits
+    } else {
+      count("stopping");
+      status = evade::plan_t::STATUS_STOPPING;
+      u = braking_controls(v0, w0);
+    }
   }
   const double solve_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
 
@@ -485,12 +491,23 @@ int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u
   return status;
 }
 
+bool PlannerCore::last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const {
+  const int N = p_.horizon_steps;
+  if (feasible_u_.empty()) return false;
+  const int fsteps = static_cast<int>(std::llround((odom.utime - feasible_utime_) * 1e-6 / p_.dt_s));
+  if (fsteps < 1 || fsteps >= N) return false;
+  *u = shifted(feasible_u_, fsteps);  // its tail brakes to a stop
+  const std::vector<double> tail = braking_controls(feasible_u_[2 * (N - 1)], feasible_u_[2 * (N - 1) + 1]);
+  for (int k = N - fsteps; k < N; ++k) {
+    (*u)[2 * k] = tail[2 * (k - (N - fsteps))];
+    (*u)[2 * k + 1] = tail[2 * (k - (N - fsteps)) + 1];
+  }
+  return true;
+}
+
 int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,
                                    const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u) {
   const int N = p_.horizon_steps;
-  const int fsteps = feasible_u_.empty()
-                         ? -1
-                         : static_cast<int>(std::llround((odom.utime - feasible_utime_) * 1e-6 / p_.dt_s));
   // Nothing meets every constraint: of the plans at hand (the failed
   // solves, swerves and dashes to either side, the last feasible plan
   // shifted, braking), take the one that keeps the most clearance (the
@@ -507,16 +524,8 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
     const char* counter;
   };
   std::vector<Candidate> candidates;
-  if (fsteps >= 1 && fsteps < N) {
-    std::vector<double> f = shifted(feasible_u_, fsteps);  // its tail brakes to a stop
-    const std::vector<double> tail =
-        braking_controls(feasible_u_[2 * (N - 1)], feasible_u_[2 * (N - 1) + 1]);
-    for (int k = N - fsteps; k < N; ++k) {
-      f[2 * k] = tail[2 * (k - (N - fsteps))];
-      f[2 * k + 1] = tail[2 * (k - (N - fsteps)) + 1];
-    }
-    candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
-  }
+  std::vector<double> f;
+  if (last_feasible_shifted(odom, &f)) candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
   for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
   candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
   double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;

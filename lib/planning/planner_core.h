@@ -58,6 +58,9 @@ class PlannerCore : public bus::Core {
   // most clearance. Sets *u and *res, adds to *iterations, returns the status.
   int8_t recover(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom, double v0,
                  double w0, SolveResult* res, std::vector<double>* u, int* iterations);
+  // The last feasible plan shifted to this cycle, its tail braking; false
+  // when there is none from within the horizon.
+  bool last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const;
   // Nothing met every constraint: of the plans at hand (`attempts`, the
   // last feasible plan shifted, braking) the one with the most clearance.
   int8_t most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,

@@ -704,9 +704,9 @@ TEST(Modes, PaperModesKeepTheRouteAsTheReference) {
   EXPECT_GT(run(p, planter, 20.0, 10.0).detour, 0);  // the premise: evade's reference would go round
 }
 
-// When the hard solve fails the paper's planner brakes at the limits; none
-// of evade's recovery (restarts, relaxed problem, dashes, the last
-// feasible plan) runs.
+// When the hard solve fails the paper's planner brakes at the limits
+// (planner.paper_fallback brake); none of evade's recovery (restarts,
+// relaxed problem, dashes, the plan with the most clearance) runs.
 TEST(Modes, PaperModesBrakeWhenTheSolveFails) {
   std::vector<SimObstacle> obs;  // a wall of fast obstacles closing in: nothing keeps h >= 0
   for (int i = 0; i < 8; ++i) {
@@ -728,6 +728,40 @@ TEST(Modes, PaperModesBrakeWhenTheSolveFails) {
     }
     EXPECT_GT(stopping, 0) << mode_name(m);
   }
+}
+
+// planner.paper_fallback last_plan: the last solved plan, shifted to the
+// cycle, while it reaches that far; then braking.
+TEST(Modes, PaperFallbackLastPlanReplaysTheLastSolvedPlan) {
+  PlannerParams p = default_params();
+  p.mode = Mode::kDcbf;
+  p.paper_fallback = PaperFallback::kLastPlan;
+  bus::MemoryBus bus;
+  PlannerCore core(p);
+  bus.add(core);
+  const int64_t t0 = 1'000'000, period = 100'000;
+  bus.inject("ROUTE", straight_route(0, 10), t0);
+  // one free cycle, then a 3 m obstacle round the robot: no plan meets h >= 0
+  const std::vector<SimObstacle> none, around = {{0.5, 0.0, 0.0, 0.0, 3.0}};
+  std::vector<evade::plan_t> plans;
+  for (int i = 0; i < 30; ++i) {
+    const int64_t now = t0 + i * period;
+    bus.inject("OBSTACLE_PREDICTIONS", predictions(i == 0 ? none : around, now, 0.0), now);
+    evade::odometry_t o{};
+    o.utime = now;
+    o.x = plans.empty() ? 0.0 : plans.back().x[1];  // the robot follows its plans
+    o.v = plans.empty() ? 0.5 : plans.back().v[0];
+    bus.inject("ODOMETRY", o, now);
+    plans.push_back(bus.decoded<evade::plan_t>("PLAN").back());
+  }
+  ASSERT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_OK});
+  const int N = p.horizon_steps;
+  for (int i = 1; i < N; ++i) {
+    ASSERT_EQ(plans[i].status, int8_t{evade::plan_t::STATUS_FALLBACK}) << i;
+    EXPECT_NEAR(plans[i].v[0], plans[0].v[i], 1e-3) << i;  // the solved plan, i steps on (projected onto the limits)
+  }
+  EXPECT_EQ(plans[N].status, int8_t{evade::plan_t::STATUS_STOPPING});  // it reaches no further
+  EXPECT_EQ(core.counter("fallback"), N - 1);
 }
 
 TEST(Modes, DcbfReactsEarlierThanMpcToAHeadOnMover) {
