@@ -119,6 +119,9 @@ Resolved resolve(const Code& code, std::vector<std::string>* unresolved) {
   Resolved r;
   r.where = code.channels;
   static const std::regex literal("\"([^\"]*)\"");
+  // A parameter declaration (`publish(const std::string& channel, ...)` in a
+  // Sink's signature) is not a call: type words, then the parameter's name.
+  static const std::regex declaration("(const\\s+)?[\\w:]+(\\s*[&*]+\\s*|\\s+)\\w+");
   for (const auto& u : code.uses) {
     std::smatch m;
     std::string ch;
@@ -126,6 +129,8 @@ Resolved resolve(const Code& code, std::vector<std::string>* unresolved) {
       ch = m[1];
     } else if (code.constants.count(u.arg)) {
       ch = code.constants.at(u.arg);
+    } else if (std::regex_match(u.arg, declaration)) {
+      continue;
     } else {
       if (!u.generic_bus)
         unresolved->push_back(u.where + ": `" + u.arg + "` is neither a channel literal nor a k*Channel constant");
@@ -162,9 +167,10 @@ Spec parse_spec(const std::string& markdown) {
       if (c.empty()) continue;
       if (section.rfind("Channels and types", 0) == 0) parse_channel_row(c, line, &spec);
       if (section.rfind("Processes", 0) == 0) parse_process_row(c, &spec);
-    } else if (section.rfind("Tools", 0) == 0 && line.rfind("- `", 0) == 0) {
-      const auto span = code_spans(line);
-      if (!span.empty()) spec.tools.insert(span[0].substr(0, span[0].find(' ')));
+    } else if (section.rfind("Tools", 0) == 0) {
+      // "- `name ARGS...`", the span possibly running on to the next line
+      std::smatch m;
+      if (std::regex_search(line, m, std::regex("^- `([\\w.-]+)"))) spec.tools.insert(m[1]);
     }
   }
   return spec;

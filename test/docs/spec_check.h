@@ -9,9 +9,10 @@
 // channel the non-test sources (lib/, procs/, tools/src/) use on the bus:
 // the first argument of subscribe / publish / publish_raw, `k*Channel`
 // string constants, and `channel == "..."` comparisons of log readers. An
-// argument that is neither a literal nor a known constant is reported
-// (outside lib/bus, which forwards whatever channel it is given), so that
-// no channel escapes the check.
+// argument that is neither a literal, a known constant nor a parameter
+// declaration (a Sink's `publish(const std::string& channel, ...)`) is
+// reported (outside lib/bus, which forwards whatever channel it is given),
+// so that no channel escapes the check.
 #pragma once
 
 #include <map>

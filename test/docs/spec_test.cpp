@@ -112,6 +112,10 @@ TEST(Spec, SourceScanResolvesConstantsAndCatchesWhatItCannotName) {
               "void f() {\n  publish(kDockChannel,\n          msg);\n  publish(topic_, msg);\n"
               "  subscribe<evade::path_t>(\"ODOMETRY\", h);\n  if (e.channel == \"REPLAYED\") {}\n}\n",
               false, &code);
+  scan_source("lib/other/node.cpp",
+              "void Node::publish(const std::string& channel, int64_t now) {}\n"
+              "void g() { publish(std::string(\"X\"), m); }\n",
+              false, &code);
   scan_source("lib/bus/x.cpp", "void Bus::publish(const std::string& channel, int n) { lcm_->publish(channel, n); }",
               true, &code);
   const auto problems = compare(spec, code);
@@ -123,7 +127,9 @@ TEST(Spec, SourceScanResolvesConstantsAndCatchesWhatItCannotName) {
   EXPECT_TRUE(mentions(problems, "channel REPLAYED (used at b.cpp:8)")) << joined(problems);
   EXPECT_FALSE(mentions(problems, "GHOST")) << joined(problems);
   EXPECT_FALSE(mentions(problems, "lib/bus/x.cpp")) << joined(problems);
-  EXPECT_EQ(problems.size(), 4u) << joined(problems);
+  EXPECT_FALSE(mentions(problems, "node.cpp:1")) << joined(problems);  // a signature
+  EXPECT_TRUE(mentions(problems, "node.cpp:2: `std::string` is neither")) << joined(problems);
+  EXPECT_EQ(problems.size(), 5u) << joined(problems);
 }
 
 }  // namespace
