@@ -70,4 +70,42 @@ const RigidTransform* SweepCompensator::at(int64_t off) {
   return &slices_[k];
 }
 
+bool view_of_message(const evade::pointcloud_t& m, CloudView* v) {
+  const size_t n = size_t(std::max(0, m.n));
+  if (m.x.size() < n || m.y.size() < n || m.z.size() < n) return false;
+  v->utime = m.utime;
+  v->n = n;
+  v->x = m.x.data();
+  v->y = m.y.data();
+  v->z = m.z.data();
+  v->time_offset = m.time_offset.size() == n ? m.time_offset.data() : nullptr;
+  v->mount_x = m.mount.x;
+  v->mount_y = m.mount.y;
+  v->mount_z = m.mount.z;
+  v->mount_roll = m.mount.roll;
+  v->mount_pitch = m.mount.pitch;
+  v->mount_yaw = m.mount.yaw;
+  return true;
+}
+
+bool compensate(const CloudView& cloud, const PoseBuffer& poses, const ElevationMapParams& p,
+                std::vector<CompensatedPoint>* out, int64_t* dropped) {
+  SweepCompensator sweep(cloud, poses, p.sweep_slice_us, p.max_sweep_us, p.max_extrapolation_us);
+  out->clear();
+  if (!sweep.valid()) return false;
+  out->reserve(cloud.n);
+  for (size_t i = 0; i < cloud.n; ++i) {
+    const double px = cloud.x[i], py = cloud.y[i], pz = cloud.z[i];
+    const RigidTransform* tf = cloud.time_offset ? sweep.at(cloud.time_offset[i]) : &sweep.at_utime();
+    if (!tf || !std::isfinite(px) || !std::isfinite(py) || !std::isfinite(pz)) {
+      ++*dropped;
+      continue;
+    }
+    out->push_back({float(tf->r[0] * px + tf->r[1] * py + tf->r[2] * pz + tf->t[0]),
+                    float(tf->r[3] * px + tf->r[4] * py + tf->r[5] * pz + tf->t[1]),
+                    float(tf->r[6] * px + tf->r[7] * py + tf->r[8] * pz + tf->t[2]), uint32_t(i)});
+  }
+  return true;
+}
+
 }  // namespace evade::mapping

@@ -9,11 +9,13 @@
 #include <cstdint>
 #include <vector>
 
+#include "evade/pointcloud_t.hpp"
 #include "mapping/pose_buffer.h"
 
 namespace evade::mapping {
 
 struct CloudView;
+struct ElevationMapParams;
 
 // world = r * p_sensor + t
 struct RigidTransform {
@@ -48,5 +50,22 @@ class SweepCompensator {
   std::vector<uint8_t> ready_;
   int64_t held_ = 0;
 };
+
+// The builder's view of a decoded LIDAR_POINTS message (which must outlive
+// it); false when its arrays are shorter than n. Time offsets are used when
+// there is one per point.
+bool view_of_message(const evade::pointcloud_t& m, CloudView* out);
+
+struct CompensatedPoint {
+  float x, y, z;   // m, odometry frame
+  uint32_t index;  // the point's index in the cloud
+};
+
+// Every finite point with a valid time offset, in the odometry frame, with
+// the slicing and extrapolation of `p` (the elevation map's); false (and
+// nothing written) when the pose at cloud.utime is unknown. `dropped`
+// counts the points left out.
+bool compensate(const CloudView& cloud, const PoseBuffer& poses, const ElevationMapParams& p,
+                std::vector<CompensatedPoint>* out, int64_t* dropped);
 
 }  // namespace evade::mapping

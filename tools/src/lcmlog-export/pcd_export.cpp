@@ -23,23 +23,6 @@ constexpr const char* kElevationMap = "ELEVATION_MAP";
 // The whole log's odometry is kept: the buffer forgets nothing.
 constexpr int64_t kKeepEverything = std::numeric_limits<int64_t>::max() / 4;
 
-mapping::CloudView view_of(const evade::pointcloud_t& c) {
-  mapping::CloudView v;
-  v.utime = c.utime;
-  v.n = size_t(std::max(0, c.n));
-  v.x = c.x.data();
-  v.y = c.y.data();
-  v.z = c.z.data();
-  v.time_offset = c.time_offset.size() == v.n ? c.time_offset.data() : nullptr;
-  v.mount_x = c.mount.x;
-  v.mount_y = c.mount.y;
-  v.mount_z = c.mount.z;
-  v.mount_roll = c.mount.roll;
-  v.mount_pitch = c.mount.pitch;
-  v.mount_yaw = c.mount.yaw;
-  return v;
-}
-
 void save(const std::string& path, const pcl::PointCloud<pcl::PointXYZI>& cloud) {
   if (pcl::io::savePCDFileBinary(path, cloud) != 0) throw std::runtime_error("cannot write " + path);
 }
@@ -59,25 +42,23 @@ Options Options::from_config(const config::Node& root) {
 
 bool world_cloud(const evade::pointcloud_t& cloud, const mapping::PoseBuffer& poses,
                  const mapping::ElevationMapParams& p, pcl::PointCloud<pcl::PointXYZI>* out, int64_t* invalid) {
-  const mapping::CloudView v = view_of(cloud);
-  mapping::SweepCompensator sweep(v, poses, p.sweep_slice_us, p.max_sweep_us, p.max_extrapolation_us);
   out->clear();
-  if (!sweep.valid()) return false;
-  out->reserve(v.n);
+  mapping::CloudView v;
+  std::vector<mapping::CompensatedPoint> pts;
+  if (!mapping::view_of_message(cloud, &v)) {
+    *invalid += cloud.n;
+    return true;  // a cloud with nothing usable: written as nothing
+  }
+  if (!mapping::compensate(v, poses, p, &pts, invalid)) return false;
   const bool have_intensity = cloud.intensity.size() == v.n;
-  for (size_t i = 0; i < v.n; ++i) {
-    const double px = v.x[i], py = v.y[i], pz = v.z[i];
-    const mapping::RigidTransform* tf = v.time_offset ? sweep.at(v.time_offset[i]) : &sweep.at_utime();
-    if (!tf || !std::isfinite(px) || !std::isfinite(py) || !std::isfinite(pz)) {
-      ++*invalid;
-      continue;
-    }
-    pcl::PointXYZI q;
-    q.x = float(tf->r[0] * px + tf->r[1] * py + tf->r[2] * pz + tf->t[0]);
-    q.y = float(tf->r[3] * px + tf->r[4] * py + tf->r[5] * pz + tf->t[1]);
-    q.z = float(tf->r[6] * px + tf->r[7] * py + tf->r[8] * pz + tf->t[2]);
-    q.intensity = have_intensity ? cloud.intensity[i] : 0.0f;
-    out->push_back(q);
+  out->reserve(pts.size());
+  for (const auto& q : pts) {
+    pcl::PointXYZI o;
+    o.x = q.x;
+    o.y = q.y;
+    o.z = q.z;
+    o.intensity = have_intensity ? cloud.intensity[q.index] : 0.0f;
+    out->push_back(o);
   }
   return true;
 }
