@@ -71,6 +71,7 @@ void add_lines(PCLVisualizer& v, const LinesPrim& prim) {
 Renderer::Renderer(const VizParams& p) : p_(p), v_(std::make_unique<PCLVisualizer>("evade-viz")) {
   v_->setSize(p.window_width_px, p.window_height_px);
   v_->setBackgroundColor(0.08, 0.08, 0.1);
+  v_->setShowFPS(false);
   v_->setCameraPosition(-p.camera_distance_m, 0, p.camera_height_m, 2, 0, 0, 0, 0, 1);
 }
 
@@ -97,7 +98,7 @@ void Renderer::draw(const Scene& s, const std::string& status) {
     v_->addText(line, 8, y, font, 0.9, 0.9, 0.9, "hud_" + std::to_string(n++));
     y -= line_px;
   }
-  v_->addText(status, 8, 24, font, 0.7, 0.7, 0.7, "status");  // above VTK's frame rate
+  v_->addText(status, 8, 6, font, 0.7, 0.7, 0.7, "status");
   hud_lines_ = n;
 }
 
