@@ -209,3 +209,19 @@ TEST(PcdExport, ARunLogsScansAreDecodedAndTheStaticObstacleIsAtItsTruePlace) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(PcdExport, AFileThatIsNotALogIsAnError) {
+  const std::string bad = temp_dir("pcd_not_a_log") + ".lcmlog";
+  std::FILE* f = std::fopen(bad.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs("not an lcm log", f);
+  std::fclose(f);
+  EXPECT_THROW(evade::pcd_export::export_log(bad, temp_dir("pcd_not_a_log_out"), default_options()),
+               std::runtime_error);
+  EXPECT_THROW(evade::pcd_export::export_log("/no/such.lcmlog", temp_dir("pcd_none_out"), default_options()),
+               std::runtime_error);
+}
+
+}  // namespace

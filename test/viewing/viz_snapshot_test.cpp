@@ -71,8 +71,22 @@ TEST(VizSnapshot, AFrameOfTheGoldenRunShowsTheRobotAndTheTruth) {
   EXPECT_GT(p.route, 100) << "the route";
 }
 
-TEST(VizSnapshot, ASnapshotNeedsALog) {
-  EXPECT_NE(run(std::string(EVADE_VIZ_BIN) + " --snapshot /tmp/never.png 2>/dev/null"), 0);
+TEST(VizSnapshot, ABadLogIsAClearError) {
+  const std::string bad = ::testing::TempDir() + "viz_not_a_log_" + std::to_string(::getpid());
+  std::FILE* f = std::fopen(bad.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs("not an lcm log", f);
+  std::fclose(f);
+  const std::string viz = "DISPLAY=:0 " + std::string(EVADE_VIZ_BIN);  // the log is read before any window opens
+  EXPECT_EQ(run(viz + " --log " + bad + " --snapshot /tmp/never.png 2>/dev/null"), 1);
+  EXPECT_EQ(run(viz + " --log /no/such.lcmlog --snapshot /tmp/never.png 2>/dev/null"), 1);
+}
+
+TEST(VizSnapshot, NoDisplayIsAClearError) {
+  const std::string src = EVADE_SOURCE_DIR;
+  EXPECT_EQ(run("env -u DISPLAY " + std::string(EVADE_VIZ_BIN) + " --log " + src +
+                "/logs/paper_sim_crossing/input.lcmlog --snapshot /tmp/never.png 2>/dev/null"),
+            2);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 //   evade-viz --log RUN.lcmlog [--at S] [--speed X] [--paused]
 //                                                         a log, from S seconds in
 //   evade-viz --log RUN.lcmlog --at S --snapshot F.png    one frame to a PNG, no interaction
+//   evade-viz --at S --snapshot F.png                     live: the frame after listening S seconds
 //   evade-viz --log RUN.lcmlog --snapshot-moments DIR     a simulated run's key frames (moments.h):
 //                                                         DIR/viz_obstacle_<id>.png at each obstacle's
 //                                                         first sight, DIR/viz_closest.png
@@ -17,6 +18,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include "bus/live_bus.h"
@@ -44,7 +46,15 @@ void frame(Renderer& r, const WorldState& w, const Controls& c, const VizParams&
   if (c.follow) r.follow(scene);
 }
 
-int run_live(const std::string& url, WorldState& w, const VizParams& p) {
+bool written(const std::string& png) {
+  struct stat st;
+  if (::stat(png.c_str(), &st) == 0 && st.st_size > 0) return true;
+  std::fprintf(stderr, "%s: %s was not written\n", kName, png.c_str());
+  return false;
+}
+
+// Live; with a non-empty `png`, listens `at` seconds, writes one frame and returns.
+int run_live(const std::string& url, WorldState& w, const VizParams& p, double at, const std::string& png) {
   lcm::LCM lcm(url);
   if (!lcm.good()) {
     std::fprintf(stderr, "%s: cannot start LCM on %s\n", kName, url.c_str());
@@ -61,11 +71,19 @@ int run_live(const std::string& url, WorldState& w, const VizParams& p) {
   Controls c;
   r.on_key([&](const std::string& k) { c.on_key(k, p.seek_step_s); });
   const auto& stop = evade::bus::stop_on_signals();
+  const double shot_at = wall_s() + at;
   for (double next = wall_s(); !stop.load();) {
     lcm.handleTimeout(5);
     if (wall_s() < next) continue;
     next = wall_s() + p.refresh_period_s;
     frame(r, w, c, p, "live on " + url + "  (keys: k camera, z m t y n b i v layers)");
+    if (!png.empty() && wall_s() >= shot_at) {
+      r.snapshot(png);
+      if (!written(png)) return 1;
+      std::fprintf(stderr, "%s: %s after %.1f s live (%zu cloud points, %lld malformed)\n", kName, png.c_str(), at,
+                   w.cloud.size(), static_cast<long long>(w.malformed()));
+      return 0;
+    }
     if (!r.spin(1)) break;
   }
   return 0;
@@ -104,11 +122,7 @@ int snapshot(evade::viz::LogTimeline& t, WorldState& w, const VizParams& p, doub
   t.seek(&w, at);
   frame(r, w, c, p, c.status(t.position_s(), t.duration_s()));
   r.snapshot(png);
-  struct stat st;
-  if (::stat(png.c_str(), &st) != 0 || st.st_size == 0) {
-    std::fprintf(stderr, "%s: %s was not written\n", kName, png.c_str());
-    return 1;
-  }
+  if (!written(png)) return 1;
   std::fprintf(stderr, "%s: %s at %.2f s of %.2f s (%zu cloud points)\n", kName, png.c_str(), t.position_s(),
                t.duration_s(), w.cloud.size());
   return 0;
@@ -123,11 +137,7 @@ int snapshot_moments(evade::viz::LogTimeline& t, WorldState& w, const VizParams&
     t.seek(&w, m.t_s);
     frame(r, w, c, p, m.name + ": " + c.status(t.position_s(), t.duration_s()));
     r.snapshot(png);
-    struct stat st;
-    if (::stat(png.c_str(), &st) != 0 || st.st_size == 0) {
-      std::fprintf(stderr, "%s: %s was not written\n", kName, png.c_str());
-      return 1;
-    }
+    if (!written(png)) return 1;
     std::fprintf(stderr, "%s: %s at %.2f s\n", kName, png.c_str(), t.position_s());
   }
   return 0;
@@ -144,10 +154,11 @@ int main(int argc, char** argv) {
   double at = 0.0, speed = 1.0;
   bool paused = false;
   auto* log_opt = app.add_option("--log", log, "play this lcm-logger log instead of listening");
-  app.add_option("--at", at, "start this many seconds into the log")->needs(log_opt)->check(CLI::NonNegativeNumber);
+  app.add_option("--at", at, "start this many seconds into the log (live with --snapshot: after listening this long)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--speed", speed, "playback speed")->needs(log_opt)->check(CLI::PositiveNumber);
   app.add_flag("--paused", paused, "start paused")->needs(log_opt);
-  auto* png_opt = app.add_option("--snapshot", png, "render the frame at --at to this PNG and exit")->needs(log_opt);
+  auto* png_opt = app.add_option("--snapshot", png, "render the frame at --at to this PNG and exit");
   std::string moments_dir;
   app.add_option("--snapshot-moments", moments_dir,
                  "write DIR/viz_obstacle_<id>.png (first sight) and DIR/viz_closest.png of a simulated run, exit")
@@ -166,9 +177,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s: %s\n", kName, e.what());
     return 2;
   }
+  const char* display = std::getenv("DISPLAY");
+  if (!display || !*display) {
+    std::fprintf(stderr, "%s: no display (DISPLAY is unset); without one run it under Xvfb: "
+                 "xvfb-run -a -s \"-screen 0 %dx%dx24\" %s ...\n", kName, p.window_width_px, p.window_height_px, argv[0]);
+    return 2;
+  }
   try {
-    if (log.empty()) return run_live(opts.lcm_url.empty() ? evade::bus::default_lcm_url() : opts.lcm_url, *w, p);
+    if (log.empty())
+      return run_live(opts.lcm_url.empty() ? evade::bus::default_lcm_url() : opts.lcm_url, *w, p, at, png);
     auto events = evade::bus::read_log(log);
+    if (events.empty()) {
+      std::fprintf(stderr, "%s: %s holds no events (not an lcm-logger log?)\n", kName, log.c_str());
+      return 1;
+    }
     std::vector<evade::viz::Moment> moments;
     if (!moments_dir.empty())
       moments = evade::viz::key_moments(events, evade::metrics::MetricsParams::from_config(root.section("metrics")));

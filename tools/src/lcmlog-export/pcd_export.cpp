@@ -85,7 +85,9 @@ Stats export_log(const std::string& log_path, const std::string& dir, const Opti
   Stats st;
   mapping::PoseBuffer poses(kKeepEverything);
   bool have_points = false;
+  int64_t events = 0;
   bus::for_each_event(log_path, [&](const bus::LogEvent& e) {
+    ++events;
     if (e.channel == sensing::kLidarPointsChannel) have_points = true;
     evade::odometry_t m;
     if (e.channel != kOdometry) return;
@@ -95,6 +97,7 @@ Stats export_log(const std::string& log_path, const std::string& dir, const Opti
     }
     poses.add(mapping::OdometrySample{m.utime, {m.x, m.y, m.yaw}, m.v, m.omega});
   });
+  if (events == 0) throw std::runtime_error(log_path + " holds no events (not an lcm-logger log?)");
   st.from_scans = !have_points;
   std::filesystem::create_directories(dir);
 

@@ -53,7 +53,7 @@ pcl::PointCloud<pcl::PointXYZI> map_cloud(const evade::grid_map_t& map);
 
 // Reads the log twice (odometry first, then clouds and maps) and writes the
 // files into `dir` (created if missing). Throws std::runtime_error when the
-// log cannot be read or a file cannot be written.
+// log cannot be read or holds no event, or a file cannot be written.
 Stats export_log(const std::string& log_path, const std::string& dir, const Options& options);
 
 }  // namespace evade::pcd_export
