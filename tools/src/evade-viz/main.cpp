@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 
 #include "bus/live_bus.h"
@@ -44,6 +45,23 @@ void frame(Renderer& r, const WorldState& w, const Controls& c, const VizParams&
   const auto scene = evade::viz::build_scene(w, c.layers, p);
   r.draw(scene, status);
   if (c.follow) r.follow(scene);
+}
+
+// The robot.yaml beside a run log (run_scenario and tools/launch write the
+// effective one there: the scenario's LiDAR mount decodes LIDAR_SCAN right),
+// when it has a viz section (one written before evade-viz existed has not);
+// else "" (the default configuration).
+std::string config_beside(const std::string& log) {
+  const auto beside = std::filesystem::path(log).parent_path() / "robot.yaml";
+  if (!std::filesystem::exists(beside)) return "";
+  try {
+    if (evade::config::load_file(beside.string()).has("viz")) return beside.string();
+  } catch (const evade::config::ConfigError&) {
+    return beside.string();  // let the strict load report it
+  }
+  std::fprintf(stderr, "%s: %s has no viz section (written before evade-viz): using the default configuration\n",
+               kName, beside.c_str());
+  return "";
 }
 
 bool written(const std::string& png) {
@@ -148,7 +166,8 @@ int snapshot_moments(evade::viz::LogTimeline& t, WorldState& w, const VizParams&
 int main(int argc, char** argv) {
   CLI::App app{"evade-viz: what the robot sees and plans, live or from a log"};
   evade::bus::CommonOptions opts;
-  app.add_option("--config", opts.config_path, "robot configuration (default config/robot.yaml)");
+  app.add_option("--config", opts.config_path,
+                 "robot configuration (default: the robot.yaml beside --log's log, else config/robot.yaml)");
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local)");
   std::string log, png;
   double at = 0.0, speed = 1.0;
@@ -166,6 +185,7 @@ int main(int argc, char** argv) {
       ->excludes(png_opt);
   CLI11_PARSE(app, argc, argv);
 
+  if (opts.config_path.empty() && !log.empty()) opts.config_path = config_beside(log);
   const evade::config::Node root = evade::bus::load_config_or_exit(kName, opts);
   VizParams p;
   std::unique_ptr<WorldState> w;
