@@ -34,7 +34,7 @@ using Clock = std::chrono::steady_clock;
 constexpr int kTestPort = 23680;
 
 std::string source(const std::string& rel) { return std::string(EVADE_SOURCE_DIR) + "/" + rel; }
-std::string sample_path() { return source("../shared/data/vlp16_sample.pcap"); }
+std::string sample_path() { return source("test/data/vlp16_sample.pcap"); }
 // A temp file of this process: ctest runs this binary's tests side by side,
 // and one reading a shared file while another rewrote it saw half a file.
 std::string temp_path(const std::string& stem, const std::string& ext) {
@@ -254,7 +254,7 @@ TEST(LidarDriverProcess, RsHeliosMsopAndDifopOnTheirOwnPorts) {
 }
 
 TEST(LidarDriverProcess, PcapModeFlushesExitsAndReplaysIdentically) {
-  if (!exists(sample_path())) GTEST_SKIP() << "no " << sample_path();
+  ASSERT_TRUE(exists(sample_path())) << "missing " << sample_path();
   Listener l;
   const auto t0 = Clock::now();
   pid_t pid = spawn({LIDAR_DRIVER_BIN, "--config", test_config(), "--pcap", sample_path(), "--rate", "1"});
@@ -316,7 +316,7 @@ TEST(LidarDriverProcess, PcapModeFlushesExitsAndReplaysIdentically) {
 // second revolution starts 23 packets (1.327 ms apart) after the first,
 // whatever the replay speed; two runs give the same spacing.
 TEST(LidarDriverProcess, PcapAtFullSpeedKeepsTheCaptureTimeSpacing) {
-  if (!exists(sample_path())) GTEST_SKIP() << "no " << sample_path();
+  ASSERT_TRUE(exists(sample_path())) << "missing " << sample_path();
   std::vector<int64_t> spacing;
   for (int run = 0; run < 2; ++run) {
     Listener l;
