@@ -84,7 +84,18 @@ int run_live(const std::string& url, WorldState& w, const VizParams& p, double a
       w->apply(ch, static_cast<const uint8_t*>(rb->data), rb->data_size, rb->recv_utime);
     }
   } handler{&w};
-  lcm.subscribe(".*", &Handler::on, &handler);
+  // The channels WorldState draws (and HEALTH is not one of them).
+  using evade::sensing::kLidarPointsChannel;
+  using evade::sensing::kLidarScanChannel;
+  lcm.subscribe("ODOMETRY", &Handler::on, &handler);
+  lcm.subscribe("ELEVATION_MAP", &Handler::on, &handler);
+  lcm.subscribe("OBSTACLES", &Handler::on, &handler);
+  lcm.subscribe("OBSTACLE_PREDICTIONS", &Handler::on, &handler);
+  lcm.subscribe("PLAN", &Handler::on, &handler);
+  lcm.subscribe("ROUTE", &Handler::on, &handler);
+  lcm.subscribe("SIM_TRUTH", &Handler::on, &handler);
+  lcm.subscribe(kLidarPointsChannel, &Handler::on, &handler);
+  lcm.subscribe(kLidarScanChannel, &Handler::on, &handler);
   Renderer r(p);
   Controls c;
   r.on_key([&](const std::string& k) { c.on_key(k, p.seek_step_s); });

@@ -81,7 +81,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   Listener listener;
-  lcm.subscribe(evade::bus::kHealthChannel, &Listener::on, &listener);
+  using evade::bus::kHealthChannel;
+  lcm.subscribe(kHealthChannel, &Listener::on, &listener);
   const bool colour = !no_colour && ::isatty(STDOUT_FILENO);
 
   if (once) {
