@@ -222,6 +222,7 @@ TEST(PcdExport, AFileThatIsNotALogIsAnError) {
                std::runtime_error);
   EXPECT_THROW(evade::pcd_export::export_log("/no/such.lcmlog", temp_dir("pcd_none_out"), default_options()),
                std::runtime_error);
+  fs::remove(bad);
 }
 
 }  // namespace

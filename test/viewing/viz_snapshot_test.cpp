@@ -80,6 +80,7 @@ TEST(VizSnapshot, ABadLogIsAClearError) {
   const std::string viz = "DISPLAY=:0 " + std::string(EVADE_VIZ_BIN);  // the log is read before any window opens
   EXPECT_EQ(run(viz + " --log " + bad + " --snapshot /tmp/never.png 2>/dev/null"), 1);
   EXPECT_EQ(run(viz + " --log /no/such.lcmlog --snapshot /tmp/never.png 2>/dev/null"), 1);
+  std::remove(bad.c_str());
 }
 
 TEST(VizSnapshot, NoDisplayIsAClearError) {
