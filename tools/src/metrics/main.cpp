@@ -43,14 +43,16 @@ int main(int argc, char** argv) {
   app.add_option("log", log, "run log (lcm-logger file)");
   app.add_option("--out", out, "also write the metrics JSON here");
   app.add_option("--plot", plot, "write the trajectory picture (PNG) here");
-  app.add_option("--config", config_path, "robot configuration (section metrics:)");
+  app.add_option("--config", config_path, "robot configuration of the run (sections metrics: and planner:)");
   app.add_option("--table", table, "MODE=LOG pairs: print Table I for these runs beside the paper's");
   CLI11_PARSE(app, argc, argv);
 
   evade::metrics::MetricsParams params;
+  evade::planning::PlannerParams planner;
   try {
     auto root = evade::config::load_robot_config(config_path.empty() ? evade::config::default_config_path() : config_path);
     params = evade::metrics::MetricsParams::from_config(root.section("metrics"));
+    planner = evade::planning::PlannerParams::from_config(root);
   } catch (const evade::config::ConfigError& e) {
     std::fprintf(stderr, "metrics: %s\n", e.what());
     return 2;
@@ -67,7 +69,7 @@ int main(int argc, char** argv) {
         auto eq = pair.find('=');
         if (eq == std::string::npos) throw std::runtime_error("--table takes MODE=LOG, got " + pair);
         std::string mode = pair.substr(0, eq);
-        auto m = evade::metrics::compute_metrics(evade::bus::read_log(pair.substr(eq + 1)), params);
+        auto m = evade::metrics::compute_metrics(evade::bus::read_log(pair.substr(eq + 1)), params, &planner);
         const PaperRow* paper = nullptr;
         for (const auto& r : kPaper)
           if (mode == r.mode) paper = &r;
@@ -84,7 +86,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "metrics: a LOG is required (see --help)\n");
       return 2;
     }
-    auto m = evade::metrics::compute_metrics(evade::bus::read_log(log), params);
+    auto m = evade::metrics::compute_metrics(evade::bus::read_log(log), params, &planner);
     std::string json = evade::metrics::metrics_json(m);
     std::fputs(json.c_str(), stdout);
     if (!out.empty()) {

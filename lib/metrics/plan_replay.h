@@ -1,0 +1,49 @@
+// The planner run again over a run log's recorded inputs, optionally with
+// some perception tracks left out: the counterfactual behind the reaction
+// time (metrics_rules()).
+//
+// The planner core is built from PlannerParams and fed, at their logged
+// times, the logged messages of every channel it subscribes to (whatever
+// those are: the core says). Tracks are left out of every message whose
+// type is obstacle_list_t or prediction_list_t, on any channel. Latency
+// measurement is off, so a replay is deterministic.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <set>
+#include <vector>
+
+#include "bus/log.h"
+#include "evade/plan_t.hpp"
+#include "planning/params.h"
+
+namespace evade::metrics {
+
+class PlanReplay {
+ public:
+  // `log`: the run log (every channel; only the planner's inputs are kept).
+  PlanReplay(planning::PlannerParams params, const std::vector<bus::LogEvent>& log);
+
+  // Runs a fresh planner over the inputs with the tracks `removed` left out
+  // and calls on_plan with each PLAN it publishes, in order, until on_plan
+  // returns false or the inputs end.
+  void run(const std::set<int64_t>& removed, const std::function<bool(const evade::plan_t&)>& on_plan) const;
+  // Every PLAN of a run with nothing removed.
+  std::vector<evade::plan_t> plans() const;
+
+ private:
+  planning::PlannerParams params_;
+  std::vector<bus::LogEvent> inputs_;
+};
+
+// Leaves the tracks `removed` out of an obstacle_list_t or prediction_list_t
+// message (recognised by its type fingerprint); other bytes come back as
+// they are. Returns true when the message is of one of those types.
+bool strip_tracks(std::vector<uint8_t>* data, const std::set<int64_t>& removed);
+
+// Largest distance between the planned positions of two plans at the same
+// step over the horizon (m); infinity when their horizons differ.
+double plan_distance_m(const evade::plan_t& a, const evade::plan_t& b);
+
+}  // namespace evade::metrics

@@ -1,0 +1,44 @@
+// The reaction time by counterfactual replay (metrics_rules()): when did
+// the planner's plan first differ from the plan it would have made without
+// the obstacle?
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <set>
+#include <vector>
+
+#include "evade/plan_t.hpp"
+#include "metrics/plan_replay.h"
+
+namespace evade::metrics {
+
+struct ObstacleReaction {
+  int obstacle_id = 0;
+  int64_t t_enter_utime = 0;  // it entered the local map
+  int64_t t_leave_utime = 0;  // it was last inside the local map
+  std::set<int64_t> tracks;   // perception tracks that are it (track_association.h)
+  // utime of the first plan that differs without it: at all, and in
+  // [t_enter, t_leave] (the reaction)
+  std::optional<int64_t> t_change_utime;
+  std::optional<int64_t> t_react_utime;
+};
+
+// How well the replay with nothing removed reproduced the recorded plans.
+struct ReplayCheck {
+  int compared = 0;           // recorded plans matched to a replayed one (same utime, same occurrence)
+  int differing = 0;          // ... farther apart than the threshold
+  double max_distance_m = 0;  // largest plan_distance_m of those compared
+};
+
+// Replays the planner once with nothing removed (the reference, compared
+// with `recorded` for the check), then once per obstacle with tracks and
+// with its tracks removed, up to its first plan in [t_enter, t_leave] whose
+// plan_distance_m from the reference plan of the same cycle exceeds
+// threshold_m (-> t_react_utime; the first such plan at any time ->
+// t_change_utime). Plans are matched by utime and, for several plans from
+// one odometry utime, their order.
+ReplayCheck counterfactual_reactions(const PlanReplay& replay, const std::vector<evade::plan_t>& recorded,
+                                     double threshold_m, std::vector<ObstacleReaction>* obstacles);
+
+}  // namespace evade::metrics
