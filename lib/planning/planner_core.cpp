@@ -486,7 +486,9 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       count(chosen->counter);
     }
   }
-  const double solve_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  const double measured_us =
+      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  const double solve_us = solve_time_model_ ? solve_time_model_(iterations, measured_us) : measured_us;
 
   if (status == evade::plan_t::STATUS_OK) {
     feasible_u_ = u;

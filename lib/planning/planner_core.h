@@ -3,6 +3,8 @@
 // feasible plan shifted, then braking at the deceleration limit), never NaN.
 #pragma once
 
+#include <functional>
+
 #include <cstdint>
 #include <optional>
 #include <map>
@@ -26,6 +28,13 @@ class PlannerCore : public bus::Core {
 
   // Exposed for tests: the last plan published.
   const std::optional<evade::plan_t>& last_plan() const { return last_plan_; }
+
+  // What PLAN.solve_time_us reports for a cycle, from its Ceres iterations
+  // and the steady-clock time it took. Default: the measured time. The
+  // lockstep closed loop puts its compute model here, so that a log made
+  // in simulated time holds the time it charged and is byte-reproducible.
+  using SolveTimeModel = std::function<double(int iterations, double measured_us)>;
+  void set_solve_time_model(SolveTimeModel model) { solve_time_model_ = std::move(model); }
 
  private:
   void on_odometry(const evade::odometry_t& odom);
@@ -75,6 +84,7 @@ class PlannerCore : public bus::Core {
   bool predictions_stale() const;  // no predictions (when required) or older than predictions_max_age_s
   double last_cmd_v_ = 0, last_cmd_omega_ = 0;
   int64_t last_cmd_now_ = -1;
+  SolveTimeModel solve_time_model_;
 };
 
 }  // namespace evade::planning
