@@ -63,19 +63,23 @@ const char* metrics_rules() {
   cycle from t_enter to t_leave (the last time the obstacle is inside the
   local map while it moves) whose plan differs; t_change = the first
   whose plan differs at all (before t_enter when the planner saw it
-  earlier than the paper's window would let it). reaction_time_s: the mean of t_react - t_enter over obstacles
-  that got one; the others (never changed a plan, or never tracked) are
-  counted in reaction_missed. `reactions` lists each obstacle's figures.
-  replay_plans_compared / _differing / replay_max_plan_diff_m: how well
-  the reference replay reproduces the recorded PLANs (a live run's planner
-  heard its inputs at other times than the logger did, and dropped queued
-  ones after a long solve, so they need not agree; the reference, not the
-  recorded plan, is what the counterfactual is compared with).
+  earlier than the paper's window would let it). reaction_time_s: the
+  mean of t_react - t_enter over obstacles that got one; the others (never
+  changed a plan, or never tracked) are counted in reaction_missed.
+  `reactions` lists each obstacle's figures.
+  replay_plans_compared / _differing / replay_max_plan_diff_m: how the
+  reference replay agrees with the recorded PLANs. The counterfactual is
+  compared with the reference, not with the recorded plans, which need
+  not agree: a live planner hears its inputs when LCM delivers them, not
+  when the logger did, and may miss some (on a live paper_sim run the
+  first 9 recorded plans were NO_ROUTE: the planner missed the first
+  ROUTE, which the logger heard; from the 13th plan on the replay agreed
+  within 1 um). A lockstep run's replay agrees with all of them exactly.
 - path_length_m: robot path length from first motion to the goal (or end).
 - planner_solve_ms_p50/p99: over PLAN messages with a solve (iterations > 0).
 - planner_cycle_ms_p99: over every PLAN's solve_time_us (PLAN carries the
-  solver's wall time, not the whole cycle's; cycles without a solve count
-  as what they spent).
+  solver's time, not the whole cycle's; cycles without a solve count as
+  what they spent; in a lockstep run it is the compute time modelled).
 - solver_failures: PLAN messages with status FALLBACK, STOPPING or RECOVERING
   (no plan met every constraint).
 )";
