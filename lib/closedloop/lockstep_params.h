@@ -3,7 +3,7 @@
 // charged callback_s for every callback and publish_s more when the
 // callback published (HEALTH aside); the planner's PLAN cycles are charged
 // by the planner compute model instead:
-//   fixed:      planner_fixed_s per cycle
+//   fixed:      planner_fixed_s per cycle that solves
 //   iterations: planner_base_s + planner_per_iteration_s x Ceres iterations
 //   measured:   the cycle's steady-clock solve time x planner_measured_scale
 //               (not deterministic: the only model that is not)
