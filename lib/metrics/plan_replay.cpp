@@ -15,12 +15,12 @@ namespace evade::metrics {
 namespace {
 
 template <class Msg, class List, class Count>
-bool strip(std::vector<uint8_t>* data, const std::set<int64_t>& removed, List Msg::*list, Count Msg::*count) {
+bool strip(std::vector<uint8_t>* data, const TrackFilter& remove, List Msg::*list, Count Msg::*count) {
   Msg m;
   if (!bus::decode(data->data(), data->size(), &m)) return true;  // malformed: the core counts it
   auto& items = m.*list;
   const size_t before = items.size();
-  items.erase(std::remove_if(items.begin(), items.end(), [&](const auto& t) { return removed.count(t.id) > 0; }),
+  items.erase(std::remove_if(items.begin(), items.end(), [&](const auto& t) { return remove(m.utime, t.id); }),
               items.end());
   if (items.size() == before) return true;
   m.*count = static_cast<Count>(items.size());
@@ -30,14 +30,17 @@ bool strip(std::vector<uint8_t>* data, const std::set<int64_t>& removed, List Ms
 
 }  // namespace
 
-bool strip_tracks(std::vector<uint8_t>* data, const std::set<int64_t>& removed) {
+bool strip_tracks(std::vector<uint8_t>* data, const TrackFilter& remove) {
   if (is_type<evade::obstacle_list_t>(*data))
-    return removed.empty() ||
-           strip(data, removed, &evade::obstacle_list_t::obstacles, &evade::obstacle_list_t::num_obstacles);
+    return !remove ||
+           strip(data, remove, &evade::obstacle_list_t::obstacles, &evade::obstacle_list_t::num_obstacles);
   if (is_type<evade::prediction_list_t>(*data))
-    return removed.empty() ||
-           strip(data, removed, &evade::prediction_list_t::tracks, &evade::prediction_list_t::num_tracks);
+    return !remove || strip(data, remove, &evade::prediction_list_t::tracks, &evade::prediction_list_t::num_tracks);
   return false;
+}
+
+bool strip_tracks(std::vector<uint8_t>* data, const std::set<int64_t>& removed) {
+  return strip_tracks(data, [&](int64_t, int64_t id) { return removed.count(id) > 0; });
 }
 
 double plan_distance_m(const evade::plan_t& a, const evade::plan_t& b) {
@@ -55,8 +58,7 @@ PlanReplay::PlanReplay(planning::PlannerParams params, const std::vector<bus::Lo
     if (std::find(channels.begin(), channels.end(), e.channel) != channels.end()) inputs_.push_back(e);
 }
 
-void PlanReplay::run(const std::set<int64_t>& removed,
-                     const std::function<bool(const evade::plan_t&)>& on_plan) const {
+void PlanReplay::run(const TrackFilter& remove, const std::function<bool(const evade::plan_t&)>& on_plan) const {
   planning::PlannerCore core(params_);
   core.set_measure_latency(false);
   bus::MemoryBus bus;
@@ -64,7 +66,7 @@ void PlanReplay::run(const std::set<int64_t>& removed,
   std::vector<uint8_t> data;
   for (const auto& e : inputs_) {
     data = e.data;
-    strip_tracks(&data, removed);
+    strip_tracks(&data, remove);
     bus.inject(e.channel, data, e.timestamp);
     for (const auto& out : bus.take_published()) {
       if (out.channel != "PLAN") continue;
@@ -76,7 +78,7 @@ void PlanReplay::run(const std::set<int64_t>& removed,
 
 std::vector<evade::plan_t> PlanReplay::plans() const {
   std::vector<evade::plan_t> out;
-  run({}, [&](const evade::plan_t& p) {
+  run(nullptr, [&](const evade::plan_t& p) {
     out.push_back(p);
     return true;
   });

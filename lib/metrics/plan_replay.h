@@ -20,15 +20,18 @@
 
 namespace evade::metrics {
 
+// Whether to leave track `id` out of a message whose utime is `utime`.
+using TrackFilter = std::function<bool(int64_t utime, int64_t id)>;
+
 class PlanReplay {
  public:
   // `log`: the run log (every channel; only the planner's inputs are kept).
   PlanReplay(planning::PlannerParams params, const std::vector<bus::LogEvent>& log);
 
-  // Runs a fresh planner over the inputs with the tracks `removed` left out
-  // and calls on_plan with each PLAN it publishes, in order, until on_plan
-  // returns false or the inputs end.
-  void run(const std::set<int64_t>& removed, const std::function<bool(const evade::plan_t&)>& on_plan) const;
+  // Runs a fresh planner over the inputs with the tracks `remove` picks
+  // left out (none when empty) and calls on_plan with each PLAN it
+  // publishes, in order, until on_plan returns false or the inputs end.
+  void run(const TrackFilter& remove, const std::function<bool(const evade::plan_t&)>& on_plan) const;
   // Every PLAN of a run with nothing removed.
   std::vector<evade::plan_t> plans() const;
 
@@ -37,9 +40,12 @@ class PlanReplay {
   std::vector<bus::LogEvent> inputs_;
 };
 
-// Leaves the tracks `removed` out of an obstacle_list_t or prediction_list_t
-// message (recognised by its type fingerprint); other bytes come back as
-// they are. Returns true when the message is of one of those types.
+// Leaves the tracks `remove` picks (by the message's utime and their id)
+// out of an obstacle_list_t or prediction_list_t message (recognised by
+// its type fingerprint); other bytes come back as they are. Returns true
+// when the message is of one of those types.
+bool strip_tracks(std::vector<uint8_t>* data, const TrackFilter& remove);
+// The same for a fixed set of ids.
 bool strip_tracks(std::vector<uint8_t>* data, const std::set<int64_t>& removed);
 
 // Largest distance between the planned positions of two plans at the same

@@ -29,7 +29,8 @@ class PlanIndex {
 }  // namespace
 
 ReplayCheck counterfactual_reactions(const PlanReplay& replay, const std::vector<evade::plan_t>& recorded,
-                                     double threshold_m, std::vector<ObstacleReaction>* obstacles) {
+                                     const TrackOwners& owners, double threshold_m,
+                                     std::vector<ObstacleReaction>* obstacles) {
   const std::vector<evade::plan_t> reference = replay.plans();
   ReplayCheck check;
   {
@@ -46,7 +47,8 @@ ReplayCheck counterfactual_reactions(const PlanReplay& replay, const std::vector
   for (auto& o : *obstacles) {
     if (o.tracks.empty()) continue;
     PlanIndex index(reference);
-    replay.run(o.tracks, [&](const evade::plan_t& p) {
+    const auto is_it = [&](int64_t utime, int64_t id) { return owners.owner(id, utime) == o.obstacle_id; };
+    replay.run(is_it, [&](const evade::plan_t& p) {
       if (p.utime > o.t_leave_utime) return false;
       const evade::plan_t* ref = index.next(p);
       if (!ref || plan_distance_m(p, *ref) <= threshold_m) return true;

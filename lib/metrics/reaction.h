@@ -10,6 +10,7 @@
 
 #include "evade/plan_t.hpp"
 #include "metrics/plan_replay.h"
+#include "metrics/track_association.h"
 
 namespace evade::metrics {
 
@@ -17,7 +18,7 @@ struct ObstacleReaction {
   int obstacle_id = 0;
   int64_t t_enter_utime = 0;  // it entered the local map
   int64_t t_leave_utime = 0;  // it was last inside the local map
-  std::set<int64_t> tracks;   // perception tracks that are it (track_association.h)
+  std::set<int64_t> tracks;   // perception tracks that were it at some time (track_association.h)
   // utime of the first plan that differs without it: at all, and in
   // [t_enter, t_leave] (the reaction)
   std::optional<int64_t> t_change_utime;
@@ -32,13 +33,15 @@ struct ReplayCheck {
 };
 
 // Replays the planner once with nothing removed (the reference, compared
-// with `recorded` for the check), then once per obstacle with tracks and
-// with its tracks removed, up to its first plan in [t_enter, t_leave] whose
+// with `recorded` for the check), then once per obstacle with tracks, each
+// of its tracks removed from the messages of the times it was the obstacle
+// (`owners`), up to its first plan in [t_enter, t_leave] whose
 // plan_distance_m from the reference plan of the same cycle exceeds
 // threshold_m (-> t_react_utime; the first such plan at any time ->
 // t_change_utime). Plans are matched by utime and, for several plans from
 // one odometry utime, their order.
 ReplayCheck counterfactual_reactions(const PlanReplay& replay, const std::vector<evade::plan_t>& recorded,
-                                     double threshold_m, std::vector<ObstacleReaction>* obstacles);
+                                     const TrackOwners& owners, double threshold_m,
+                                     std::vector<ObstacleReaction>* obstacles);
 
 }  // namespace evade::metrics

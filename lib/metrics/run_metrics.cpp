@@ -51,13 +51,16 @@ const char* metrics_rules() {
   while it moves. Its perception tracks: every track in every
   obstacle_list_t and prediction_list_t message of the log votes, per
   message, for the true obstacle whose shape (surface; 0 inside) is
-  nearest its centre, if within react_match_radius_m; a track is the
-  obstacle it voted for most. The planner core is then run again over the
+  nearest its centre, or for none if that is farther than
+  react_match_radius_m. Its first vote makes its owner; another takes over
+  once it has had all its votes for react_owner_switch_s, from the first
+  of them (a walker's track can stay on the bin it passed, two walkers'
+  tracks can swap). The planner core is then run again over the
   log's recorded inputs (the channels it subscribes to, at their logged
   times, latency measurement off, the run's planner config, the mode of
   the log's PLAN): once as recorded (the reference) and once per obstacle
   with its tracks removed from every obstacle_list_t and prediction_list_t
-  message. A plan differs when its positions and the reference plan's of
+  message of a time when they were the obstacle. A plan differs when its positions and the reference plan's of
   the same cycle (same odometry utime) are more than react_plan_diff_m
   apart at some step of the horizon. t_react = the utime of the first
   cycle from t_enter to t_leave (the last time the obstacle is inside the
@@ -91,6 +94,7 @@ MetricsParams MetricsParams::from_config(const config::Node& s) {
   p.motion_threshold_mps = s.get_positive("motion_threshold_mps");
   p.dynamic_speed_threshold_mps = s.get_positive("dynamic_speed_threshold_mps");
   p.react_match_radius_m = s.get_positive("react_match_radius_m");
+  p.react_owner_switch_s = s.get_positive("react_owner_switch_s");
   p.react_plan_diff_m = s.get_positive("react_plan_diff_m");
   p.fault_approach_speed_mps = s.get_positive("fault_approach_speed_mps");
   s.close();
@@ -274,7 +278,7 @@ void reaction_metrics(const std::vector<bus::LogEvent>& events, const Decoded& d
   } catch (const std::exception&) {
     throw std::runtime_error("PLAN.mode \"" + m->mode + "\" is not a planner mode of this build");
   }
-  const auto owners = associate_tracks(events, d.truth, params.react_match_radius_m);
+  const auto owners = associate_tracks(events, d.truth, params.react_match_radius_m, params.react_owner_switch_s);
   const int64_t t0 = d.truth.front().utime;
   std::vector<ObstacleReaction> reactions;
   for (const auto& tr : m->obstacles) {
@@ -283,12 +287,11 @@ void reaction_metrics(const std::vector<bus::LogEvent>& events, const Decoded& d
     r.obstacle_id = tr.id;
     r.t_enter_utime = t0 + std::llround(*tr.t_enter_s * 1e6);
     r.t_leave_utime = t0 + std::llround(*tr.t_leave_s * 1e6);
-    for (const auto& [track, owner] : owners)
-      if (owner == tr.id) r.tracks.insert(track);
+    r.tracks = owners.tracks_of(tr.id);
     reactions.push_back(r);
   }
-  m->replay_check = counterfactual_reactions(PlanReplay(planner, events), d.plans, params.react_plan_diff_m,
-                                             &reactions);
+  m->replay_check = counterfactual_reactions(PlanReplay(planner, events), d.plans, owners,
+                                             params.react_plan_diff_m, &reactions);
   double sum = 0;
   int n = 0;
   for (const auto& r : reactions) {

@@ -23,6 +23,7 @@ struct MetricsParams {
   double motion_threshold_mps = 0.02;
   double dynamic_speed_threshold_mps = 0.05;
   double react_match_radius_m = 1.0;
+  double react_owner_switch_s = 0.5;
   double react_plan_diff_m = 0.1;
   double fault_approach_speed_mps = 0.1;
   static MetricsParams from_config(const config::Node& section);

@@ -21,13 +21,14 @@ double distance_to_shape(const evade::sim_obstacle_t& o, Vec2 p) {
 
 class Voter {
  public:
-  Voter(const std::vector<evade::sim_truth_t>& truth, double radius_m) : truth_(truth), radius_m_(radius_m) {}
+  Voter(const std::vector<evade::sim_truth_t>& truth, double radius_m, double switch_s)
+      : truth_(truth), radius_m_(radius_m), switch_us_(std::llround(switch_s * 1e6)) {}
 
   void vote(int64_t utime, int64_t track, Vec2 centre) {
     auto it = std::lower_bound(truth_.begin(), truth_.end(), utime,
                                [](const evade::sim_truth_t& t, int64_t u) { return t.utime < u; });
     if (it == truth_.end()) return;
-    int best = -1;
+    int best = TrackOwners::kNone;
     double best_d = std::numeric_limits<double>::infinity();
     for (const auto& o : it->obstacles) {
       const double d = distance_to_shape(o, centre);
@@ -36,34 +37,73 @@ class Voter {
         best = o.id;
       }
     }
-    if (best >= 0 && best_d <= radius_m_) ++votes_[track][best];
+    if (best_d > radius_m_) best = TrackOwners::kNone;
+    update(track, utime, best);
   }
 
-  std::map<int64_t, int> owners() const {
-    std::map<int64_t, int> out;
-    for (const auto& [track, by_obstacle] : votes_) {
-      int best = -1, n = 0;
-      for (const auto& [obstacle, count] : by_obstacle)  // ascending ids: ties keep the lower
-        if (count > n) {
-          n = count;
-          best = obstacle;
-        }
-      out[track] = best;
-    }
+  TrackOwners owners() {
+    TrackOwners out;
+    for (auto& [track, s] : state_) out.timelines[track] = std::move(s.timeline);
     return out;
   }
 
  private:
+  struct State {
+    TrackOwners::Timeline timeline;
+    int candidate = TrackOwners::kNone;
+    int64_t candidate_since = -1;  // -1: no candidate
+  };
+
+  void update(int64_t track, int64_t utime, int nearest) {
+    State& s = state_[track];
+    if (s.timeline.empty()) {
+      s.timeline.push_back({utime, nearest});
+      return;
+    }
+    if (nearest == s.timeline.back().second) {
+      s.candidate_since = -1;
+      return;
+    }
+    if (s.candidate_since < 0 || s.candidate != nearest) {
+      s.candidate = nearest;
+      s.candidate_since = utime;
+    }
+    if (utime - s.candidate_since >= switch_us_) {
+      s.timeline.push_back({s.candidate_since, nearest});
+      s.candidate_since = -1;
+    }
+  }
+
   const std::vector<evade::sim_truth_t>& truth_;
   double radius_m_;
-  std::map<int64_t, std::map<int, int>> votes_;
+  int64_t switch_us_;
+  std::map<int64_t, State> state_;
 };
 
 }  // namespace
 
-std::map<int64_t, int> associate_tracks(const std::vector<bus::LogEvent>& log,
-                                        const std::vector<evade::sim_truth_t>& truth, double radius_m) {
-  Voter voter(truth, radius_m);
+int TrackOwners::owner(int64_t track, int64_t utime) const {
+  auto it = timelines.find(track);
+  if (it == timelines.end()) return kNone;
+  int who = kNone;
+  for (const auto& [from, o] : it->second) {
+    if (from > utime) break;
+    who = o;
+  }
+  return who;
+}
+
+std::set<int64_t> TrackOwners::tracks_of(int obstacle) const {
+  std::set<int64_t> out;
+  for (const auto& [track, timeline] : timelines)
+    for (const auto& [from, o] : timeline)
+      if (o == obstacle) out.insert(track);
+  return out;
+}
+
+TrackOwners associate_tracks(const std::vector<bus::LogEvent>& log, const std::vector<evade::sim_truth_t>& truth,
+                             double radius_m, double switch_s) {
+  Voter voter(truth, radius_m, switch_s);
   for (const auto& e : log) {
     evade::obstacle_list_t ol;
     evade::prediction_list_t pl;

@@ -155,22 +155,66 @@ const Mover kHeadOn{0, 11, 12.0, 0.0, -1.0, 0.0};
 // oncoming or a slow leader.
 const Mover kAlongside{1, 22, 1.0, 4.6, kRobotSpeed, 0.0};
 
-TEST(TrackAssociation, EachTrackIsTheObstacleItWasNearestMostOften) {
-  auto ev = planner_inputs({kHeadOn, kAlongside}, 2.0);
+std::vector<evade::sim_truth_t> truth_of(const std::vector<bus::LogEvent>& ev) {
   std::vector<evade::sim_truth_t> truth;
   for (const auto& e : ev) {
     evade::sim_truth_t s;
     if (e.channel == "SIM_TRUTH" && bus::decode(e.data.data(), e.data.size(), &s)) truth.push_back(s);
   }
-  auto owners = associate_tracks(ev, truth, 1.0);
-  ASSERT_EQ(owners.size(), 2u);
-  EXPECT_EQ(owners.at(11), 0);
-  EXPECT_EQ(owners.at(22), 1);
+  return truth;
+}
+
+TEST(TrackAssociation, EachTrackIsTheObstacleNearestIt) {
+  auto ev = planner_inputs({kHeadOn, kAlongside}, 2.0);
+  const auto owners = associate_tracks(ev, truth_of(ev), 1.0, 0.5);
+  EXPECT_EQ(owners.timelines.size(), 2u);
+  EXPECT_EQ(owners.owner(11, kT0 + 1'000'000), 0);
+  EXPECT_EQ(owners.owner(22, kT0 + 1'000'000), 1);
+  EXPECT_EQ(owners.owner(33, kT0 + 1'000'000), TrackOwners::kNone);  // never seen
+  EXPECT_EQ(owners.owner(11, kT0 - 1), TrackOwners::kNone);          // before it was seen
+  EXPECT_EQ(owners.tracks_of(0), std::set<int64_t>{11});
+  EXPECT_EQ(owners.tracks_of(1), std::set<int64_t>{22});
   // a track 1.5 m off every obstacle's surface is none of them
   Mover ghost = kAlongside;
   ghost.y0 += 1.75;
   auto ev2 = planner_inputs({ghost}, 1.0);
-  EXPECT_TRUE(associate_tracks(ev2, truth, 1.0).empty());
+  const auto none = associate_tracks(ev2, truth_of(ev), 1.0, 0.5);
+  EXPECT_EQ(none.owner(22, kT0 + 500'000), TrackOwners::kNone);
+  EXPECT_TRUE(none.tracks_of(1).empty());
+}
+
+TEST(TrackAssociation, ATrackHandedOverToAnotherObstacleChangesOwnerFromItsFirstVote) {
+  // Track 11 follows the head-on mover until t = 3 s, then stays on a
+  // static bin at (8, 6); a blip of 0.2 s on the bin at t = 1 s changes
+  // nothing (shorter than switch_s).
+  auto ev = planner_inputs({kHeadOn, Mover{1, 99, 8.0, 6.0, 0.0, 0.0}}, 6.0);
+  for (auto& e : ev) {
+    const double t = (e.timestamp - kT0) * 1e-6;
+    const bool on_bin = t >= 3.0 || (t >= 1.0 && t < 1.2);
+    if (e.channel == "OBSTACLES") {
+      evade::obstacle_list_t ol;
+      ASSERT_TRUE(bus::decode(e.data.data(), e.data.size(), &ol));
+      ol.obstacles.resize(1);  // the bin itself is not reported under its own track
+      ol.num_obstacles = 1;
+      if (on_bin) ol.obstacles[0].x = 8.0, ol.obstacles[0].y = 6.0;
+      e.data = bus::encode(ol);
+    } else if (e.channel == "OBSTACLE_PREDICTIONS") {
+      evade::prediction_list_t pl;
+      ASSERT_TRUE(bus::decode(e.data.data(), e.data.size(), &pl));
+      pl.tracks.resize(1);
+      pl.num_tracks = 1;
+      if (on_bin) pl.tracks[0].x.assign(pl.horizon, 8.0), pl.tracks[0].y.assign(pl.horizon, 6.0);
+      e.data = bus::encode(pl);
+    }
+  }
+  const auto owners = associate_tracks(ev, truth_of(ev), 1.0, 0.5);
+  EXPECT_EQ(owners.owner(11, kT0 + 1'100'000), 0);  // the blip
+  EXPECT_EQ(owners.owner(11, kT0 + 2'900'000), 0);
+  EXPECT_EQ(owners.owner(11, kT0 + 3'000'000), 1);  // from the first vote for the bin
+  EXPECT_EQ(owners.owner(11, kT0 + 5'000'000), 1);
+  EXPECT_EQ(owners.tracks_of(0), std::set<int64_t>{11});
+  EXPECT_EQ(owners.tracks_of(1), std::set<int64_t>{11});
+  ASSERT_EQ(owners.timelines.at(11).size(), 2u);
 }
 
 TEST(PlanReplay, StripTracksLeavesOutTheIdsOfBothListTypesAndNothingElse) {
