@@ -78,6 +78,10 @@ const char* metrics_rules() {
   first 9 recorded plans were NO_ROUTE: the planner missed the first
   ROUTE, which the logger heard; from the 13th plan on the replay agreed
   within 1 um). A lockstep run's replay agrees with all of them exactly.
+  With --no-reaction the replay is skipped and reaction_time_s,
+  reaction_missed and reactions are null (the replay's cost grows with
+  the obstacles: about 2 s of CPU for paper_sim, 12 s for a street with
+  ten walkers crossing back and forth).
 - path_length_m: robot path length from first motion to the goal (or end).
 - planner_solve_ms_p50/p99: over PLAN messages with a solve (iterations > 0).
 - planner_cycle_ms_p99: over every PLAN's solve_time_us (PLAN carries the
@@ -382,8 +386,9 @@ std::string metrics_json(const RunMetrics& m) {
   add("min_dist_m", std::isfinite(m.min_dist_m) ? num(m.min_dist_m) : "null");
   add("time_to_goal_s", opt(m.time_to_goal_s));
   add("reaction_time_s", opt(m.reaction_time_s));
-  add("reaction_missed", std::to_string(m.reaction_missed));
-  add("reactions", reactions_json(m.obstacles));
+  const bool reactions = m.replay_check.has_value();  // computed (see compute_metrics)
+  add("reaction_missed", reactions ? std::to_string(m.reaction_missed) : "null");
+  add("reactions", reactions ? reactions_json(m.obstacles) : "null");
   if (m.replay_check) {
     add("replay_plans_compared", std::to_string(m.replay_check->compared));
     add("replay_plans_differing", std::to_string(m.replay_check->differing));

@@ -64,7 +64,7 @@ struct RunMetrics {
   std::optional<double> planner_solve_ms_p99;
   std::optional<double> planner_cycle_ms_p99;
   int solver_failures = 0;
-  std::optional<ReplayCheck> replay_check;  // when reactions were computed
+  std::optional<ReplayCheck> replay_check;  // set when the reactions were computed
   int plans = 0;
   double duration_s = 0.0;  // SIM_TRUTH span
   double scenario_duration_s = 0.0;  // the scenario's time limit

@@ -1,4 +1,4 @@
-// metrics LOG [--out metrics.json] [--plot trajectory.png] [--config robot.yaml]
+// metrics LOG [--out metrics.json] [--plot trajectory.png] [--config robot.yaml] [--no-reaction]
 // metrics --table MODE=LOG [MODE=LOG ...]   (the paper's Table I beside ours)
 #include <CLI/CLI.hpp>
 
@@ -97,6 +97,9 @@ int main(int argc, char** argv) {
                  "the run's robot configuration (sections metrics: and planner:; default config/robot.yaml, and "
                  "with --table the robot.yaml beside each log when there is one)");
   app.add_option("--table", table, "MODE=LOG pairs: print Table I for these runs beside the paper's");
+  bool no_reaction = false;
+  app.add_flag("--no-reaction", no_reaction,
+               "skip the counterfactual planner replay: no reaction times (the costly part; see below)");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -109,7 +112,8 @@ int main(int argc, char** argv) {
       return 2;
     }
     const Params params = load_params(config_path.empty() ? evade::config::default_config_path() : config_path);
-    auto m = evade::metrics::compute_metrics(evade::bus::read_log(log), params.metrics, &params.planner);
+    auto m = evade::metrics::compute_metrics(evade::bus::read_log(log), params.metrics,
+                                             no_reaction ? nullptr : &params.planner);
     std::string json = evade::metrics::metrics_json(m);
     std::fputs(json.c_str(), stdout);
     if (!out.empty()) {
