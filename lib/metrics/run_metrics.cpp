@@ -299,7 +299,8 @@ void reaction_metrics(const std::vector<bus::LogEvent>& events, const Decoded& d
   double sum = 0;
   int n = 0;
   for (const auto& r : reactions) {
-    auto& tr = *std::find_if(m->obstacles.begin(), m->obstacles.end(), [&](const auto& o) { return o.id == r.obstacle_id; });
+    auto& tr =
+        *std::find_if(m->obstacles.begin(), m->obstacles.end(), [&](const auto& o) { return o.id == r.obstacle_id; });
     tr.tracks.assign(r.tracks.begin(), r.tracks.end());
     if (r.t_change_utime) tr.t_change_s = (*r.t_change_utime - t0) * 1e-6;
     if (!r.t_react_utime) {

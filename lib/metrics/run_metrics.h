@@ -36,11 +36,11 @@ struct ObstacleTrack {
   bool dynamic = false;
   std::vector<Vec2> path;        // centre per SIM_TRUTH sample
   std::vector<double> yaw;
-  std::optional<double> t_enter_s;  // since the first SIM_TRUTH: first inside the local map, moving
-  std::optional<double> t_leave_s;  // last inside the local map, moving
+  std::optional<double> t_enter_s;   // since the first SIM_TRUTH: first inside the local map, moving
+  std::optional<double> t_leave_s;   // last inside the local map, moving
   std::optional<double> t_change_s;  // first plan that differs without it (reaction rule), at any time
   std::optional<double> t_react_s;   // ... in [t_enter_s, t_leave_s]
-  std::vector<int64_t> tracks;      // perception tracks that are it (when reactions were computed)
+  std::vector<int64_t> tracks;       // perception tracks that were it at some time (when reactions were computed)
 };
 
 struct RunMetrics {

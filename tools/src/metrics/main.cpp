@@ -62,8 +62,8 @@ void print_table(const std::vector<std::string>& pairs, const std::string& confi
               "reaction (s)", "speed var", "contacts");
   std::printf("%-18s | %-22s | %-14s | %-14s | %-16s | %s\n", "", "evade / paper", "evade / paper", "evade / paper",
               "evade / paper", "(at fault)");
-  std::printf(
-      "-------------------+------------------------+----------------+----------------+------------------+-----------\n");
+  std::printf("-------------------+------------------------+----------------+----------------+------------------+");
+  std::printf("-----------\n");
   for (const auto& pair : pairs) {
     auto eq = pair.find('=');
     if (eq == std::string::npos) throw std::runtime_error("--table takes MODE=LOG, got " + pair);
