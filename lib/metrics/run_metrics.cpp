@@ -73,11 +73,15 @@ const char* metrics_rules() {
   replay_plans_compared / _differing / replay_max_plan_diff_m: how the
   reference replay agrees with the recorded PLANs. The counterfactual is
   compared with the reference, not with the recorded plans, which need
-  not agree: a live planner hears its inputs when LCM delivers them, not
-  when the logger did, and may miss some (on a live paper_sim run the
-  first 9 recorded plans were NO_ROUTE: the planner missed the first
-  ROUTE, which the logger heard; from the 13th plan on the replay agreed
-  within 1 um). A lockstep run's replay agrees with all of them exactly.
+  not agree: the replay delivers every input at its logged time and
+  charges the planner no compute time, while the recorded planner
+  (live or lockstep) was busy for its solve and, after one longer than
+  the planner period, handled only the newest of the ODOMETRY and
+  OBSTACLE_PREDICTIONS that came meanwhile (a lockstep crowd run: a
+  106 ms cycle, the next plan made with older predictions than the
+  replay's; 2 of 269 plans differed by more than react_plan_diff_m). A
+  live run's planner may also miss messages the logger heard (a live
+  paper_sim run: the first 9 plans NO_ROUTE, the first ROUTE missed).
   With --no-reaction the replay is skipped and reaction_time_s,
   reaction_missed and reactions are null (the replay's cost grows with
   the obstacles: about 2 s of CPU for paper_sim, 12 s for a street with
