@@ -2,16 +2,25 @@
 // some perception tracks left out: the counterfactual behind the reaction
 // time (metrics_rules()).
 //
-// The planner core is built from PlannerParams and fed, at their logged
-// times, the logged messages of every channel it subscribes to (whatever
-// those are: the core says). Tracks are left out of every message whose
-// type is obstacle_list_t or prediction_list_t, on any channel. Latency
-// measurement is off, so a replay is deterministic.
+// The planner core is built from PlannerParams and fed the logged messages
+// of every channel it subscribes to (whatever those are: the core says),
+// each when it arrived (its logged time), as the recorded planner was:
+// a planning cycle keeps it busy for the compute time
+// base_us + per_iteration_us * (its Ceres iterations), fitted by least
+// squares to the log's PLANs (solve_time_us against iterations, those
+// with solve_time_us > 0: exact for a lockstep run's iterations model);
+// what arrives meanwhile waits, and of each channel only the newest
+// waiting message is kept (as the planner process and lib/closedloop
+// conflate its inputs). Tracks are left out of every message whose type
+// is obstacle_list_t or prediction_list_t, on any channel. Latency
+// measurement is off and the compute time modelled, so a replay is
+// deterministic.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "bus/log.h"
@@ -28,6 +37,12 @@ class PlanReplay {
   // `log`: the run log (every channel; only the planner's inputs are kept).
   PlanReplay(planning::PlannerParams params, const std::vector<bus::LogEvent>& log);
 
+  struct ComputeModel {
+    double base_us = 0.0;
+    double per_iteration_us = 0.0;
+  };
+  const ComputeModel& compute_model() const { return model_; }
+
   // Runs a fresh planner over the inputs with the tracks `remove` picks
   // left out (none when empty) and calls on_plan with each PLAN it
   // publishes, in order, until on_plan returns false or the inputs end.
@@ -38,6 +53,8 @@ class PlanReplay {
  private:
   planning::PlannerParams params_;
   std::vector<bus::LogEvent> inputs_;
+  std::set<std::string> channels_;
+  ComputeModel model_;
 };
 
 // Leaves the tracks `remove` picks (by the message's utime and their id)

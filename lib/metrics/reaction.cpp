@@ -49,7 +49,7 @@ ReplayCheck counterfactual_reactions(const PlanReplay& replay, const std::vector
     PlanIndex index(reference);
     const auto is_it = [&](int64_t utime, int64_t id) { return owners.owner(id, utime) == o.obstacle_id; };
     replay.run(is_it, [&](const evade::plan_t& p) {
-      if (p.utime > o.t_leave_utime) return false;
+      if (p.utime > o.t_until_utime) return false;
       const evade::plan_t* ref = index.next(p);
       if (!ref || plan_distance_m(p, *ref) <= threshold_m) return true;
       if (!o.t_change_utime) o.t_change_utime = p.utime;

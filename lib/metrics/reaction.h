@@ -17,10 +17,10 @@ namespace evade::metrics {
 struct ObstacleReaction {
   int obstacle_id = 0;
   int64_t t_enter_utime = 0;  // it entered the local map
-  int64_t t_leave_utime = 0;  // it was last inside the local map
+  int64_t t_until_utime = 0;  // the last plan time a reaction counts (it left the local map, or gave up)
   std::set<int64_t> tracks;   // perception tracks that were it at some time (track_association.h)
   // utime of the first plan that differs without it: at all, and in
-  // [t_enter, t_leave] (the reaction)
+  // [t_enter, t_until] (the reaction)
   std::optional<int64_t> t_change_utime;
   std::optional<int64_t> t_react_utime;
 };
@@ -35,7 +35,7 @@ struct ReplayCheck {
 // Replays the planner once with nothing removed (the reference, compared
 // with `recorded` for the check), then once per obstacle with tracks, each
 // of its tracks removed from the messages of the times it was the obstacle
-// (`owners`), up to its first plan in [t_enter, t_leave] whose
+// (`owners`), up to its first plan in [t_enter, t_until] whose
 // plan_distance_m from the reference plan of the same cycle exceeds
 // threshold_m (-> t_react_utime; the first such plan at any time ->
 // t_change_utime). Plans are matched by utime and, for several plans from

@@ -48,44 +48,45 @@ const char* metrics_rules() {
   moving dynamic obstacle's centre is inside the local map.
 - reaction_time_s, the same rule for every planner mode: for each dynamic
   obstacle, t_enter = the first time its centre is inside the local map
-  while it moves. Its perception tracks: every track in every
-  obstacle_list_t and prediction_list_t message of the log votes, per
-  message, for the true obstacle whose shape (surface; 0 inside) is
+  while it moves, t_leave the last. Its perception tracks: every track in
+  every obstacle_list_t and prediction_list_t message of the log votes,
+  per message, for the true obstacle whose shape (surface; 0 inside) is
   nearest its centre, or for none if that is farther than
   react_match_radius_m. Its first vote makes its owner; another takes over
   once it has had all its votes for react_owner_switch_s, from the first
   of them (a walker's track can stay on the bin it passed, two walkers'
-  tracks can swap). The planner core is then run again over the
-  log's recorded inputs (the channels it subscribes to, at their logged
-  times, latency measurement off, the run's planner config, the mode of
-  the log's PLAN): once as recorded (the reference) and once per obstacle
-  with its tracks removed from every obstacle_list_t and prediction_list_t
-  message of a time when they were the obstacle. A plan differs when its positions and the reference plan's of
+  tracks can swap). The planner core is then run again over the log's
+  recorded inputs (the channels it subscribes to, each message when it
+  arrived; the run's planner config, the mode of the log's PLAN, latency
+  measurement off): once as recorded (the reference) and once per
+  obstacle with its tracks removed from every obstacle_list_t and
+  prediction_list_t message of a time when they were the obstacle. As the
+  recorded planner, the replayed one is busy during a planning cycle, for
+  base + per_iteration x (its Ceres iterations) fitted by least squares
+  to the log's PLANs (solve_time_us > 0; exact for a lockstep run), and
+  of what arrives meanwhile it handles only the newest message of each
+  channel. A plan differs when its positions and the reference plan's of
   the same cycle (same odometry utime) are more than react_plan_diff_m
   apart at some step of the horizon. t_react = the utime of the first
-  cycle from t_enter to t_leave (the last time the obstacle is inside the
-  local map while it moves) whose plan differs; t_change = the first
-  whose plan differs at all (before t_enter when the planner saw it
-  earlier than the paper's window would let it). reaction_time_s: the
-  mean of t_react - t_enter over obstacles that got one; the others (never
-  changed a plan, or never tracked) are counted in reaction_missed.
-  `reactions` lists each obstacle's figures.
+  cycle from t_enter to t_until = min(t_leave, t_enter + react_max_s)
+  whose plan differs; t_change = the first up to t_until whose plan
+  differs (before t_enter when the planner saw the obstacle earlier than
+  the paper's window would let it). reaction_time_s: the mean of
+  t_react - t_enter over obstacles that got one; the others (no change,
+  or never tracked) are counted in reaction_missed. `reactions` lists
+  each obstacle's figures.
   replay_plans_compared / _differing / replay_max_plan_diff_m: how the
-  reference replay agrees with the recorded PLANs. The counterfactual is
-  compared with the reference, not with the recorded plans, which need
-  not agree: the replay delivers every input at its logged time and
-  charges the planner no compute time, while the recorded planner
-  (live or lockstep) was busy for its solve and, after one longer than
-  the planner period, handled only the newest of the ODOMETRY and
-  OBSTACLE_PREDICTIONS that came meanwhile (a lockstep crowd run: a
-  106 ms cycle, the next plan made with older predictions than the
-  replay's; 2 of 269 plans differed by more than react_plan_diff_m). A
-  live run's planner may also miss messages the logger heard (a live
-  paper_sim run: the first 9 plans NO_ROUTE, the first ROUTE missed).
+  reference replay agrees with the recorded PLANs; the counterfactual is
+  compared with the reference, not with the recorded plans. Lockstep runs
+  (paper_sim, generated crowd and doorway scenes, a ten-walker street)
+  agreed exactly; without the compute time a long cycle (106 ms) made the
+  recorded planner skip predictions that the replay used, and 2-9 plans
+  of 270-740 differed. A live run's planner may also miss messages the
+  logger heard (a live paper_sim run: its first 9 plans were NO_ROUTE, it
+  missed the first ROUTE) and its solve times are noisy.
   With --no-reaction the replay is skipped and reaction_time_s,
-  reaction_missed and reactions are null (the replay's cost grows with
-  the obstacles: about 2 s of CPU for paper_sim, 12 s for a street with
-  ten walkers crossing back and forth).
+  reaction_missed and reactions are null. The replay's cost grows with
+  the obstacles and the run's length: about 2 s of CPU for paper_sim.
 - path_length_m: robot path length from first motion to the goal (or end).
 - planner_solve_ms_p50/p99: over PLAN messages with a solve (iterations > 0).
 - planner_cycle_ms_p99: over every PLAN's solve_time_us (PLAN carries the
@@ -104,6 +105,7 @@ MetricsParams MetricsParams::from_config(const config::Node& s) {
   p.react_match_radius_m = s.get_positive("react_match_radius_m");
   p.react_owner_switch_s = s.get_positive("react_owner_switch_s");
   p.react_plan_diff_m = s.get_positive("react_plan_diff_m");
+  p.react_max_s = s.get_positive("react_max_s");
   p.fault_approach_speed_mps = s.get_positive("fault_approach_speed_mps");
   s.close();
   return p;
@@ -294,7 +296,7 @@ void reaction_metrics(const std::vector<bus::LogEvent>& events, const Decoded& d
     ObstacleReaction r;
     r.obstacle_id = tr.id;
     r.t_enter_utime = t0 + std::llround(*tr.t_enter_s * 1e6);
-    r.t_leave_utime = t0 + std::llround(*tr.t_leave_s * 1e6);
+    r.t_until_utime = t0 + std::llround(std::min(*tr.t_leave_s, *tr.t_enter_s + params.react_max_s) * 1e6);
     r.tracks = owners.tracks_of(tr.id);
     reactions.push_back(r);
   }

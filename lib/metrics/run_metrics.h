@@ -25,6 +25,7 @@ struct MetricsParams {
   double react_match_radius_m = 1.0;
   double react_owner_switch_s = 0.5;
   double react_plan_diff_m = 0.1;
+  double react_max_s = 10.0;
   double fault_approach_speed_mps = 0.1;
   static MetricsParams from_config(const config::Node& section);
 };
@@ -39,7 +40,7 @@ struct ObstacleTrack {
   std::optional<double> t_enter_s;   // since the first SIM_TRUTH: first inside the local map, moving
   std::optional<double> t_leave_s;   // last inside the local map, moving
   std::optional<double> t_change_s;  // first plan that differs without it (reaction rule), at any time
-  std::optional<double> t_react_s;   // ... in [t_enter_s, t_leave_s]
+  std::optional<double> t_react_s;   // ... in [t_enter_s, min(t_leave_s, t_enter_s + react_max_s)]
   std::vector<int64_t> tracks;       // perception tracks that were it at some time (when reactions were computed)
 };
 

@@ -238,6 +238,37 @@ TEST(PlanReplay, StripTracksLeavesOutTheIdsOfBothListTypesAndNothingElse) {
   EXPECT_EQ(o2.obstacles[0].id, 22);
 }
 
+TEST(PlanReplay, APlanningCycleKeepsThePlannerBusyForTheLogsComputeTime) {
+  const auto planner = planning::PlannerParams::from_config(repo_config());
+  const auto inputs = planner_inputs({kAlongside}, 3.0);
+  const PlanReplay instant(planner, inputs);  // no PLAN in the log: no compute time
+  EXPECT_EQ(instant.compute_model().base_us, 0.0);
+  const auto fast = instant.plans();
+  EXPECT_GE(fast.size(), 30u);  // 10 Hz for 3 s
+  // recorded PLANs saying 10 iterations took 250 ms and 20 took 350 ms:
+  // 150 ms + 10 ms per iteration, longer than the 100 ms period
+  auto slow_log = inputs;
+  for (int it : {10, 20}) {
+    evade::plan_t p{};
+    p.utime = kT0;
+    p.iterations = it;
+    p.solve_time_us = 150'000 + 10'000 * it;
+    slow_log.push_back({kT0, "PLAN", bus::encode(p)});
+  }
+  const PlanReplay slow(planner, slow_log);
+  EXPECT_NEAR(slow.compute_model().base_us, 150'000, 1e-6);
+  EXPECT_NEAR(slow.compute_model().per_iteration_us, 10'000, 1e-9);
+  const auto plans = slow.plans();
+  EXPECT_LT(plans.size(), fast.size() * 3 / 4);  // a cycle every 160-180 ms instead of 100
+  for (size_t i = 0; i + 1 < plans.size(); ++i) {
+    if (plans[i].status != evade::plan_t::STATUS_OK) continue;
+    EXPECT_EQ(plans[i].solve_time_us, 150'000 + 10'000 * plans[i].iterations);
+    // the next plan starts from the newest odometry that came while it was
+    // busy (ODOMETRY every 20 ms)
+    EXPECT_GE(plans[i + 1].utime - plans[i].utime, plans[i].solve_time_us - 20'000) << i;
+  }
+}
+
 TEST(Reaction, AHeadOnMoverIsReactedToAndOneAlongsideIsNot) {
   const auto planner = planning::PlannerParams::from_config(repo_config());
   const auto ev = recorded_run({kHeadOn, kAlongside}, 6.0, planner);
