@@ -11,7 +11,7 @@
 // - each process runs one callback at a time and is charged a compute time
 //   (LockstepParams; ProcessNode): its outputs leave when that time has
 //   passed, and what arrives meanwhile waits (the planner conflates
-//   ODOMETRY, OBSTACLE_PREDICTIONS and ROUTE, as procs/planner does);
+//   PlannerCore::conflated_inputs(), as procs/planner does);
 // - LiDAR packets reach the driver udp_latency_s after the simulator makes
 //   them; Scout frames cross an emulated UART at its baud rate, both ways.
 // Everything but the planner's `measured` compute model is deterministic:

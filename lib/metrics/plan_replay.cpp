@@ -113,6 +113,8 @@ void PlanReplay::run(const TrackFilter& remove, const std::function<bool(const e
     free_at = t + busy_us;
   };
   std::deque<const bus::LogEvent*> waiting;
+  const auto conflated_list = planning::PlannerCore::conflated_inputs();
+  const std::set<std::string> conflated(conflated_list.begin(), conflated_list.end());
   auto run_waiting_until = [&](int64_t t) {
     while (!stop && !waiting.empty() && free_at <= t) {
       const bus::LogEvent* w = waiting.front();
@@ -128,8 +130,10 @@ void PlanReplay::run(const TrackFilter& remove, const std::function<bool(const e
       if (stop) return;
       continue;
     }
-    waiting.erase(std::remove_if(waiting.begin(), waiting.end(), [&](const bus::LogEvent* w) { return w->channel == e.channel; }),
-                  waiting.end());
+    if (conflated.count(e.channel)) {
+      auto same = [&](const bus::LogEvent* w) { return w->channel == e.channel; };
+      waiting.erase(std::remove_if(waiting.begin(), waiting.end(), same), waiting.end());
+    }
     waiting.push_back(&e);
   }
   run_waiting_until(std::numeric_limits<int64_t>::max());

@@ -9,9 +9,9 @@
 // base_us + per_iteration_us * (its Ceres iterations), fitted by least
 // squares to the log's PLANs (solve_time_us against iterations, those
 // with solve_time_us > 0: exact for a lockstep run's iterations model);
-// what arrives meanwhile waits, and of each channel only the newest
-// waiting message is kept (as the planner process and lib/closedloop
-// conflate its inputs). Tracks are left out of every message whose type
+// what arrives meanwhile waits, and of each channel in
+// PlannerCore::conflated_inputs() only the newest waiting message is kept
+// (as the planner process and lib/closedloop do). Tracks are left out of every message whose type
 // is obstacle_list_t or prediction_list_t, on any channel. Latency
 // measurement is off and the compute time modelled, so a replay is
 // deterministic.

@@ -65,7 +65,7 @@ const char* metrics_rules() {
   base + per_iteration x (its Ceres iterations) fitted by least squares
   to the log's PLANs (solve_time_us > 0; exact for a lockstep run), and
   of what arrives meanwhile it handles only the newest message of each
-  channel. A plan differs when its positions and the reference plan's of
+  channel it conflates (PlannerCore::conflated_inputs()). A plan differs when its positions and the reference plan's of
   the same cycle (same odometry utime) are more than react_plan_diff_m
   apart at some step of the horizon. t_react = the utime of the first
   cycle from t_enter to t_until = min(t_leave, t_enter + react_max_s)
