@@ -55,6 +55,12 @@ TEST(BenchmarkTool, RunsEveryEpisodeAndKeepsOnlyFailedLogs) {
   ASSERT_EQ(run(benchmark(out, "--families crossing,headon --episodes 3 --modes evade,mpc --seed-base 5 --jobs 2")), 0);
   auto rows = read_results((out / "results.jsonl").string());
   ASSERT_EQ(rows.size(), 12u);
+  // In the order of the jobs: family, then seed, then mode.
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].id.family, i < 6 ? "crossing" : "headon") << i;
+    EXPECT_EQ(rows[i].id.seed, static_cast<int64_t>(5 + (i % 6) / 2)) << i;
+    EXPECT_EQ(rows[i].id.mode, i % 2 == 0 ? "evade" : "mpc") << i;
+  }
   std::set<std::string> seen;
   std::map<std::pair<std::string, int64_t>, std::set<std::string>> hashes;
   for (const Episode& e : rows) {
