@@ -130,7 +130,7 @@ void ClosedLoop::Impl::wire_devices(int baud_rate) {
 void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
   duration_s = scenario.duration_s;
   sim::SimParams sp = sim::SimParams::from_config(root);
-  if (run.seed) sp.lidar.noise_seed = *run.seed;
+  if (run.seed) scenario.seed = *run.seed;  // the scenario's seed seeds the sensor noise
   sim = std::make_unique<sim::SimCore>(scenario, sp);
   lidar = std::make_unique<sensing::LidarDriverCore>(sensing::LidarDriverParams::from_config(root),
                                                      sensing::LidarDriverCore::Source::kPackets);

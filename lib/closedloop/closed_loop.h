@@ -34,7 +34,7 @@
 namespace evade::closedloop {
 
 struct LockstepRun {
-  std::optional<uint64_t> seed;  // the simulator's sensor-noise seed (default: the configuration's)
+  std::optional<uint64_t> seed;  // overrides Scenario::seed, the simulator's sensor-noise seed
   std::string planner_mode;      // empty: the configuration's
   std::string planner_compute;   // empty: the configuration's (fixed | iterations | measured)
   bool quiet = true;             // no progress lines from the run monitor

@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", scenario_path, "scenario YAML (docs/SPEC.md format)")->required();
   app.add_option("--out", out, "write the run's log here")->required();
   app.add_option("--config", config_path, "robot configuration (default config/robot.yaml)");
-  app.add_option("--seed", seed, "the simulator's sensor-noise seed (default: the configuration's)")
+  app.add_option("--seed", seed, "the simulator's sensor-noise seed (default: the scenario's seed)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--mode", mode, "planner mode (default: the configuration's)");
   app.add_option("--planner-compute", compute, "planner compute model (default: lockstep.planner_compute)")
