@@ -19,6 +19,10 @@ std::string num(double v) {
   return std::string(buf) == "-0.00" ? "0.00" : buf;
 }
 
+std::string timing(double lead_s) {
+  return num(std::fabs(lead_s)) + (lead_s >= 0.0 ? " s before the robot" : " s after the robot");
+}
+
 std::string count(int n, const std::string& singular, const std::string& plural) {
   return std::to_string(n) + " " + (n == 1 ? singular : plural.empty() ? singular + "s" : plural);
 }

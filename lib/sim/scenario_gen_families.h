@@ -58,6 +58,8 @@ void follow_timed(ObstacleSpec& o, std::vector<Vec2> path, double speed, double 
 double path_length(const std::vector<Vec2>& path);
 // A number for the notes ("1.25").
 std::string num(double v);
+// "1.25 s before the robot" (lead > 0) or "0.50 s after the robot".
+std::string timing(double lead_s);
 // "1 mover", "3 movers" (plural: singular + "s" unless given).
 std::string count(int n, const std::string& singular, const std::string& plural = "");
 

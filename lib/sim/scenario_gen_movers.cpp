@@ -46,7 +46,7 @@ bool crosser(Ctx& c, Draft& d) {
   return add_if_clear(c, d, o,
                       std::string(bike ? "bike" : "walker") + " crossing from " + side_name(side) + " at " +
                           num(o.speed) + " m/s, " + num(angle) + " deg, meets the route at x " + num(x) + " " +
-                          num(lead) + " s before the robot");
+                          timing(lead));
 }
 
 bool headon_mover(Ctx& c, Draft& d) {
@@ -136,8 +136,7 @@ bool small_mover(Ctx& c, Draft& d) {
   follow_timed(o, path, speed, s_meet, arrival_s(c, d, x) - lead);
   return add_if_clear(c, d, o,
                       std::string(ball ? "ball rolling" : "dog zig-zagging") + " from " + side_name(side) + " at " +
-                          num(o.speed) + " m/s, meets the route at x " + num(x) + " " + num(lead) +
-                          " s before the robot");
+                          num(o.speed) + " m/s, meets the route at x " + num(x) + " " + timing(lead));
 }
 
 // A walker going back and forth between a and b (loop a -> b -> a), first

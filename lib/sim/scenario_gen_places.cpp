@@ -46,7 +46,7 @@ bool through_walker(Ctx& c, Draft& d, double xw, double yc, double gap, int dir)
   follow_timed(o, path, c.rng.uniform(c.p.shapes.walker.speed_mps), s_meet, arrival_s(c, d, xw) - lead);
   return add_if_clear(c, d, o,
                       std::string("walker through the gap ") + (dir > 0 ? "the robot's way" : "towards the robot") +
-                          " at " + num(o.speed) + " m/s, " + num(lead) + " s before the robot");
+                          " at " + num(o.speed) + " m/s, passes the gap " + timing(lead));
 }
 
 // A parked vehicle on `side` along the route, near side `kerb` off it,
@@ -138,7 +138,7 @@ bool occlusion(Ctx& c, Draft& d) {
   follow_timed(person, path, speed, s_meet, arrival_s(c, d, x_cross) - lead);
   if (!add_if_clear(c, d, person,
                     std::string(jogger ? "jogger" : "walker") + " stepping out from behind it at " + num(person.speed) +
-                        " m/s, crosses at x " + num(x_cross) + " " + num(lead) + " s before the robot"))
+                        " m/s, crosses at x " + num(x_cross) + " " + timing(lead)))
     return false;
   // More vehicles in line, before it or past the crossing lane.
   double first_rear = rear, last_front = x_cross + person.radius + kFrontClearM;
@@ -156,7 +156,8 @@ bool occlusion(Ctx& c, Draft& d) {
     }
     if (!add_if_clear(c, d, v, "parked vehicle")) return false;
   }
-  d.summary.push_back("occlusion: a person steps out from behind one of " + std::to_string(n) + " parked vehicles");
+  d.summary.push_back("occlusion: a person steps out from behind a parked vehicle (" + count(n, "vehicle") +
+                      " parked in line)");
   return true;
 }
 
