@@ -147,6 +147,42 @@ void expect_occlusion(const Scenario& sc) {
   EXPECT_LT(person->waypoints.back().y * person->y, 0.0);  // ends on the other side of the route
 }
 
+// When and where a `once` mover first reaches the route (y = 0), from its
+// path: false if it never does.
+bool reaches_route(const ObstacleSpec& o, double* t, double* x) {
+  std::vector<Vec2> path{Vec2{o.x, o.y}};
+  path.insert(path.end(), o.waypoints.begin(), o.waypoints.end());
+  double s = 0.0;
+  for (size_t i = 1; i < path.size(); ++i) {
+    const Vec2 &a = path[i - 1], &b = path[i];
+    double seg = geom::distance(a, b);
+    if (a.y == 0.0 || (a.y > 0.0) != (b.y > 0.0)) {
+      double f = a.y == 0.0 ? 0.0 : a.y / (a.y - b.y);
+      *x = a.x + f * (b.x - a.x);
+      *t = o.start_delay_s + (s + f * seg) / o.speed;
+      return true;
+    }
+    s += seg;
+  }
+  return false;
+}
+
+// Crossing, fast_small and occlusion movers meet the route `lead_s`
+// before the robot's nominal arrival there (reference speed from the
+// start, plus the arrival lag), to the files' rounding.
+void expect_timed(const Scenario& sc, const Range& lead) {
+  for (const ObstacleSpec& o : sc.obstacles) {
+    if (o.motion == MotionKind::kStatic) continue;
+    double t = 0.0, x = 0.0;
+    ASSERT_TRUE(reaches_route(o, &t, &x)) << o.id;
+    double arrival = (x - sc.start.x) / robot().reference_speed_mps + params().common.arrival_lag_s;
+    EXPECT_GE(arrival - t, lead.lo - 0.02) << o.id;
+    EXPECT_LE(arrival - t, lead.hi + 0.02) << o.id;
+    EXPECT_GE(x, sc.start.x + params().common.meet_from_start_m - 0.01) << o.id;
+    EXPECT_LE(x, sc.goal.x - params().common.meet_before_goal_m + 0.01) << o.id;
+  }
+}
+
 TEST(ScenarioGen, EverySceneOfEveryFamilyIsValid) {
   const ScenarioCheckParams check = check_params(params(), robot());
   for (const std::string& family : family_names()) {
@@ -163,8 +199,13 @@ TEST(ScenarioGen, EverySceneOfEveryFamilyIsValid) {
       }
       if (family == "occlusion") {
         ASSERT_NO_FATAL_FAILURE(expect_occlusion(sc));
+        ASSERT_NO_FATAL_FAILURE(expect_timed(sc, params().occlusion.lead_s));
+      }
+      if (family == "crossing") {
+        ASSERT_NO_FATAL_FAILURE(expect_timed(sc, params().crossing.lead_s));
       }
       if (family == "fast_small") {
+        ASSERT_NO_FATAL_FAILURE(expect_timed(sc, params().fast_small.lead_s));
         EXPECT_LE(fastest(sc), 3.0 + 1e-9);
         for (const ObstacleSpec& o : sc.obstacles) EXPECT_LE(o.height, params().shapes.dog.height_m.hi + 1e-9);
       }
