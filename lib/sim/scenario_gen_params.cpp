@@ -153,8 +153,9 @@ CrossingParams read_crossing(const config::Node& f) {
   p.bike_share = share(n, "bike_share");
   p.crossing_angle_deg = read_range(n, "crossing_angle_deg", 10.0, 170.0);
   p.lead_s = time_range(n, "lead_s");
-  p.approach_m = positive_length(n, "approach_m");
-  p.exit_m = positive_length(n, "exit_m");
+  // The walker is on the gap's line 0.6 m either side of the wall (scenario_gen_places.cpp).
+  p.approach_m = read_range(n, "approach_m", 1.0, kMaxLengthM);
+  p.exit_m = read_range(n, "exit_m", 1.0, kMaxLengthM);
   n.close();
   return p;
 }
@@ -214,7 +215,10 @@ DoorwayParams read_doorway(const config::Node& f, const CommonParams& c, const R
   p.through_share = share(n, "through_share");
   p.same_way_share = share(n, "same_way_share");
   p.lead_s = time_range(n, "lead_s");
-  p.approach_m = positive_length(n, "approach_m");
+  // The walker is on the gap's line 0.6 m either side of the wall (scenario_gen_places.cpp).
+  p.approach_m = read_range(n, "approach_m", 1.0, kMaxLengthM);
+  p.exit_m = read_range(n, "exit_m", 1.0, kMaxLengthM);
+  p.exit_aside_m = length(n, "exit_aside_m");
   n.close();
   return p;
 }
@@ -242,8 +246,9 @@ FastSmallParams read_fast_small(const config::Node& f) {
   p.ball_share = share(n, "ball_share");
   p.crossing_angle_deg = read_range(n, "crossing_angle_deg", 10.0, 170.0);
   p.lead_s = time_range(n, "lead_s");
-  p.approach_m = positive_length(n, "approach_m");
-  p.exit_m = positive_length(n, "exit_m");
+  // The walker is on the gap's line 0.6 m either side of the wall (scenario_gen_places.cpp).
+  p.approach_m = read_range(n, "approach_m", 1.0, kMaxLengthM);
+  p.exit_m = read_range(n, "exit_m", 1.0, kMaxLengthM);
   p.zigzag_leg_m = positive_length(n, "zigzag_leg_m");
   p.zigzag_turn_deg = read_range(n, "zigzag_turn_deg", 0.0, 85.0);
   n.close();

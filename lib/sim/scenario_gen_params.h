@@ -91,7 +91,7 @@ struct DoorwayParams {
   Range gap_m, gap_offset_m, wall_at, wall_half_length_m;
   double straight_m = 2.0;
   double through_share = 0.0, same_way_share = 0.0;
-  Range lead_s, approach_m;
+  Range lead_s, approach_m, exit_m, exit_aside_m;
 };
 struct OcclusionParams {
   Count vehicles;
