@@ -73,6 +73,19 @@ TEST(ScenarioGen, WritesTheSeedAndNameIntoTheFile) {
   EXPECT_NE(g.yaml.find("\nseed: 42\n"), std::string::npos);
 }
 
+TEST(ScenarioGen, ImpossibleRulesEndInAnErrorNotAnEndlessLoop) {
+  FamilyParams p = params();
+  p.common.start_margin_m = 30.0;  // longer than any route: nothing may be placed anywhere
+  p.common.max_attempts = 3;
+  try {
+    generate("crossing", 1, p, robot());
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("family crossing, seed 1: no valid scene in 3 attempts"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(ScenarioGen, UnknownFamilyAndHugeSeedAreErrors) {
   EXPECT_THROW(generate("stampede", 1, params(), robot()), std::invalid_argument);
   EXPECT_THROW(generate("crossing", uint64_t{1} << 63, params(), robot()), std::invalid_argument);
