@@ -130,7 +130,7 @@ void ClosedLoop::Impl::wire_devices(int baud_rate) {
 void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
   duration_s = scenario.duration_s;
   sim::SimParams sp = sim::SimParams::from_config(root);
-  if (run.seed) scenario.seed = *run.seed;  // the scenario's seed seeds the sensor noise
+  if (run.seed) scenario.seed = *run.seed;
   sim = std::make_unique<sim::SimCore>(scenario, sp);
   lidar = std::make_unique<sensing::LidarDriverCore>(sensing::LidarDriverParams::from_config(root),
                                                      sensing::LidarDriverCore::Source::kPackets);
@@ -156,7 +156,8 @@ void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
   lidar_node = add(*lidar, fixed_cost(params.costs.at("lidar_driver")));
   base_node = add(*base, fixed_cost(params.costs.at("base_driver")));
   for (auto& c : others) add(*c, fixed_cost(params.costs.at(c->name())));
-  add(*planner, planner_cost(params.costs.at("planner")), {"ODOMETRY", "OBSTACLE_PREDICTIONS", "ROUTE"});
+  const auto conflated = planning::PlannerCore::conflated_inputs();
+  add(*planner, planner_cost(params.costs.at("planner")), {conflated.begin(), conflated.end()});
   add(*monitor, nullptr);
   wire_devices(bp.baud_rate);
 }

@@ -11,7 +11,7 @@
 // - each process runs one callback at a time and is charged a compute time
 //   (LockstepParams; ProcessNode): its outputs leave when that time has
 //   passed, and what arrives meanwhile waits (the planner conflates
-//   ODOMETRY, OBSTACLE_PREDICTIONS and ROUTE, as procs/planner does);
+//   PlannerCore::conflated_inputs(), as procs/planner does);
 // - LiDAR packets reach the driver udp_latency_s after the simulator makes
 //   them; Scout frames cross an emulated UART at its baud rate, both ways.
 // Everything but the planner's `measured` compute model is deterministic:
@@ -34,7 +34,7 @@
 namespace evade::closedloop {
 
 struct LockstepRun {
-  std::optional<uint64_t> seed;  // overrides Scenario::seed, the simulator's sensor-noise seed
+  std::optional<uint64_t> seed;  // overrides the scenario's seed (the simulator's sensor noise)
   std::string planner_mode;      // empty: the configuration's
   std::string planner_compute;   // empty: the configuration's (fixed | iterations | measured)
   bool quiet = true;             // no progress lines from the run monitor
