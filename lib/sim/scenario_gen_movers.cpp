@@ -52,15 +52,27 @@ bool crosser(Ctx& c, Draft& d) {
 bool headon_mover(Ctx& c, Draft& d) {
   const HeadonParams& k = c.p.headon;
   bool bike = c.rng.chance(k.bike_share);
-  ObstacleSpec o = bike ? box_body(c, c.p.shapes.bike, M_PI) : cylinder_body(c, c.p.shapes.walker);
-  o.x = q(d.sc.goal.x + c.rng.uniform(k.start_past_goal_m));
-  o.y = q(c.rng.uniform(k.lateral_offset_m));
-  o.motion = MotionKind::kConstantVelocity;
-  o.vx = -q(c.rng.uniform(bike ? c.p.shapes.bike.speed_mps : c.p.shapes.walker.speed_mps));
-  o.start_delay_s = q(c.rng.uniform(k.start_delay_s), 0.01);
-  return add_if_clear(c, d, o,
-                      std::string(bike ? "bike" : "walker") + " head-on at " + num(-o.vx) + " m/s, " + num(o.y) +
-                          " m off the route, after " + num(o.start_delay_s) + " s");
+  bool group = !bike && c.rng.chance(k.group_share);
+  int size = group ? c.rng.integer(k.group_size) : 1;
+  double spacing = group ? c.rng.uniform(k.group_spacing_m) : 0.0;
+  double x = d.sc.goal.x + c.rng.uniform(k.start_past_goal_m), y = c.rng.uniform(k.lateral_offset_m);
+  double speed = c.rng.uniform(bike ? c.p.shapes.bike.speed_mps : c.p.shapes.walker.speed_mps);
+  double delay = q(c.rng.uniform(k.start_delay_s), 0.01);
+  std::vector<ObstacleSpec> movers;
+  std::vector<std::string> notes;
+  for (int i = 0; i < size; ++i) {
+    ObstacleSpec o = bike ? box_body(c, c.p.shapes.bike, M_PI) : cylinder_body(c, c.p.shapes.walker);
+    o.x = q(x);
+    o.y = q(y + (i - (size - 1) / 2.0) * spacing);  // abreast, centred on the drawn line
+    o.motion = MotionKind::kConstantVelocity;
+    o.vx = -q(speed);
+    o.start_delay_s = delay;
+    movers.push_back(o);
+    notes.push_back(std::string(bike ? "bike" : "walker") + " head-on at " + num(-o.vx) + " m/s, " + num(o.y) +
+                    " m off the route, after " + num(delay) + " s" +
+                    (group ? ", one of " + std::to_string(size) + " abreast" : ""));
+  }
+  return add_all_if_clear(c, d, movers, notes);
 }
 
 bool overtaker(Ctx& c, Draft& d) {

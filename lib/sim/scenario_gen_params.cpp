@@ -165,6 +165,10 @@ HeadonParams read_headon(const config::Node& f) {
   HeadonParams p;
   p.movers = read_count(n, "movers", 100);
   p.bike_share = share(n, "bike_share");
+  p.group_share = share(n, "group_share");
+  p.group_size = read_count(n, "group_size", 10);
+  if (p.group_size.lo < 2) n.fail("group_size", "a group is at least 2");
+  p.group_spacing_m = positive_length(n, "group_spacing_m");
   p.lateral_offset_m = signed_length(n, "lateral_offset_m");
   p.start_past_goal_m = signed_length(n, "start_past_goal_m");
   p.start_delay_s = read_range(n, "start_delay_s", 0.0, kMaxTimeS);

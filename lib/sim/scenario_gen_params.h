@@ -75,6 +75,9 @@ struct CrossingParams {
 struct HeadonParams {
   Count movers;
   double bike_share = 0.0;
+  double group_share = 0.0;  // of the walkers: a group abreast
+  Count group_size;
+  Range group_spacing_m;
   Range lateral_offset_m, start_past_goal_m, start_delay_s;
 };
 struct OvertakingParams {

@@ -196,11 +196,26 @@ void expect_timed(const Scenario& sc, const Range& lead) {
   }
 }
 
+// Head-on walkers side by side (same start x and speed): the groups.
+int walkers_abreast(const Scenario& sc) {
+  int n = 0;
+  for (size_t i = 0; i < sc.obstacles.size(); ++i)
+    for (size_t j = i + 1; j < sc.obstacles.size(); ++j) {
+      const ObstacleSpec &a = sc.obstacles[i], &b = sc.obstacles[j];
+      if (a.shape == Shape::kCylinder && a.x == b.x && a.vx == b.vx && a.start_delay_s == b.start_delay_s) {
+        EXPECT_GE(std::fabs(a.y - b.y), params().headon.group_spacing_m.lo - 1e-3);
+        ++n;
+      }
+    }
+  return n;
+}
+
 TEST(ScenarioGen, EverySceneOfEveryFamilyIsValid) {
   const ScenarioCheckParams check = check_params(params(), robot());
   for (const std::string& family : family_names()) {
     SCOPED_TRACE(family);
     std::map<int, int> attempts;
+    int groups = 0;
     for (uint64_t seed = 1; seed <= kSeedsPerFamily; ++seed) {
       SCOPED_TRACE(seed);
       Generated g = generate(family, seed, params(), robot());
@@ -222,6 +237,9 @@ TEST(ScenarioGen, EverySceneOfEveryFamilyIsValid) {
         EXPECT_LE(fastest(sc), 3.0 + 1e-9);
         for (const ObstacleSpec& o : sc.obstacles) EXPECT_LE(o.height, params().shapes.dog.height_m.hi + 1e-9);
       }
+      if (family == "headon") {
+        groups += walkers_abreast(sc);
+      }
       if (family == "crowd") {
         EXPECT_GE(moving(sc), params().crowd.walkers.lo);
         EXPECT_LE(moving(sc), params().crowd.walkers.hi);
@@ -237,6 +255,9 @@ TEST(ScenarioGen, EverySceneOfEveryFamilyIsValid) {
           EXPECT_LT(o.vx, 0.0);
         }
       }
+    }
+    if (family == "headon") {
+      EXPECT_GT(groups, 10);  // groups abreast do occur
     }
     int first_try = attempts[1];
     EXPECT_GT(first_try, kSeedsPerFamily / 4) << "most scenes should not need redrawing";
@@ -337,6 +358,10 @@ TEST(ScenarioCheck, EachRuleCatchesItsCase) {
   EXPECT_FALSE(problems_with("  - {shape: box, size: [1, 1, 1], x: 10.5, y: 0.0}\n").empty());
   EXPECT_FALSE(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: 10.0, y: 5.0, "
                              "waypoints: [[10.0, 0.3]], speed: 1, mode: once}\n").empty());
+  // Two obstacles starting inside each other.
+  EXPECT_EQ(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: 0.0, y: 3.0}\n"
+                          "  - {shape: box, size: [1, 1, 1], x: 0.5, y: 3.5, vx: 1, vy: 0}\n"),
+            std::vector<std::string>{"obstacles[0] and obstacles[1]: start -0.300 m apart (at least 0.050 m)"});
   // Too low to be seen.
   EXPECT_EQ(problems_with("  - {shape: cylinder, radius: 0.3, height: 0.15, x: 0.0, y: 3.0}\n").size(), 1u);
 }
