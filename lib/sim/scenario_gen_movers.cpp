@@ -202,9 +202,13 @@ bool crossing(Ctx& c, Draft& d) {
 
 bool headon(Ctx& c, Draft& d) {
   int n = c.rng.integer(c.p.headon.movers);
+  const size_t before = d.sc.obstacles.size();
   for (int i = 0; i < n; ++i)
     if (!try_place([&] { return headon_mover(c, d); })) return false;
-  d.summary.push_back("headon: " + count(n, "mover") + " coming down the route");
+  int added = static_cast<int>(d.sc.obstacles.size() - before);
+  // Each draw is one mover or one group abreast.
+  d.summary.push_back("headon: " + count(added, "mover") + (added > n ? " in " + count(n, "rank") : "") +
+                      " coming down the route");
   return true;
 }
 
