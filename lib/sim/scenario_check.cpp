@@ -133,6 +133,10 @@ bool final_rest(const ObstacleSpec& o, Vec2* at) {
   return false;
 }
 
+double start_gap(const ObstacleSpec& a, const ObstacleSpec& b) {
+  return geom::clearance(geom::obstacle_outline(a, a.x, a.y), geom::obstacle_outline(b, b.x, b.y));
+}
+
 double start_clearance(const Scenario& sc, const ObstacleSpec& o, const ScenarioCheckParams& p) {
   const geom::Outline robot = geom::footprint(sc.start, sc.footprint_length, sc.footprint_width);
   double worst = std::numeric_limits<double>::infinity();
@@ -155,6 +159,13 @@ std::vector<std::string> check_scenario(const Scenario& sc, const ScenarioCheckP
       out.push_back(obstacle_name(o) + fmt(": comes %.3f m from the robot's start footprint in the first %.1f s", c,
                                            p.start_clear_time_s));
   }
+  for (size_t i = 0; i < sc.obstacles.size(); ++i)
+    for (size_t j = i + 1; j < sc.obstacles.size(); ++j) {
+      double c = start_gap(sc.obstacles[i], sc.obstacles[j]);
+      if (c < p.apart_m)
+        out.push_back(obstacle_name(sc.obstacles[i]) + " and " + obstacle_name(sc.obstacles[j]) +
+                      fmt(": start %.3f m apart (at least %.3f m)", c, p.apart_m));
+    }
   check_rest(sc, p, &out);
   return out;
 }

@@ -32,15 +32,22 @@ struct ScenarioCheckParams {
   double route_pad_m = 3.0;
   // 4. Every obstacle at least min_height_m high (visible to the map).
   double min_height_m = 0.2;
+  // 5. No two obstacles closer than apart_m where they start (they may
+  //    pass through each other later: movers follow their scripts).
+  double apart_m = 0.05;
 };
 
 // Every broken rule, one line each ("obstacles[3]: ..."); empty = valid.
-// Also: the route starts at the start pose and ends at the goal.
+// Also (6): the route starts at the start pose and ends at the goal.
 std::vector<std::string> check_scenario(const Scenario& sc, const ScenarioCheckParams& p);
 
 // Rule 1 for one obstacle: its smallest clearance to the start footprint
 // over the checked interval (m, negative when it overlaps).
 double start_clearance(const Scenario& sc, const ObstacleSpec& o, const ScenarioCheckParams& p);
+
+// Rule 5: the gap between two obstacles where they start (m, negative
+// when they overlap).
+double start_gap(const ObstacleSpec& a, const ObstacleSpec& b);
 
 // Where obstacle `o` rests for good, if it does (static: its position; a
 // `once` mover: its last waypoint); false for anything that keeps moving.

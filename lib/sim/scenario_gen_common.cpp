@@ -19,6 +19,10 @@ std::string num(double v) {
   return std::string(buf) == "-0.00" ? "0.00" : buf;
 }
 
+std::string timing(double lead_s) {
+  return num(std::fabs(lead_s)) + (lead_s >= 0.0 ? " s before the robot" : " s after the robot");
+}
+
 std::string count(int n, const std::string& singular, const std::string& plural) {
   return std::to_string(n) + " " + (n == 1 ? singular : plural.empty() ? singular + "s" : plural);
 }
@@ -45,19 +49,36 @@ double arrival_s(const Ctx& c, const Draft& d, double x) {
   return s / c.robot.reference_speed_mps + c.p.common.arrival_lag_s;
 }
 
-bool add_if_clear(const Ctx& c, Draft& d, const ObstacleSpec& o, const std::string& note) {
+bool is_clear(const Ctx& c, const Draft& d, const ObstacleSpec& o) {
   if (start_clearance(d.sc, o, c.check) < c.check.start_margin_m) return false;
+  for (const ObstacleSpec& other : d.sc.obstacles)
+    if (start_gap(o, other) < c.check.apart_m) return false;
   Vec2 rest;
   if (final_rest(o, &rest)) {
     double half_diagonal = std::hypot(d.sc.footprint_length, d.sc.footprint_width) / 2.0;
     double gap = geom::clearance(geom::disc(d.sc.goal.x, d.sc.goal.y, half_diagonal), geom::obstacle_outline(o, rest.x, rest.y));
     if (gap < c.check.goal_margin_m) return false;
   }
-  ObstacleSpec added = o;
-  added.id = static_cast<int>(d.sc.obstacles.size());
-  d.sc.obstacles.push_back(added);
-  d.notes.push_back(note);
   return true;
+}
+
+bool add_all_if_clear(const Ctx& c, Draft& d, const std::vector<ObstacleSpec>& os, const std::vector<std::string>& notes) {
+  for (size_t i = 0; i < os.size(); ++i) {
+    if (!is_clear(c, d, os[i])) return false;
+    for (size_t j = 0; j < i; ++j)
+      if (start_gap(os[i], os[j]) < c.check.apart_m) return false;
+  }
+  for (size_t i = 0; i < os.size(); ++i) {
+    ObstacleSpec added = os[i];
+    added.id = static_cast<int>(d.sc.obstacles.size());
+    d.sc.obstacles.push_back(added);
+    d.notes.push_back(i < notes.size() ? notes[i] : "");
+  }
+  return true;
+}
+
+bool add_if_clear(const Ctx& c, Draft& d, const ObstacleSpec& o, const std::string& note) {
+  return add_all_if_clear(c, d, {o}, {note});
 }
 
 Draft straight_draft(Ctx& c) {

@@ -35,9 +35,11 @@ double q(double v, double step = 1e-3);
 // position x: route arc length to x / reference speed + arrival_lag_s.
 double arrival_s(const Ctx& c, const Draft& d, double x);
 
-// Adds `o` if it keeps the start margin (and, resting for good, the goal
-// margin); false otherwise.
+// Adds `o` if it keeps the start margin, starts apart from every other
+// obstacle and, resting for good, keeps the goal margin; false otherwise.
 bool add_if_clear(const Ctx& c, Draft& d, const ObstacleSpec& o, const std::string& note);
+// All of them, or none if one of them breaks a margin (a group).
+bool add_all_if_clear(const Ctx& c, Draft& d, const std::vector<ObstacleSpec>& os, const std::vector<std::string>& notes);
 
 // A straight route from (-L/2, 0) to (L/2, 0), L drawn from route_length_m.
 Draft straight_draft(Ctx& c);
@@ -58,6 +60,8 @@ void follow_timed(ObstacleSpec& o, std::vector<Vec2> path, double speed, double 
 double path_length(const std::vector<Vec2>& path);
 // A number for the notes ("1.25").
 std::string num(double v);
+// "1.25 s before the robot" (lead > 0) or "0.50 s after the robot".
+std::string timing(double lead_s);
 // "1 mover", "3 movers" (plural: singular + "s" unless given).
 std::string count(int n, const std::string& singular, const std::string& plural = "");
 

@@ -46,21 +46,33 @@ bool crosser(Ctx& c, Draft& d) {
   return add_if_clear(c, d, o,
                       std::string(bike ? "bike" : "walker") + " crossing from " + side_name(side) + " at " +
                           num(o.speed) + " m/s, " + num(angle) + " deg, meets the route at x " + num(x) + " " +
-                          num(lead) + " s before the robot");
+                          timing(lead));
 }
 
 bool headon_mover(Ctx& c, Draft& d) {
   const HeadonParams& k = c.p.headon;
   bool bike = c.rng.chance(k.bike_share);
-  ObstacleSpec o = bike ? box_body(c, c.p.shapes.bike, M_PI) : cylinder_body(c, c.p.shapes.walker);
-  o.x = q(d.sc.goal.x + c.rng.uniform(k.start_past_goal_m));
-  o.y = q(c.rng.uniform(k.lateral_offset_m));
-  o.motion = MotionKind::kConstantVelocity;
-  o.vx = -q(c.rng.uniform(bike ? c.p.shapes.bike.speed_mps : c.p.shapes.walker.speed_mps));
-  o.start_delay_s = q(c.rng.uniform(k.start_delay_s), 0.01);
-  return add_if_clear(c, d, o,
-                      std::string(bike ? "bike" : "walker") + " head-on at " + num(-o.vx) + " m/s, " + num(o.y) +
-                          " m off the route, after " + num(o.start_delay_s) + " s");
+  bool group = !bike && c.rng.chance(k.group_share);
+  int size = group ? c.rng.integer(k.group_size) : 1;
+  double spacing = group ? c.rng.uniform(k.group_spacing_m) : 0.0;
+  double x = d.sc.goal.x + c.rng.uniform(k.start_past_goal_m), y = c.rng.uniform(k.lateral_offset_m);
+  double speed = c.rng.uniform(bike ? c.p.shapes.bike.speed_mps : c.p.shapes.walker.speed_mps);
+  double delay = q(c.rng.uniform(k.start_delay_s), 0.01);
+  std::vector<ObstacleSpec> movers;
+  std::vector<std::string> notes;
+  for (int i = 0; i < size; ++i) {
+    ObstacleSpec o = bike ? box_body(c, c.p.shapes.bike, M_PI) : cylinder_body(c, c.p.shapes.walker);
+    o.x = q(x);
+    o.y = q(y + (i - (size - 1) / 2.0) * spacing);  // abreast, centred on the drawn line
+    o.motion = MotionKind::kConstantVelocity;
+    o.vx = -q(speed);
+    o.start_delay_s = delay;
+    movers.push_back(o);
+    notes.push_back(std::string(bike ? "bike" : "walker") + " head-on at " + num(-o.vx) + " m/s, " + num(o.y) +
+                    " m off the route, after " + num(delay) + " s" +
+                    (group ? ", one of " + std::to_string(size) + " abreast" : ""));
+  }
+  return add_all_if_clear(c, d, movers, notes);
 }
 
 bool overtaker(Ctx& c, Draft& d) {
@@ -136,8 +148,7 @@ bool small_mover(Ctx& c, Draft& d) {
   follow_timed(o, path, speed, s_meet, arrival_s(c, d, x) - lead);
   return add_if_clear(c, d, o,
                       std::string(ball ? "ball rolling" : "dog zig-zagging") + " from " + side_name(side) + " at " +
-                          num(o.speed) + " m/s, meets the route at x " + num(x) + " " + num(lead) +
-                          " s before the robot");
+                          num(o.speed) + " m/s, meets the route at x " + num(x) + " " + timing(lead));
 }
 
 // A walker going back and forth between a and b (loop a -> b -> a), first
@@ -191,9 +202,13 @@ bool crossing(Ctx& c, Draft& d) {
 
 bool headon(Ctx& c, Draft& d) {
   int n = c.rng.integer(c.p.headon.movers);
+  const size_t before = d.sc.obstacles.size();
   for (int i = 0; i < n; ++i)
     if (!try_place([&] { return headon_mover(c, d); })) return false;
-  d.summary.push_back("headon: " + count(n, "mover") + " coming down the route");
+  int added = static_cast<int>(d.sc.obstacles.size() - before);
+  // Each draw is one mover or one group abreast.
+  d.summary.push_back("headon: " + count(added, "mover") + (added > n ? " in " + count(n, "rank") : "") +
+                      " coming down the route");
   return true;
 }
 

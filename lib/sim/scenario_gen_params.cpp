@@ -153,8 +153,9 @@ CrossingParams read_crossing(const config::Node& f) {
   p.bike_share = share(n, "bike_share");
   p.crossing_angle_deg = read_range(n, "crossing_angle_deg", 10.0, 170.0);
   p.lead_s = time_range(n, "lead_s");
-  p.approach_m = positive_length(n, "approach_m");
-  p.exit_m = positive_length(n, "exit_m");
+  // The walker is on the gap's line 0.6 m either side of the wall (scenario_gen_places.cpp).
+  p.approach_m = read_range(n, "approach_m", 1.0, kMaxLengthM);
+  p.exit_m = read_range(n, "exit_m", 1.0, kMaxLengthM);
   n.close();
   return p;
 }
@@ -164,6 +165,10 @@ HeadonParams read_headon(const config::Node& f) {
   HeadonParams p;
   p.movers = read_count(n, "movers", 100);
   p.bike_share = share(n, "bike_share");
+  p.group_share = share(n, "group_share");
+  p.group_size = read_count(n, "group_size", 10);
+  if (p.group_size.lo < 2) n.fail("group_size", "a group is at least 2");
+  p.group_spacing_m = positive_length(n, "group_spacing_m");
   p.lateral_offset_m = signed_length(n, "lateral_offset_m");
   p.start_past_goal_m = signed_length(n, "start_past_goal_m");
   p.start_delay_s = read_range(n, "start_delay_s", 0.0, kMaxTimeS);
@@ -214,7 +219,10 @@ DoorwayParams read_doorway(const config::Node& f, const CommonParams& c, const R
   p.through_share = share(n, "through_share");
   p.same_way_share = share(n, "same_way_share");
   p.lead_s = time_range(n, "lead_s");
-  p.approach_m = positive_length(n, "approach_m");
+  // The walker is on the gap's line 0.6 m either side of the wall (scenario_gen_places.cpp).
+  p.approach_m = read_range(n, "approach_m", 1.0, kMaxLengthM);
+  p.exit_m = read_range(n, "exit_m", 1.0, kMaxLengthM);
+  p.exit_aside_m = length(n, "exit_aside_m");
   n.close();
   return p;
 }
@@ -242,8 +250,9 @@ FastSmallParams read_fast_small(const config::Node& f) {
   p.ball_share = share(n, "ball_share");
   p.crossing_angle_deg = read_range(n, "crossing_angle_deg", 10.0, 170.0);
   p.lead_s = time_range(n, "lead_s");
-  p.approach_m = positive_length(n, "approach_m");
-  p.exit_m = positive_length(n, "exit_m");
+  // The walker is on the gap's line 0.6 m either side of the wall (scenario_gen_places.cpp).
+  p.approach_m = read_range(n, "approach_m", 1.0, kMaxLengthM);
+  p.exit_m = read_range(n, "exit_m", 1.0, kMaxLengthM);
   p.zigzag_leg_m = positive_length(n, "zigzag_leg_m");
   p.zigzag_turn_deg = read_range(n, "zigzag_turn_deg", 0.0, 85.0);
   n.close();

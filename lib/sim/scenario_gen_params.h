@@ -75,6 +75,9 @@ struct CrossingParams {
 struct HeadonParams {
   Count movers;
   double bike_share = 0.0;
+  double group_share = 0.0;  // of the walkers: a group abreast
+  Count group_size;
+  Range group_spacing_m;
   Range lateral_offset_m, start_past_goal_m, start_delay_s;
 };
 struct OvertakingParams {
@@ -91,7 +94,7 @@ struct DoorwayParams {
   Range gap_m, gap_offset_m, wall_at, wall_half_length_m;
   double straight_m = 2.0;
   double through_share = 0.0, same_way_share = 0.0;
-  Range lead_s, approach_m;
+  Range lead_s, approach_m, exit_m, exit_aside_m;
 };
 struct OcclusionParams {
   Count vehicles;

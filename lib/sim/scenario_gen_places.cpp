@@ -14,9 +14,8 @@ constexpr int kTriesPerObstacle = 30;
 constexpr double kGapRoomM = 0.05;
 // A person stepping out passes this far from the vehicle's front end.
 constexpr double kFrontClearM = 0.25;
-// How far past the wall the person going through turns aside, and how far aside.
-constexpr double kTurnPastWallM = 1.2;
-constexpr double kAsideM = 2.5;
+// The person going through is on the gap's line this far either side of the wall.
+constexpr double kInGapM = 0.6;
 
 // A wall piece at x whose edge at the gap is exactly at y_gap and which
 // reaches about `reach` away from it on side `side`.
@@ -40,13 +39,14 @@ bool through_walker(Ctx& c, Draft& d, double xw, double yc, double gap, int dir)
   double approach = c.rng.uniform(k.approach_m), lead = c.rng.uniform(k.lead_s);
   double offset = c.rng.uniform(-0.5, 0.5) * (approach - 1.0);
   int aside = c.rng.sign();
-  std::vector<Vec2> path{Vec2{xw - dir * approach, yc + offset}, Vec2{xw - dir * 0.6, yc}, Vec2{xw + dir * 0.6, yc},
-                         Vec2{xw + dir * kTurnPastWallM, yc + aside * kAsideM}};
-  double s_meet = path_length({path[0], path[1]}) + 0.6;
+  double exit = c.rng.uniform(k.exit_m), exit_aside = c.rng.uniform(k.exit_aside_m);
+  std::vector<Vec2> path{Vec2{xw - dir * approach, yc + offset}, Vec2{xw - dir * kInGapM, yc},
+                         Vec2{xw + dir * kInGapM, yc}, Vec2{xw + dir * exit, yc + aside * exit_aside}};
+  double s_meet = path_length({path[0], path[1]}) + kInGapM;
   follow_timed(o, path, c.rng.uniform(c.p.shapes.walker.speed_mps), s_meet, arrival_s(c, d, xw) - lead);
   return add_if_clear(c, d, o,
                       std::string("walker through the gap ") + (dir > 0 ? "the robot's way" : "towards the robot") +
-                          " at " + num(o.speed) + " m/s, " + num(lead) + " s before the robot");
+                          " at " + num(o.speed) + " m/s, passes the gap " + timing(lead));
 }
 
 // A parked vehicle on `side` along the route, near side `kerb` off it,
@@ -138,7 +138,7 @@ bool occlusion(Ctx& c, Draft& d) {
   follow_timed(person, path, speed, s_meet, arrival_s(c, d, x_cross) - lead);
   if (!add_if_clear(c, d, person,
                     std::string(jogger ? "jogger" : "walker") + " stepping out from behind it at " + num(person.speed) +
-                        " m/s, crosses at x " + num(x_cross) + " " + num(lead) + " s before the robot"))
+                        " m/s, crosses at x " + num(x_cross) + " " + timing(lead)))
     return false;
   // More vehicles in line, before it or past the crossing lane.
   double first_rear = rear, last_front = x_cross + person.radius + kFrontClearM;
@@ -156,7 +156,8 @@ bool occlusion(Ctx& c, Draft& d) {
     }
     if (!add_if_clear(c, d, v, "parked vehicle")) return false;
   }
-  d.summary.push_back("occlusion: a person steps out from behind one of " + std::to_string(n) + " parked vehicles");
+  d.summary.push_back("occlusion: a person steps out from behind a parked vehicle (" + count(n, "vehicle") +
+                      " parked in line)");
   return true;
 }
 

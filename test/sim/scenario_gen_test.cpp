@@ -73,6 +73,19 @@ TEST(ScenarioGen, WritesTheSeedAndNameIntoTheFile) {
   EXPECT_NE(g.yaml.find("\nseed: 42\n"), std::string::npos);
 }
 
+TEST(ScenarioGen, ImpossibleRulesEndInAnErrorNotAnEndlessLoop) {
+  FamilyParams p = params();
+  p.common.start_margin_m = 30.0;  // longer than any route: nothing may be placed anywhere
+  p.common.max_attempts = 3;
+  try {
+    generate("crossing", 1, p, robot());
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("family crossing, seed 1: no valid scene in 3 attempts"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(ScenarioGen, UnknownFamilyAndHugeSeedAreErrors) {
   EXPECT_THROW(generate("stampede", 1, params(), robot()), std::invalid_argument);
   EXPECT_THROW(generate("crossing", uint64_t{1} << 63, params(), robot()), std::invalid_argument);
@@ -147,11 +160,62 @@ void expect_occlusion(const Scenario& sc) {
   EXPECT_LT(person->waypoints.back().y * person->y, 0.0);  // ends on the other side of the route
 }
 
+// When and where a `once` mover first reaches the route (y = 0), from its
+// path: false if it never does.
+bool reaches_route(const ObstacleSpec& o, double* t, double* x) {
+  std::vector<Vec2> path{Vec2{o.x, o.y}};
+  path.insert(path.end(), o.waypoints.begin(), o.waypoints.end());
+  double s = 0.0;
+  for (size_t i = 1; i < path.size(); ++i) {
+    const Vec2 &a = path[i - 1], &b = path[i];
+    double seg = geom::distance(a, b);
+    if (a.y == 0.0 || (a.y > 0.0) != (b.y > 0.0)) {
+      double f = a.y == 0.0 ? 0.0 : a.y / (a.y - b.y);
+      *x = a.x + f * (b.x - a.x);
+      *t = o.start_delay_s + (s + f * seg) / o.speed;
+      return true;
+    }
+    s += seg;
+  }
+  return false;
+}
+
+// Crossing, fast_small and occlusion movers meet the route `lead_s`
+// before the robot's nominal arrival there (reference speed from the
+// start, plus the arrival lag), to the files' rounding.
+void expect_timed(const Scenario& sc, const Range& lead) {
+  for (const ObstacleSpec& o : sc.obstacles) {
+    if (o.motion == MotionKind::kStatic) continue;
+    double t = 0.0, x = 0.0;
+    ASSERT_TRUE(reaches_route(o, &t, &x)) << o.id;
+    double arrival = (x - sc.start.x) / robot().reference_speed_mps + params().common.arrival_lag_s;
+    EXPECT_GE(arrival - t, lead.lo - 0.02) << o.id;
+    EXPECT_LE(arrival - t, lead.hi + 0.02) << o.id;
+    EXPECT_GE(x, sc.start.x + params().common.meet_from_start_m - 0.01) << o.id;
+    EXPECT_LE(x, sc.goal.x - params().common.meet_before_goal_m + 0.01) << o.id;
+  }
+}
+
+// Head-on walkers side by side (same start x and speed): the groups.
+int walkers_abreast(const Scenario& sc) {
+  int n = 0;
+  for (size_t i = 0; i < sc.obstacles.size(); ++i)
+    for (size_t j = i + 1; j < sc.obstacles.size(); ++j) {
+      const ObstacleSpec &a = sc.obstacles[i], &b = sc.obstacles[j];
+      if (a.shape == Shape::kCylinder && a.x == b.x && a.vx == b.vx && a.start_delay_s == b.start_delay_s) {
+        EXPECT_GE(std::fabs(a.y - b.y), params().headon.group_spacing_m.lo - 1e-3);
+        ++n;
+      }
+    }
+  return n;
+}
+
 TEST(ScenarioGen, EverySceneOfEveryFamilyIsValid) {
   const ScenarioCheckParams check = check_params(params(), robot());
   for (const std::string& family : family_names()) {
     SCOPED_TRACE(family);
     std::map<int, int> attempts;
+    int groups = 0;
     for (uint64_t seed = 1; seed <= kSeedsPerFamily; ++seed) {
       SCOPED_TRACE(seed);
       Generated g = generate(family, seed, params(), robot());
@@ -163,10 +227,18 @@ TEST(ScenarioGen, EverySceneOfEveryFamilyIsValid) {
       }
       if (family == "occlusion") {
         ASSERT_NO_FATAL_FAILURE(expect_occlusion(sc));
+        ASSERT_NO_FATAL_FAILURE(expect_timed(sc, params().occlusion.lead_s));
+      }
+      if (family == "crossing") {
+        ASSERT_NO_FATAL_FAILURE(expect_timed(sc, params().crossing.lead_s));
       }
       if (family == "fast_small") {
+        ASSERT_NO_FATAL_FAILURE(expect_timed(sc, params().fast_small.lead_s));
         EXPECT_LE(fastest(sc), 3.0 + 1e-9);
         for (const ObstacleSpec& o : sc.obstacles) EXPECT_LE(o.height, params().shapes.dog.height_m.hi + 1e-9);
+      }
+      if (family == "headon") {
+        groups += walkers_abreast(sc);
       }
       if (family == "crowd") {
         EXPECT_GE(moving(sc), params().crowd.walkers.lo);
@@ -183,6 +255,9 @@ TEST(ScenarioGen, EverySceneOfEveryFamilyIsValid) {
           EXPECT_LT(o.vx, 0.0);
         }
       }
+    }
+    if (family == "headon") {
+      EXPECT_GT(groups, 10);  // groups abreast do occur
     }
     int first_try = attempts[1];
     EXPECT_GT(first_try, kSeedsPerFamily / 4) << "most scenes should not need redrawing";
@@ -283,6 +358,10 @@ TEST(ScenarioCheck, EachRuleCatchesItsCase) {
   EXPECT_FALSE(problems_with("  - {shape: box, size: [1, 1, 1], x: 10.5, y: 0.0}\n").empty());
   EXPECT_FALSE(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: 10.0, y: 5.0, "
                              "waypoints: [[10.0, 0.3]], speed: 1, mode: once}\n").empty());
+  // Two obstacles starting inside each other.
+  EXPECT_EQ(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: 0.0, y: 3.0}\n"
+                          "  - {shape: box, size: [1, 1, 1], x: 0.5, y: 3.5, vx: 1, vy: 0}\n"),
+            std::vector<std::string>{"obstacles[0] and obstacles[1]: start -0.300 m apart (at least 0.050 m)"});
   // Too low to be seen.
   EXPECT_EQ(problems_with("  - {shape: cylinder, radius: 0.3, height: 0.15, x: 0.0, y: 3.0}\n").size(), 1u);
 }
