@@ -45,11 +45,21 @@ bool strip_tracks(std::vector<uint8_t>* data, const std::set<int64_t>& removed) 
   return strip_tracks(data, [&](int64_t, int64_t id) { return removed.count(id) > 0; });
 }
 
-double plan_distance_m(const evade::plan_t& a, const evade::plan_t& b) {
-  if (a.num_states != b.num_states) return std::numeric_limits<double>::infinity();
-  double d = 0.0;
-  for (int k = 0; k < a.num_states; ++k) d = std::max(d, std::hypot(a.x[k] - b.x[k], a.y[k] - b.y[k]));
-  return d;
+double plan_distance_m(const evade::plan_t& a, const evade::plan_t& b, double dt_s) {
+  const double offset = (a.utime - b.utime) * 1e-6 / dt_s;  // a's step 0 in b's steps
+  const int n_a = std::min<int>(a.num_states, std::min(a.x.size(), a.y.size()));
+  const int n_b = std::min<int>(b.num_states, std::min(b.x.size(), b.y.size()));
+  double d = -1.0;
+  for (int k = 0; k < n_a; ++k) {
+    const double s = offset + k;
+    if (s < -1e-9 || s > n_b - 1 + 1e-9) continue;
+    const int i = std::clamp(static_cast<int>(std::floor(s + 1e-9)), 0, n_b - 1);
+    const int j = std::min(i + 1, n_b - 1);
+    const double f = std::clamp(s - i, 0.0, 1.0);
+    const double bx = b.x[i] + f * (b.x[j] - b.x[i]), by = b.y[i] + f * (b.y[j] - b.y[i]);
+    d = std::max(d, std::hypot(a.x[k] - bx, a.y[k] - by));
+  }
+  return d < 0 ? std::numeric_limits<double>::infinity() : d;
 }
 
 namespace {

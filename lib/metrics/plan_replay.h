@@ -42,6 +42,7 @@ class PlanReplay {
     double per_iteration_us = 0.0;
   };
   const ComputeModel& compute_model() const { return model_; }
+  double dt_s() const { return params_.dt_s; }
 
   // Runs a fresh planner over the inputs with the tracks `remove` picks
   // left out (none when empty) and calls on_plan with each PLAN it
@@ -65,8 +66,11 @@ bool strip_tracks(std::vector<uint8_t>* data, const TrackFilter& remove);
 // The same for a fixed set of ids.
 bool strip_tracks(std::vector<uint8_t>* data, const std::set<int64_t>& removed);
 
-// Largest distance between the planned positions of two plans at the same
-// step over the horizon (m); infinity when their horizons differ.
-double plan_distance_m(const evade::plan_t& a, const evade::plan_t& b);
+// Largest distance (m) between the planned positions of two plans at the
+// same times, over the times both cover: plan a's step k (utime + k dt_s)
+// against plan b at that time, linearly interpolated between its steps.
+// For two plans from the same utime: step against step. Infinity when they
+// share no time.
+double plan_distance_m(const evade::plan_t& a, const evade::plan_t& b, double dt_s);
 
 }  // namespace evade::metrics

@@ -37,9 +37,11 @@ struct ReplayCheck {
 // of its tracks removed from the messages of the times it was the obstacle
 // (`owners`), up to its first plan in [t_enter, t_until] whose
 // plan_distance_m from the reference plan of the same cycle exceeds
-// threshold_m (-> t_react_utime; the first such plan at any time ->
+// threshold_m (-> t_react_utime; the first such plan up to t_until ->
 // t_change_utime). Plans are matched by utime and, for several plans from
-// one odometry utime, their order.
+// one odometry utime, their order; a counterfactual plan from an odometry
+// utime the reference did not plan from is compared with the last
+// reference plan before it (plan_distance_m aligns their times).
 ReplayCheck counterfactual_reactions(const PlanReplay& replay, const std::vector<evade::plan_t>& recorded,
                                      const TrackOwners& owners, double threshold_m,
                                      std::vector<ObstacleReaction>* obstacles);

@@ -65,9 +65,12 @@ const char* metrics_rules() {
   base + per_iteration x (its Ceres iterations) fitted by least squares
   to the log's PLANs (solve_time_us > 0; exact for a lockstep run), and
   of what arrives meanwhile it handles only the newest message of each
-  channel it conflates (PlannerCore::conflated_inputs()). A plan differs when its positions and the reference plan's of
-  the same cycle (same odometry utime) are more than react_plan_diff_m
-  apart at some step of the horizon. t_react = the utime of the first
+  channel it conflates (PlannerCore::conflated_inputs()). A plan differs
+  when its positions and the reference plan's of the same cycle (same
+  odometry utime; if the reference made no plan from that odometry, its
+  last plan before it) are more than react_plan_diff_m apart at some time
+  both cover (at the same times: step against step in the same cycle).
+  t_react = the utime of the first
   cycle from t_enter to t_until = min(t_leave, t_enter + react_max_s)
   whose plan differs; t_change = the first up to t_until whose plan
   differs (before t_enter when the planner saw the obstacle earlier than

@@ -238,6 +238,40 @@ TEST(PlanReplay, StripTracksLeavesOutTheIdsOfBothListTypesAndNothingElse) {
   EXPECT_EQ(o2.obstacles[0].id, 22);
 }
 
+// A plan along y = 0 at 1 m/s from x0, made at utime, 26 states 0.1 s apart.
+evade::plan_t straight_plan(int64_t utime, double x0, double y = 0.0) {
+  evade::plan_t p{};
+  p.utime = utime;
+  p.horizon = 25;
+  p.num_states = 26;
+  for (int k = 0; k < p.num_states; ++k) {
+    p.x.push_back(x0 + 0.1 * k);
+    p.y.push_back(y);
+    p.yaw.push_back(0.0);
+  }
+  p.v.assign(25, 1.0);
+  p.omega.assign(25, 0.0);
+  return p;
+}
+
+TEST(PlanReplay, PlanDistanceComparesPositionsAtTheSameTimes) {
+  const auto a = straight_plan(kT0, 0.0);
+  EXPECT_EQ(plan_distance_m(a, a, 0.1), 0.0);
+  EXPECT_NEAR(plan_distance_m(a, straight_plan(kT0, 0.0, 0.2), 0.1), 0.2, 1e-12);
+  // the same motion planned 50 ms later (half a step): the same positions
+  // at the same times
+  const auto later = straight_plan(kT0 + 50'000, 0.05);
+  EXPECT_NEAR(plan_distance_m(later, a, 0.1), 0.0, 1e-12);
+  EXPECT_NEAR(plan_distance_m(a, later, 0.1), 0.0, 1e-12);
+  // ... or standing still at 0.05 from then on: 0.1 k behind a at its step
+  // k, up to k = 24 (its step 25 is beyond a's horizon)
+  auto stopped = later;
+  stopped.x.assign(26, 0.05);
+  EXPECT_NEAR(plan_distance_m(stopped, a, 0.1), 2.4, 1e-9);
+  // no time in common
+  EXPECT_TRUE(std::isinf(plan_distance_m(straight_plan(kT0 + 3'000'000, 3.0), a, 0.1)));
+}
+
 TEST(PlanReplay, APlanningCycleKeepsThePlannerBusyForTheLogsComputeTime) {
   const auto planner = planning::PlannerParams::from_config(repo_config());
   const auto inputs = planner_inputs({kAlongside}, 3.0);
@@ -368,7 +402,7 @@ TEST(Reaction, GoldenPaperSimHeadOnMover) {
   const auto a = replay.plans(), b = replay.plans();
   ASSERT_EQ(a.size(), b.size());
   ASSERT_GT(a.size(), 20u);
-  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(plan_distance_m(a[i], b[i]), 0.0) << i;
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(plan_distance_m(a[i], b[i], planner.dt_s), 0.0) << i;
 }
 
 }  // namespace
