@@ -99,7 +99,7 @@ BENCHMARK(BM_Vlp16CoreWithLcmEncoding);
 void BM_Vlp16RealSample(benchmark::State& state) {
   std::vector<UdpDatagram> data;
   try {
-    PcapUdpReader r(std::string(EVADE_SOURCE_DIR) + "/../shared/data/vlp16_sample.pcap");
+    PcapUdpReader r(std::string(EVADE_SOURCE_DIR) + "/test/data/vlp16_sample.pcap");
     UdpDatagram d;
     while (r.next(&d))
       if (d.payload.size() == vlp16::kPacketSize) data.push_back(d);

@@ -35,10 +35,10 @@ void check_safety(const Node& root) {
       p.fail("rate_hz", os.str());
     }
   }
-  if (has_path(root, "planner", "require_predictions")) {
+  if (has_path(root, "planner", "require_obstacles")) {
     const Node p = root.section("planner");
-    if (!p.get<bool>("require_predictions") && !test_config)
-      p.fail("require_predictions",
+    if (!p.get<bool>("require_obstacles") && !test_config)
+      p.fail("require_obstacles",
              "false (plan with no perception at all) is allowed only in a test configuration "
              "(top-level 'test_config: true')");
   }

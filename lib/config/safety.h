@@ -7,7 +7,7 @@
 //   than the stack's promise (docs/safety.md);
 // - the planner's period (1 / planner.rate_hz) below that watchdog, or
 //   every gap between commands would trip it;
-// - planner.require_predictions: false only in a configuration that says
+// - planner.require_obstacles: false only in a configuration that says
 //   it is a test configuration (top-level `test_config: true`): a planner
 //   that plans with no perception at all is for tests of the planner alone.
 // A rule whose keys are absent (a partial configuration in a test) is not

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "mapping/sweep.h"
+
 namespace evade::mapping {
 
 namespace {
@@ -58,34 +60,11 @@ bool ElevationLayers::known(int r, int c) const {
   return r >= 0 && c >= 0 && r < height && c < width && !std::isnan(z_max[index(r, c)]);
 }
 
-namespace {
-
-// world = R * p_sensor + t for one slice of the sweep (mount, then robot pose)
-struct SliceTransform {
-  double r[9];
-  double t[3];
-};
-
-SliceTransform compose(const double mount_r[9], const double mount_t[3], const Pose2& robot) {
-  const double cy = std::cos(robot.yaw), sy = std::sin(robot.yaw);
-  SliceTransform out;
-  for (int col = 0; col < 3; ++col) {
-    out.r[0 * 3 + col] = cy * mount_r[0 * 3 + col] - sy * mount_r[1 * 3 + col];
-    out.r[1 * 3 + col] = sy * mount_r[0 * 3 + col] + cy * mount_r[1 * 3 + col];
-    out.r[2 * 3 + col] = mount_r[2 * 3 + col];
-  }
-  out.t[0] = cy * mount_t[0] - sy * mount_t[1] + robot.x;
-  out.t[1] = sy * mount_t[0] + cy * mount_t[1] + robot.y;
-  out.t[2] = mount_t[2];  // the base sits on the ground plane z = 0 of the 2D odometry
-  return out;
-}
-
-}  // namespace
-
 bool ElevationMapBuilder::build(const CloudView& cloud, const PoseBuffer& poses, ElevationLayers* out,
                                 Pose2* robot_at_utime, CloudStats* stats) const {
-  const auto pose0 = poses.at(cloud.utime, p_.max_extrapolation_us);
-  if (!pose0) return false;
+  SweepCompensator sweep(cloud, poses, p_.sweep_slice_us, p_.max_sweep_us, p_.max_extrapolation_us);
+  if (!sweep.valid()) return false;
+  const Pose2* pose0 = &sweep.pose_at_utime();
   *robot_at_utime = *pose0;
 
   const double res = p_.resolution_m;
@@ -95,23 +74,6 @@ bool ElevationMapBuilder::build(const CloudView& cloud, const PoseBuffer& poses,
   const double ox = std::floor(pose0->x / res) * res - (w / 2) * res;
   const double oy = std::floor(pose0->y / res) * res - (h / 2) * res;
   out->reset(ox, oy, res, w, h);
-
-  // mount rotation R = Rz(yaw) Ry(pitch) Rx(roll)
-  const double cr = std::cos(cloud.mount_roll), sr = std::sin(cloud.mount_roll);
-  const double cp = std::cos(cloud.mount_pitch), sp = std::sin(cloud.mount_pitch);
-  const double cyw = std::cos(cloud.mount_yaw), syw = std::sin(cloud.mount_yaw);
-  const double mount_r[9] = {cyw * cp, cyw * sp * sr - syw * cr, cyw * sp * cr + syw * sr,
-                             syw * cp, syw * sp * sr + cyw * cr, syw * sp * cr - cyw * sr,
-                             -sp,      cp * sr,                  cp * cr};
-  const double mount_t[3] = {cloud.mount_x, cloud.mount_y, cloud.mount_z};
-
-  // One pose per slice of the sweep, computed on first use.
-  const int64_t slice_us = std::max<int64_t>(1, p_.sweep_slice_us);
-  const size_t num_slices = size_t(p_.max_sweep_us / slice_us) + 1;
-  std::vector<SliceTransform> slices(num_slices);
-  std::vector<uint8_t> slice_ready(num_slices, 0);
-  const SliceTransform at_utime = compose(mount_r, mount_t, *pose0);
-  Pose2 last_good = *pose0;
 
   const double min_r2 = p_.min_range_m * p_.min_range_m;
   const double max_r2 = p_.max_range_m * p_.max_range_m;
@@ -137,26 +99,13 @@ bool ElevationMapBuilder::build(const CloudView& cloud, const PoseBuffer& poses,
       ++st.points_cropped;
       continue;
     }
-    const SliceTransform* tf = &at_utime;
+    const RigidTransform* tf = &sweep.at_utime();
     if (cloud.time_offset) {
-      const int64_t off = cloud.time_offset[i];
-      if (off < 0 || off > p_.max_sweep_us) {
+      tf = sweep.at(cloud.time_offset[i]);
+      if (!tf) {
         ++st.points_invalid;
         continue;
       }
-      const size_t k = size_t(off / slice_us);
-      if (!slice_ready[k]) {
-        const int64_t t = cloud.utime + int64_t(k) * slice_us + slice_us / 2;
-        const auto pose = poses.at(t, p_.max_extrapolation_us);
-        if (pose) {
-          last_good = *pose;
-        } else {
-          ++st.slices_pose_held;
-        }
-        slices[k] = compose(mount_r, mount_t, last_good);
-        slice_ready[k] = 1;
-      }
-      tf = &slices[k];
     }
     const double wz = tf->r[6] * px + tf->r[7] * py + tf->r[8] * pz + tf->t[2];
     if (wz < p_.min_z_m || wz > p_.max_z_m) {
@@ -177,6 +126,7 @@ bool ElevationMapBuilder::build(const CloudView& cloud, const PoseBuffer& poses,
     if (!(zmin[idx] <= z)) zmin[idx] = z;
     ++st.points_binned;
   }
+  st.slices_pose_held = sweep.slices_pose_held();
   st.cells_filled = fill_holes(out, p_.hole_fill_min_neighbors, p_.step_max_m);
   compute_obstacle_layer(p_, out, nullptr, &*pose0);
   if (stats) *stats = st;

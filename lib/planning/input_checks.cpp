@@ -29,4 +29,13 @@ bool invalid_track_near(const evade::prediction_list_t& m, double x, double y, d
   return false;
 }
 
+bool invalid_observed_near(const evade::obstacle_list_t& m, double x, double y, double radius_m) {
+  for (const auto& o : m.obstacles) {
+    if (valid_observed(o)) continue;
+    if (!std::isfinite(o.x) || !std::isfinite(o.y)) return true;
+    if (std::hypot(o.x - x, o.y - y) <= radius_m) return true;
+  }
+  return false;
+}
+
 }  // namespace evade::planning

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 
+#include "evade/obstacle_list_t.hpp"
 #include "evade/prediction_list_t.hpp"
 
 namespace evade::planning {
@@ -24,5 +25,7 @@ Arrival arrival(int64_t now, int64_t utime, int64_t max_age_us);
 // might be within radius_m of (x, y): its first position is within it, or
 // is unknown (non-finite or missing).
 bool invalid_track_near(const evade::prediction_list_t& m, double x, double y, double radius_m);
+// The same for observed ellipses (valid_observed()).
+bool invalid_observed_near(const evade::obstacle_list_t& m, double x, double y, double radius_m);
 
 }  // namespace evade::planning

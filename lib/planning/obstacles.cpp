@@ -54,23 +54,28 @@ ObstacleTrack align_track(const evade::track_prediction_t& t, double pred_dt, do
   return o;
 }
 
-ObstacleTrack hold_current(const evade::track_prediction_t& t, int N) {
-  ObstacleTrack o;
-  o.id = t.id;
-  o.x.assign(N + 1, t.x[0]);
-  o.y.assign(N + 1, t.y[0]);
-  o.a.assign(N + 1, t.a[0]);
-  o.b.assign(N + 1, t.b[0]);
-  o.theta.assign(N + 1, t.theta[0]);
-  return o;
+bool valid_observed(const evade::obstacle_t& o) {
+  return std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.theta) && o.a > 0 && o.b > 0 &&
+         std::isfinite(o.a) && std::isfinite(o.b);
 }
 
-void CurveFitHistory::add(const evade::prediction_list_t& msg) {
-  for (const auto& t : msg.tracks) {
-    if (!valid_track(t)) continue;
-    auto& h = history_[t.id];
+ObstacleTrack hold_observed(const evade::obstacle_t& o, int N) {
+  ObstacleTrack t;
+  t.id = o.id;
+  t.x.assign(N + 1, o.x);
+  t.y.assign(N + 1, o.y);
+  t.a.assign(N + 1, o.a);
+  t.b.assign(N + 1, o.b);
+  t.theta.assign(N + 1, o.theta);
+  return t;
+}
+
+void CurveFitHistory::add(const evade::obstacle_list_t& msg) {
+  for (const auto& o : msg.obstacles) {
+    if (!valid_observed(o)) continue;
+    auto& h = history_[o.id];
     if (!h.empty() && h.back().utime >= msg.utime) continue;  // replayed or out of order
-    h.push_back({msg.utime, t.x[0], t.y[0]});
+    h.push_back({msg.utime, o.x, o.y});
   }
   // forget samples (and tracks) older than the window
   for (auto it = history_.begin(); it != history_.end();) {
@@ -85,10 +90,10 @@ size_t CurveFitHistory::samples(int64_t id) const {
   return it == history_.end() ? 0 : it->second.size();
 }
 
-ObstacleTrack CurveFitHistory::extrapolate(const evade::track_prediction_t& t, int64_t t_plan_us, int N,
+ObstacleTrack CurveFitHistory::extrapolate(const evade::obstacle_t& ob, int64_t t_plan_us, int N,
                                            double plan_dt) const {
-  ObstacleTrack o = hold_current(t, N);
-  auto it = history_.find(t.id);
+  ObstacleTrack o = hold_observed(ob, N);
+  auto it = history_.find(ob.id);
   if (it == history_.end() || it->second.size() < 2) return o;
   const auto& h = it->second;
   // least squares in time relative to the newest sample (s), degree limited
@@ -120,41 +125,47 @@ ObstacleTrack CurveFitHistory::extrapolate(const evade::track_prediction_t& t, i
   return o;
 }
 
-std::vector<ObstacleTrack> constraint_obstacles(const PlannerParams& p, const evade::prediction_list_t& msg,
-                                                const CurveFitHistory& history, int64_t t_plan_us, double px,
-                                                double py, int* invalid_tracks) {
+namespace {
+
+// The mode's input, moved over the horizon as the mode says (no decay, no
+// selection yet).
+std::vector<ObstacleTrack> moved_obstacles(const PlannerParams& p, const ObstacleInputs& in, int64_t t_plan_us,
+                                           int* invalid) {
+  const ModeSpec& mode = mode_spec(p.mode);
   const int N = p.horizon_steps;
-  const double cbf_decay = 1.0 - p.gamma;
-  const double offset_s = (t_plan_us - msg.utime) * 1e-6;
+  std::vector<ObstacleTrack> out;
+  if (mode.source == ObstacleSource::kPredicted && in.predictions) {
+    const evade::prediction_list_t& msg = *in.predictions;
+    const double offset_s = (t_plan_us - msg.utime) * 1e-6;
+    for (const auto& t : msg.tracks) {
+      if (!valid_track(t)) {
+        if (invalid) ++*invalid;
+        continue;
+      }
+      out.push_back(align_track(t, msg.dt, offset_s, N, p.dt_s));
+    }
+  } else if (mode.source == ObstacleSource::kObserved && in.observed) {
+    for (const auto& o : in.observed->obstacles) {
+      if (!valid_observed(o)) {
+        if (invalid) ++*invalid;
+        continue;
+      }
+      const bool fit = mode.motion == ObstacleMotion::kCurveFit && in.history;
+      out.push_back(fit ? in.history->extrapolate(o, t_plan_us, N, p.dt_s) : hold_observed(o, N));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<ObstacleTrack> constraint_obstacles(const PlannerParams& p, const ObstacleInputs& in, int64_t t_plan_us,
+                                                double px, double py, int* invalid) {
+  const int N = p.horizon_steps;
+  const double decay = p.constraint_decay();
   std::vector<std::pair<double, ObstacleTrack>> scored;
-  for (const auto& t : msg.tracks) {
-    if (!valid_track(t)) {
-      if (invalid_tracks) ++*invalid_tracks;
-      continue;
-    }
-    ObstacleTrack o;
-    switch (p.mode) {
-      case Mode::kDcbf:  // D-CBF over the KF predictions (inflated ellipses)
-        o = align_track(t, msg.dt, offset_s, N, p.dt_s);
-        o.decay = cbf_decay;
-        break;
-      case Mode::kKf:  // distance constraint h >= 0 over the KF predictions
-        o = align_track(t, msg.dt, offset_s, N, p.dt_s);
-        o.decay = 0.0;
-        break;
-      case Mode::kMpc:  // distance constraint to the current obstacle position
-        o = hold_current(t, N);
-        o.decay = 0.0;
-        break;
-      case Mode::kCbf:  // discrete CBF, obstacle held where it is
-        o = hold_current(t, N);
-        o.decay = cbf_decay;
-        break;
-      case Mode::kCbfCurvefit:  // CBF over the polynomial-fit extrapolation
-        o = history.extrapolate(t, t_plan_us, N, p.dt_s);
-        o.decay = cbf_decay;
-        break;
-    }
+  for (ObstacleTrack& o : moved_obstacles(p, in, t_plan_us, invalid)) {
+    o.decay = decay;
     double closest = std::numeric_limits<double>::infinity();
     for (int k = 0; k <= N; ++k) closest = std::min(closest, std::hypot(o.x[k] - px, o.y[k] - py) - o.a[k]);
     if (!std::isfinite(closest) || closest > p.obstacle_consider_radius_m) continue;

@@ -6,24 +6,10 @@
 
 namespace evade::planning {
 
-Mode parse_mode(const std::string& name) {
-  if (name == "dcbf") return Mode::kDcbf;
-  if (name == "mpc") return Mode::kMpc;
-  if (name == "cbf") return Mode::kCbf;
-  if (name == "kf") return Mode::kKf;
-  if (name == "cbf_curvefit") return Mode::kCbfCurvefit;
-  throw std::invalid_argument("unknown planner mode '" + name + "' (dcbf, mpc, cbf, kf, cbf_curvefit)");
-}
-
-const char* mode_name(Mode m) {
-  switch (m) {
-    case Mode::kDcbf: return "dcbf";
-    case Mode::kMpc: return "mpc";
-    case Mode::kCbf: return "cbf";
-    case Mode::kKf: return "kf";
-    case Mode::kCbfCurvefit: return "cbf_curvefit";
-  }
-  return "dcbf";
+double PlannerParams::constraint_decay() const {
+  const ModeSpec& m = mode_spec(mode);
+  if (m.constraint == ConstraintForm::kDistance) return 0.0;
+  return 1.0 - (m.gamma == GammaKey::kEvade ? evade_gamma : gamma);
 }
 
 PlannerParams PlannerParams::from_config(const config::Node& root) {
@@ -38,11 +24,14 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.limits.alpha = robot.get_positive("max_alpha_radps2");
 
   const config::Node s = root.section("planner");
-  p.mode = parse_mode(s.get_choice("mode", {"dcbf", "mpc", "cbf", "kf", "cbf_curvefit"}));
+  p.mode = parse_mode(s.get_choice("mode", mode_names()));
+  p.paper_fallback =
+      s.get_choice("paper_fallback", {"brake", "last_plan"}) == "brake" ? PaperFallback::kBrake : PaperFallback::kLastPlan;
   p.rate_hz = s.get_positive("rate_hz");
   p.horizon_steps = s.get_int("horizon_steps", 2, 64);
   p.dt_s = s.get_positive("dt_s");
   p.gamma = s.get_double("gamma", 1e-6, 1.0);  // 0 < gamma <= 1 (paper, discrete D-CBF)
+  p.evade_gamma = s.get_double("evade_gamma", 1e-6, 1.0);
   p.d_safe_m = s.get_double("d_safe_m", 0.0, 10.0);
   p.reference_speed_mps = s.get_double("reference_speed_mps", 0.0, p.limits.v_max);
   p.route_end_decel_mps2 = s.get_positive("route_end_decel_mps2");
@@ -52,7 +41,8 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.max_obstacles = s.get_int("max_obstacles", 0, 256);
   p.odometry_max_age_s = s.get_positive("odometry_max_age_s");
   p.predictions_max_age_s = s.get_positive("predictions_max_age_s");
-  p.require_predictions = s.get<bool>("require_predictions");
+  p.obstacles_max_age_s = s.get_positive("obstacles_max_age_s");
+  p.require_obstacles = s.get<bool>("require_obstacles");
 
   const config::Node w = s.section("weights");
   p.weights.q_xy = w.get_double("q_xy", 0, 1e6);

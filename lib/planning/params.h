@@ -7,21 +7,26 @@
 #include "config/config.h"
 #include "planning/ceres_solver.h"
 #include "planning/detour.h"
+#include "planning/modes.h"
 #include "planning/problem.h"
 
 namespace evade::planning {
 
-// The paper's Table I modes (SPEC "Planner modes").
-enum class Mode { kDcbf, kMpc, kCbf, kKf, kCbfCurvefit };
-Mode parse_mode(const std::string& name);  // throws std::invalid_argument
-const char* mode_name(Mode m);
+// What the paper's modes do when the solve ends outside the constraints.
+enum class PaperFallback {
+  kBrake,     // brake at the deceleration limits (STATUS_STOPPING)
+  kLastPlan,  // the last solved plan shifted, its tail braking (STATUS_FALLBACK), else brake; what
+              // the paper's released code does (it replays its last solution)
+};
 
 struct PlannerParams {
-  Mode mode = Mode::kDcbf;
+  Mode mode = Mode::kEvade;  // modes.h
+  PaperFallback paper_fallback = PaperFallback::kBrake;
   double rate_hz = 10;
   int horizon_steps = 25;
   double dt_s = 0.1;
-  double gamma = 0.1;
+  double gamma = 0.15;       // the paper's D-CBF decay (its Section IV), modes with GammaKey::kPaper
+  double evade_gamma = 0.1;  // evade's own (GammaKey::kEvade)
   double d_safe_m = 0.35;
   double reference_speed_mps = 0.8;
   double route_end_decel_mps2 = 0.5;
@@ -30,8 +35,9 @@ struct PlannerParams {
   double obstacle_consider_radius_m = 4.0;
   int max_obstacles = 16;
   double odometry_max_age_s = 0.3;
-  double predictions_max_age_s = 0.5;
-  bool require_predictions = true;
+  double predictions_max_age_s = 0.5;  // modes reading OBSTACLE_PREDICTIONS
+  double obstacles_max_age_s = 0.5;    // modes reading OBSTACLES
+  bool require_obstacles = true;       // no message yet from the mode's obstacle input counts as stale
   bool warm_multipliers = false;
   int curvefit_degree = 2;
   double curvefit_window_s = 1.0;
@@ -56,6 +62,10 @@ struct PlannerParams {
   double escape_min_progress_m = 0.1;       // a relaxed plan ending nearer its start than this makes no headway
   double escape_near_m = 0.1;               // ...while some obstacle's h at the start is below this (m beyond d_safe)
   double escape_cone_half_angle_rad = 0.785;  // the escape heading is at most this far from the way out (grad h)
+
+  // The decay of this mode's constraints: 1 - gamma (its GammaKey) for a
+  // CBF, 0 for a distance constraint.
+  double constraint_decay() const;
 
   // root = the whole configuration (reads `planner:` and the limits in `robot:`).
   static PlannerParams from_config(const config::Node& root);

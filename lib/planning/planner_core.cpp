@@ -48,6 +48,7 @@ std::vector<double> shifted(const std::vector<double>& u, int steps) {
 PlannerCore::PlannerCore(PlannerParams params)
     : Core("planner"),
       p_(params),
+      mode_(mode_spec(params.mode)),
       detour_(params.detour, params.d_safe_m),
       settled_(params.detour.memory_s),
       history_(params.curvefit_degree, params.curvefit_window_s),
@@ -64,7 +65,6 @@ PlannerCore::PlannerCore(PlannerParams params)
     if (!accept_predictions(m)) return;
     predictions_ = m;
     predictions_rx_ = now();
-    history_.add(m);
     // first sighting per track id, for ObstacleTrack::age_s (ids that are
     // gone are forgotten: the table stays as small as the track list)
     std::map<int64_t, int64_t> seen;
@@ -73,6 +73,12 @@ PlannerCore::PlannerCore(PlannerParams params)
       seen[t.id] = it == first_seen_.end() ? m.utime : it->second;
     }
     first_seen_.swap(seen);
+  });
+  subscribe<evade::obstacle_list_t>("OBSTACLES", [this](const evade::obstacle_list_t& m) {
+    if (!accept_observed(m)) return;
+    observed_ = m;
+    observed_rx_ = now();
+    history_.add(m);  // cbf_curvefit's observed centres
   });
   every(period_us_, [this] { watchdog(); });
 }
@@ -140,7 +146,7 @@ void PlannerCore::on_odometry(const evade::odometry_t& odom) {
   last_odometry_ = odom;
   // Perception that has just gone stale is acted on at the odometry rate,
   // not at the next plan cycle: the stop must not wait up to one period.
-  const bool just_stale = predictions_stale() &&
+  const bool just_stale = input_stale() &&
                           !(last_plan_ && last_plan_->status == evade::plan_t::STATUS_STALE_INPUT);
   // rate limit on message time: deterministic in replay
   if (!just_stale && next_plan_utime_ >= 0 && odom.utime < next_plan_utime_) return;
@@ -151,7 +157,15 @@ void PlannerCore::on_odometry(const evade::odometry_t& odom) {
 
 bool PlannerCore::predictions_stale() const {
   return predictions_ ? now() - predictions_rx_ > std::llround(p_.predictions_max_age_s * 1e6)
-                      : p_.require_predictions;
+                      : p_.require_obstacles;
+}
+
+bool PlannerCore::observed_stale() const {
+  return observed_ ? now() - observed_rx_ > std::llround(p_.obstacles_max_age_s * 1e6) : p_.require_obstacles;
+}
+
+bool PlannerCore::input_stale() const {
+  return mode_.source == ObstacleSource::kObserved ? observed_stale() : predictions_stale();
 }
 
 void PlannerCore::watchdog() {
@@ -218,6 +232,12 @@ bool PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade:
 }
 
 void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
+  if (mode_.evade_layers && detour_reference(odom, pb)) return;
+  route_.reference(odom.x, odom.y, odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2,
+                   &pb->ref_x, &pb->ref_y, &pb->ref_yaw);
+}
+
+bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
   std::vector<std::pair<int64_t, SettledObstacle>> settled;
   std::vector<int64_t> moving;
   std::vector<SettledObstacle> swept_movers;
@@ -247,11 +267,10 @@ void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
     way_round.update_progress(odom.x, odom.y, p_.route_search_window_m);
     way_round.reference(odom.x, odom.y, odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2,
                         &pb->ref_x, &pb->ref_y, &pb->ref_yaw);
-    return;
+    return true;
   }
   if (r == DetourPlanner::Result::kNoWay) count("detour_no_way");
-  route_.reference(odom.x, odom.y, odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2,
-                   &pb->ref_x, &pb->ref_y, &pb->ref_yaw);
+  return false;
 }
 
 void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
@@ -274,8 +293,8 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     publish_plan(odom, evade::plan_t::STATUS_GOAL, nullptr, braking_controls(v0, w0), 0, 0, 0);
     return;
   }
-  if (predictions_stale()) {
-    count("stale_predictions");
+  if (input_stale()) {
+    count(mode_.source == ObstacleSource::kObserved ? "stale_obstacles" : "stale_predictions");
     publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
     return;
   }
@@ -293,9 +312,10 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   pb.lim = p_.limits;
   pb.d_safe = p_.d_safe_m;
   make_reference(odom, &pb);
-  if (predictions_) {
+  {
     int invalid = 0;
-    pb.obstacles = constraint_obstacles(p_, *predictions_, history_, odom.utime, odom.x, odom.y, &invalid);
+    const ObstacleInputs in{predictions_ ? &*predictions_ : nullptr, observed_ ? &*observed_ : nullptr, &history_};
+    pb.obstacles = constraint_obstacles(p_, in, odom.utime, odom.x, odom.y, &invalid);
     if (invalid) count("tracks_invalid", invalid);
     for (auto& o : pb.obstacles) {
       o.age_s = track_age_s(o.id, odom.utime);
@@ -332,38 +352,71 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   const auto t0 = std::chrono::steady_clock::now();
   // Controls only: with the previous multipliers (and their penalty) the
   // solves measured slower and costlier in bench_planner, so they start at 0.
+  const std::optional<CeresMpcSolver> solver = budgeted_solver(0);
+  SolveResult res = solver->solve(pb, warm_u, p_.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_);
+  int iterations = res.iterations;
+  int8_t status = evade::plan_t::STATUS_OK;
+  std::vector<double> u = res.u;
+  if (mode_.evade_layers) {
+    if (!(res.finite && res.feasible)) status = recover(pb, warm_u, odom, v0, w0, &res, &u, &iterations);
+  } else if (!(res.finite && res.feasible)) {
+    // The paper's planner: none of evade's recovery. Braking at the limits
+    // needs no solution; the paper's released code replays its last plan.
+    count("solver_infeasible");
+    if (p_.paper_fallback == PaperFallback::kLastPlan && last_feasible_shifted(odom, &u)) {
+      count("fallback");
+      status = evade::plan_t::STATUS_FALLBACK;
+      project_controls(pb, &u);  // consistent with the measured speed and the limits
+    } else {
+      count("stopping");
+      status = evade::plan_t::STATUS_STOPPING;
+      u = braking_controls(v0, w0);
+    }
+  }
+  const double measured_us =
+      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  const double solve_us = solve_time_model_ ? solve_time_model_(iterations, measured_us) : measured_us;
+
+  if (status == evade::plan_t::STATUS_OK) {
+    feasible_u_ = u;
+    feasible_utime_ = odom.utime;
+  }
+  prev_u_ = u;
+  prev_utime_ = odom.utime;
+  prev_multipliers_ = status == evade::plan_t::STATUS_OK ? res.multipliers : std::vector<double>{};
+  prev_penalty_ = status == evade::plan_t::STATUS_OK ? res.penalty : 0.0;
+  prev_ids_.clear();
+  for (const auto& o : pb.obstacles) prev_ids_.push_back(o.id);
+  publish_plan(odom, status, &pb, u, solve_us, iterations, static_cast<int>(pb.obstacles.size()));
+}
+
+std::optional<CeresMpcSolver> PlannerCore::budgeted_solver(int spent, int reserve) {
   // Each solve gets what is left of the cycle's iteration budget (at most
   // its own), less `reserve` kept for a later one:
   // PlannerParams::max_cycle_iterations.
-  int iterations = 0;
-  auto budgeted = [&](int reserve = 0) -> std::optional<CeresMpcSolver> {
-    const int left = p_.max_cycle_iterations - iterations - reserve;
-    if (left <= 0) {
-      count("cycle_budget_spent");
-      return std::nullopt;
-    }
-    SolverOptions o = p_.solver;
-    o.max_total_iterations = std::min(o.max_total_iterations, left);
-    return CeresMpcSolver(o);
-  };
-  SolveResult res = budgeted()->solve(pb, warm_u, p_.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_);
-  iterations = res.iterations;
+  const int left = p_.max_cycle_iterations - spent - reserve;
+  if (left <= 0) {
+    count("cycle_budget_spent");
+    return std::nullopt;
+  }
+  SolverOptions o = p_.solver;
+  o.max_total_iterations = std::min(o.max_total_iterations, left);
+  return CeresMpcSolver(o);
+}
+
+int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom,
+                            double v0, double w0, SolveResult* res_out, std::vector<double>* u_out,
+                            int* iterations_out) {
+  const int N = p_.horizon_steps;
+  SolveResult& res = *res_out;
+  int& iterations = *iterations_out;
+  auto budgeted = [&](int reserve = 0) { return budgeted_solver(iterations, reserve); };
   std::vector<std::vector<double>> attempts;  // failed solves, candidates if nothing is feasible
   if (res.finite) attempts.push_back(res.u);
-  // Before giving up: restart from a swerve to either side. A warm start
-  // that heads straight at a symmetric obstacle sits on a saddle (the
-  // barrier's gradient has no sideways part) that no local method leaves.
-  // Skipped when braking misses the constraints too and the relaxed
-  // problem applies (a static obstacle's ellipse swelling with its
-  // uncertainty, a start inside d_safe): the hard problem has then most
-  // likely no solution, and the relaxed solve starts from both swerves
-  // anyway. In three paper_sim runs 2 of 526 restarts with braking
-  // infeasible found a plan, each at a full iteration budget. A head-on
-  // mover (braking infeasible, nothing to relax) still gets them.
-  const bool hard_failed = !(res.finite && res.feasible) && !pb.obstacles.empty();
+  const bool constrained = !pb.obstacles.empty();  // else nothing but the rate limits failed
   std::vector<double> relax;
   bool can_relax = false, skip_restarts = false;
-  if (hard_failed) {
+  if (constrained) {
     relax = barrier_relaxation(pb, p_.solver);
     can_relax = std::any_of(relax.begin(), relax.end(), [](double s) { return s > 0; });
     std::vector<double> brake = braking_controls(v0, w0);
@@ -393,15 +446,15 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     }
     return guess;
   };
-  if (hard_failed) {
+  if (constrained) {
     // unsolved, candidates for the plan with the most clearance below
     for (double side : {1.0, -1.0}) attempts.push_back(dash(side));
   }
-  if (hard_failed && skip_restarts) {
+  if (constrained && skip_restarts) {
     // unsolved, still candidates for the plan chosen below: with
     // a mover closing in, getting out of its way at speed can beat all else
     for (double side : {1.0, -1.0}) attempts.push_back(swerve(side));
-  } else if (hard_failed) {
+  } else if (constrained) {
     // the relaxed solve, when it applies, comes next and keeps its budget
     const int reserve = can_relax ? p_.solver.max_total_iterations : 0;
     for (double side : {1.0, -1.0}) {
@@ -432,77 +485,75 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       iterations += rec.iterations;
       if (rec.finite && !rec.feasible) attempts.push_back(rec.u);
     }
-    const int fsteps = feasible_u_.empty() ? -1
-                                           : static_cast<int>(std::llround((odom.utime - feasible_utime_) * 1e-6 /
-                                                                           p_.dt_s));
     if (can_relax && rec.finite && rec.feasible) {
       status = evade::plan_t::STATUS_RECOVERING;
       u = rec.u;
       res = rec;
       if (escape_turn(pb, v0, w0, &u)) count("escape_turn");
     } else {
-      // Nothing meets every constraint: of the plans at hand (the failed
-      // solves, swerves and dashes to either side, the last feasible plan
-      // shifted, braking), take the one that keeps the most clearance (the
-      // lowest h over the horizon under the current predictions), then the
-      // one that falls least short of the barrier constraints. Replaying an
-      // old plan blindly can drive into an obstacle that is sweeping across
-      // the path; braking can be worse than getting out of its way. The
-      // shortfall alone (the worst step of the D-CBF chain) preferred
-      // standing in an oncoming e-bike's way, deep inside its ellipse, to a
-      // dash aside that falls further short at its first steps.
-      struct Candidate {
-        std::vector<double> u;
-        int8_t status;
-        const char* counter;
-      };
-      std::vector<Candidate> candidates;
-      if (fsteps >= 1 && fsteps < N) {
-        std::vector<double> f = shifted(feasible_u_, fsteps);  // its tail brakes to a stop
-        const std::vector<double> tail =
-            braking_controls(feasible_u_[2 * (N - 1)], feasible_u_[2 * (N - 1) + 1]);
-        for (int k = N - fsteps; k < N; ++k) {
-          f[2 * k] = tail[2 * (k - (N - fsteps))];
-          f[2 * k + 1] = tail[2 * (k - (N - fsteps)) + 1];
-        }
-        candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
-      }
-      for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
-      candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
-      double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
-      const Candidate* chosen = &candidates.back();
-      std::vector<double> states(3 * (N + 1));
-      for (auto& c : candidates) {
-        project_controls(pb, &c.u);  // consistent with the measured speed and the limits
-        rollout(pb, c.u.data(), states.data());
-        // from k = 1: where the robot is now is the same for every plan
-        const double h = min_barrier(pb, states, 1);
-        const double shortfall = barrier_shortfall(pb, states);
-        const double tie = p_.solver.constraint_tolerance;
-        if (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9)) {
-          best_h = h;
-          best_shortfall = shortfall;
-          chosen = &c;
-        }
-      }
-      status = chosen->status;
-      u = chosen->u;
-      count(chosen->counter);
+      status = most_clearance(pb, attempts, odom, v0, w0, &u);
     }
   }
-  const double solve_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  *u_out = u;
+  return status;
+}
 
-  if (status == evade::plan_t::STATUS_OK) {
-    feasible_u_ = u;
-    feasible_utime_ = odom.utime;
+bool PlannerCore::last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const {
+  const int N = p_.horizon_steps;
+  if (feasible_u_.empty()) return false;
+  const int fsteps = static_cast<int>(std::llround((odom.utime - feasible_utime_) * 1e-6 / p_.dt_s));
+  if (fsteps < 1 || fsteps >= N) return false;
+  *u = shifted(feasible_u_, fsteps);  // its tail brakes to a stop
+  const std::vector<double> tail = braking_controls(feasible_u_[2 * (N - 1)], feasible_u_[2 * (N - 1) + 1]);
+  for (int k = N - fsteps; k < N; ++k) {
+    (*u)[2 * k] = tail[2 * (k - (N - fsteps))];
+    (*u)[2 * k + 1] = tail[2 * (k - (N - fsteps)) + 1];
   }
-  prev_u_ = u;
-  prev_utime_ = odom.utime;
-  prev_multipliers_ = status == evade::plan_t::STATUS_OK ? res.multipliers : std::vector<double>{};
-  prev_penalty_ = status == evade::plan_t::STATUS_OK ? res.penalty : 0.0;
-  prev_ids_.clear();
-  for (const auto& o : pb.obstacles) prev_ids_.push_back(o.id);
-  publish_plan(odom, status, &pb, u, solve_us, iterations, static_cast<int>(pb.obstacles.size()));
+  return true;
+}
+
+int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,
+                                   const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u) {
+  const int N = p_.horizon_steps;
+  // Nothing meets every constraint: of the plans at hand (the failed
+  // solves, swerves and dashes to either side, the last feasible plan
+  // shifted, braking), take the one that keeps the most clearance (the
+  // lowest h over the horizon under the current predictions), then the
+  // one that falls least short of the barrier constraints. Replaying an
+  // old plan blindly can drive into an obstacle that is sweeping across
+  // the path; braking can be worse than getting out of its way. The
+  // shortfall alone (the worst step of the D-CBF chain) preferred
+  // standing in an oncoming e-bike's way, deep inside its ellipse, to a
+  // dash aside that falls further short at its first steps.
+  struct Candidate {
+    std::vector<double> u;
+    int8_t status;
+    const char* counter;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<double> f;
+  if (last_feasible_shifted(odom, &f)) candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
+  for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
+  candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
+  double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
+  const Candidate* chosen = &candidates.back();
+  std::vector<double> states(3 * (N + 1));
+  for (auto& c : candidates) {
+    project_controls(pb, &c.u);  // consistent with the measured speed and the limits
+    rollout(pb, c.u.data(), states.data());
+    // from k = 1: where the robot is now is the same for every plan
+    const double h = min_barrier(pb, states, 1);
+    const double shortfall = barrier_shortfall(pb, states);
+    const double tie = p_.solver.constraint_tolerance;
+    if (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9)) {
+      best_h = h;
+      best_shortfall = shortfall;
+      chosen = &c;
+    }
+  }
+  *u = chosen->u;
+  count(chosen->counter);
+  return chosen->status;
 }
 
 void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb,

@@ -1,7 +1,13 @@
 // The planner process core: ODOMETRY-triggered MPC at rate_hz (on message
-// time), publishing PLAN and CMD_VEL; never stuck (fallback to the last
-// feasible plan shifted, then braking at the deceleration limit), never NaN.
+// time), publishing PLAN and CMD_VEL, never NaN. Its mode (modes.h) says
+// which obstacle input (OBSTACLES or OBSTACLE_PREDICTIONS) enters which
+// constraint; in the paper's modes the route is the reference and a failed
+// solve brakes, in `evade` the reference goes round what stands on the route
+// and a failed solve is recovered from (restarts, relaxed problem, escape,
+// the plan with the most clearance; README).
 #pragma once
+
+#include <functional>
 
 #include <cstdint>
 #include <optional>
@@ -9,6 +15,7 @@
 #include <vector>
 
 #include "bus/core.h"
+#include "evade/obstacle_list_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "evade/plan_t.hpp"
 #include "evade/prediction_list_t.hpp"
@@ -24,8 +31,23 @@ class PlannerCore : public bus::Core {
  public:
   explicit PlannerCore(PlannerParams params);
 
+  // The inputs of which only the newest waiting message matters: after a
+  // long solve, planning from each queued pose would plan from the past
+  // (and judge it stale). The live process and the lockstep loop conflate
+  // these.
+  static std::vector<std::string> conflated_inputs() {
+    return {"ODOMETRY", "OBSTACLES", "OBSTACLE_PREDICTIONS", "ROUTE"};
+  }
+
   // Exposed for tests: the last plan published.
   const std::optional<evade::plan_t>& last_plan() const { return last_plan_; }
+
+  // What PLAN.solve_time_us reports for a cycle, from its Ceres iterations
+  // and the steady-clock time it took. Default: the measured time. The
+  // lockstep closed loop puts its compute model here, so that a log made
+  // in simulated time holds the time it charged and is byte-reproducible.
+  using SolveTimeModel = std::function<double(int iterations, double measured_us)>;
+  void set_solve_time_model(SolveTimeModel model) { solve_time_model_ = std::move(model); }
 
  private:
   void on_odometry(const evade::odometry_t& odom);
@@ -33,6 +55,9 @@ class PlannerCore : public bus::Core {
   // The reference of this cycle: along the route, or round the settled
   // obstacles standing on it (detour.h).
   void make_reference(const evade::odometry_t& odom, Problem* pb);
+  // evade's shaping of the reference (ModeSpec::evade_layers): round the
+  // settled obstacles and the swept movers; false when the route stands.
+  bool detour_reference(const evade::odometry_t& odom, Problem* pb);
   // A mover ahead that the detour grid keeps clear of, as its ellipse swept
   // along its velocity (*swept): a slow leader (going the route's way within
   // detour.leader_max_angle_rad, slower than leader_max_speed_mps: swept
@@ -41,6 +66,22 @@ class PlannerCore : public bus::Core {
   // oncoming_sweep_s).
   bool swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, SettledObstacle* swept) const;
   void watchdog();
+  // A solver for the next solve of this cycle: what is left of
+  // max_cycle_iterations after `spent`, less `reserve`, at most one solve's
+  // budget; none (counted) when nothing is left.
+  std::optional<CeresMpcSolver> budgeted_solver(int spent, int reserve = 0);
+  // evade's recovery after the hard solve failed (*res): swerve restarts,
+  // the relaxed problem, the escape turn, else the candidate plan with the
+  // most clearance. Sets *u and *res, adds to *iterations, returns the status.
+  int8_t recover(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom, double v0,
+                 double w0, SolveResult* res, std::vector<double>* u, int* iterations);
+  // The last feasible plan shifted to this cycle, its tail braking; false
+  // when there is none from within the horizon.
+  bool last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const;
+  // Nothing met every constraint: of the plans at hand (`attempts`, the
+  // last feasible plan shifted, braking) the one with the most clearance.
+  int8_t most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,
+                        const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u);
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;
   // PlannerParams::escape_*: when *u (a relaxed plan) makes no headway from
@@ -51,6 +92,7 @@ class PlannerCore : public bus::Core {
                     double solve_us, int iterations, int num_obstacles);
 
   PlannerParams p_;
+  const ModeSpec& mode_;
   RouteFollower route_;
   DetourPlanner detour_;
   SettledMemory settled_;
@@ -59,6 +101,8 @@ class PlannerCore : public bus::Core {
   double track_age_s(int64_t id, int64_t utime) const;  // since first_seen_ (0 for an unknown id)
   std::optional<evade::prediction_list_t> predictions_;
   int64_t predictions_rx_ = -1;        // bus time the predictions arrived
+  std::optional<evade::obstacle_list_t> observed_;  // the last OBSTACLES
+  int64_t observed_rx_ = -1;           // bus time they arrived
   int64_t odometry_rx_ = -1;           // bus time of the last odometry
   std::optional<evade::odometry_t> last_odometry_;
   int64_t next_plan_utime_ = -1;
@@ -73,22 +117,28 @@ class PlannerCore : public bus::Core {
   int64_t feasible_utime_ = -1;
   std::optional<evade::plan_t> last_plan_;
   bool predictions_stale() const;  // no predictions (when required) or older than predictions_max_age_s
+  bool observed_stale() const;     // no OBSTACLES (when required) or older than obstacles_max_age_s
+  bool input_stale() const;        // the mode's obstacle input (ModeSpec::source) is stale
   // ---- input gate (planner_inputs.cpp, issue 20) ----
   // False when this odometry must not be used: late, from the future, not
   // newer than the last, or the first of a new epoch (then start_new_epoch
   // has stopped the robot and dropped every state of the old frame).
   bool accept_odometry(const evade::odometry_t& odom);
   void start_new_epoch(const evade::odometry_t& odom);
-  // False for predictions late, from the future, or older than the epoch.
+  // False for predictions (or OBSTACLES) late, from the future, or older
+  // than the epoch.
   bool accept_predictions(const evade::prediction_list_t& m);
-  // A track that cannot be constrained against near the robot: publishes a
-  // braking plan (STATUS_STOPPING) and returns true.
+  bool accept_observed(const evade::obstacle_list_t& m);
+  // A track (or observed ellipse, in the modes that read OBSTACLES) that
+  // cannot be constrained against near the robot: publishes a braking plan
+  // (STATUS_STOPPING) and returns true.
   bool brake_for_invalid_track(const evade::odometry_t& odom, double v0, double w0);
   bool have_epoch_ = false;
   int64_t epoch_ = 0;
   int64_t epoch_start_utime_ = -1;  // first odometry of the current epoch, once it changed
   double last_cmd_v_ = 0, last_cmd_omega_ = 0;
   int64_t last_cmd_now_ = -1;
+  SolveTimeModel solve_time_model_;
 };
 
 }  // namespace evade::planning

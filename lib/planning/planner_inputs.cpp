@@ -42,6 +42,8 @@ void PlannerCore::start_new_epoch(const evade::odometry_t& odom) {
   epoch_start_utime_ = odom.utime;
   predictions_.reset();
   predictions_rx_ = -1;
+  observed_.reset();
+  observed_rx_ = -1;
   first_seen_.clear();
   history_ = CurveFitHistory(p_.curvefit_degree, p_.curvefit_window_s);
   settled_ = SettledMemory(p_.detour.memory_s);
@@ -73,8 +75,24 @@ bool PlannerCore::accept_predictions(const evade::prediction_list_t& m) {
   return true;
 }
 
+bool PlannerCore::accept_observed(const evade::obstacle_list_t& m) {
+  switch (arrival(now(), m.utime, std::llround(p_.obstacles_max_age_s * 1e6))) {
+    case Arrival::kLate: count("obstacles_late"); return false;
+    case Arrival::kFuture: count("obstacles_future"); return false;
+    case Arrival::kOnTime: break;
+  }
+  if (epoch_start_utime_ >= 0 && m.utime < epoch_start_utime_) {
+    count("obstacles_before_epoch");
+    return false;
+  }
+  return true;
+}
+
 bool PlannerCore::brake_for_invalid_track(const evade::odometry_t& odom, double v0, double w0) {
-  if (!predictions_ || !invalid_track_near(*predictions_, odom.x, odom.y, p_.obstacle_consider_radius_m))
+  const double r = p_.obstacle_consider_radius_m;
+  const bool observed = mode_.source == ObstacleSource::kObserved;
+  if (observed ? !(observed_ && invalid_observed_near(*observed_, odom.x, odom.y, r))
+               : !(predictions_ && invalid_track_near(*predictions_, odom.x, odom.y, r)))
     return false;
   // Something is there that cannot be constrained against: brake.
   count("tracks_invalid_near");

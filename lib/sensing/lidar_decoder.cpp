@@ -277,6 +277,11 @@ void LidarDecoder::flush(std::vector<Revolution>* out) {
   if (!rel_us_.empty()) emit(out);
 }
 
+void LidarDecoder::discard_revolution() {
+  start_revolution();
+  have_prev_azimuth_ = false;
+}
+
 void LidarDecoder::feed_scan(const evade::lidar_scan_t& scan, std::vector<Revolution>* out) {
   const size_t before = out->size();
   for (const auto& p : scan.packets) {

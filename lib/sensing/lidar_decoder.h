@@ -76,6 +76,9 @@ class LidarDecoder {
   void flush(std::vector<Revolution>* out);
   // Replays a recorded LIDAR_SCAN (see above).
   void feed_scan(const evade::lidar_scan_t& scan, std::vector<Revolution>* out);
+  // Drops the revolution being assembled and the azimuth it reached (the
+  // packet stream was interrupted: the next packet starts afresh).
+  void discard_revolution();
 
   const LidarDecoderParams& params() const { return params_; }
   bool calibrated() const { return model_ == LidarModel::kVlp16 || have_calibration_; }

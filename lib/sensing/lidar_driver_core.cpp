@@ -61,6 +61,15 @@ LidarDriverCore::LidarDriverCore(const LidarDriverParams& params, Source source)
         count("scan_model_mismatch");
         return;
       }
+      if (!scan.packets.empty()) {
+        const int64_t first = scan.packets.front().utime;
+        if (last_scan_packet_utime_ >= 0 &&
+            (first < last_scan_packet_utime_ || first > last_scan_packet_utime_ + kMaxScanGapUs)) {
+          decoder_.discard_revolution();
+          count("scan_discontinuities");
+        }
+        last_scan_packet_utime_ = scan.packets.back().utime;
+      }
       decoder_.feed_scan(scan, &done_);
       publish_revolutions();
     });

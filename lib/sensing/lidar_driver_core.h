@@ -38,8 +38,16 @@ class LidarDriverCore : public bus::Core {
  public:
   enum class Source {
     kPackets,  // live socket or pcap: call on_packet() inside Core::input()
-    kScans,    // log replay: LIDAR_SCAN messages are decoded again (and not re-published)
+    kScans,    // LIDAR_SCAN messages (log replay, or a log played back on the bus: --from-scan)
+               // are decoded again (and not re-published)
   };
+  // Scans come from a log that may be played back with jumps (lcm-logplayer-gui
+  // seeks or loops): a scan whose first packet is older than the last packet
+  // fed, or newer by more than this, is a discontinuity. The revolution being
+  // assembled is dropped (counted as `scan_discontinuities`), so no cloud mixes
+  // packets from two places in the log. A continuous stream never triggers it:
+  // receive times only grow, and a spinning sensor sends packets ms apart.
+  static constexpr int64_t kMaxScanGapUs = 1'000'000;
   LidarDriverCore(const LidarDriverParams& params, Source source);
 
   // One UDP payload at the current bus time now() (call inside input()).
@@ -59,6 +67,7 @@ class LidarDriverCore : public bus::Core {
   Source source_;
   LidarDecoder decoder_;
   std::vector<Revolution> done_;
+  int64_t last_scan_packet_utime_ = -1;  // receive time of the last packet of the last scan fed
 };
 
 }  // namespace evade::sensing

@@ -28,6 +28,11 @@ Vlp16Simulator::Vlp16Simulator(const LidarSimParams& params, int64_t start_us)
                     {-sp, cp * sr, cp * cr}};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) mount_rot_[i][j] = r[i][j];
+  for (int l = 0; l < v::kLasers; ++l) {
+    const double el = v::kLaserTable[static_cast<size_t>(l)].elevation_deg * kDegToRad;
+    cos_el_[static_cast<size_t>(l)] = std::cos(el);
+    sin_el_[static_cast<size_t>(l)] = std::sin(el);
+  }
 }
 
 int64_t Vlp16Simulator::next_packet_ready_us() const {
@@ -41,11 +46,16 @@ double Vlp16Simulator::azimuth_at_offset(double offset_us) const {
 }
 
 Ray Vlp16Simulator::laser_ray(const Pose2& robot, int laser, double azimuth_deg) const {
-  const v::Laser& l = v::kLaserTable[static_cast<size_t>(laser)];
-  double el = l.elevation_deg * kDegToRad, az = azimuth_deg * kDegToRad;
+  return laser_ray(robot, std::cos(robot.yaw), std::sin(robot.yaw), laser, azimuth_deg);
+}
+
+Ray Vlp16Simulator::laser_ray(const Pose2& robot, double c, double s, int laser, double azimuth_deg) const {
+  const auto li = static_cast<size_t>(laser);
+  const v::Laser& l = v::kLaserTable[li];
+  const double az = azimuth_deg * kDegToRad;
   // Direction and beam origin in the sensor frame (x forward, y left, z up;
   // Velodyne's azimuth turns clockwise, hence -sin): see sensing/vlp16.h.
-  double ds[3] = {std::cos(el) * std::cos(az), -std::cos(el) * std::sin(az), std::sin(el)};
+  double ds[3] = {cos_el_[li] * std::cos(az), -cos_el_[li] * std::sin(az), sin_el_[li]};
   double os[3] = {0.0, 0.0, l.vertical_offset_m};
   double db[3], ob[3];  // in the base frame
   for (int i = 0; i < 3; ++i) {
@@ -55,7 +65,6 @@ Ray Vlp16Simulator::laser_ray(const Pose2& robot, int laser, double azimuth_deg)
   ob[0] += p_.mount_x_m;
   ob[1] += p_.mount_y_m;
   ob[2] += p_.mount_height_m;  // base frame origin on the ground
-  double c = std::cos(robot.yaw), s = std::sin(robot.yaw);
   Ray r;
   r.origin = Vec3{robot.x + c * ob[0] - s * ob[1], robot.y + s * ob[0] + c * ob[1], ob[2]};
   r.dir = Vec3{c * db[0] - s * db[1], s * db[0] + c * db[1], db[2]};
@@ -86,10 +95,11 @@ Packet Vlp16Simulator::make_packet(const WorldAt& world) {
       // One snapshot per firing sequence: within its 55 us the robot moves
       // at most a few hundredths of a millimetre.
       world(start_us_ + std::llround(t0 + v::firing_offset_us(b, s, 0)), &snap);
+      const double cos_yaw = std::cos(snap.robot.yaw), sin_yaw = std::sin(snap.robot.yaw);
       for (int l = 0; l < v::kLasers; ++l) {
         double within_block_us = s * v::kSequencePeriodUs + l * v::kFiringIntervalUs;
         double az = block.azimuth_deg + gap_deg[b] * within_block_us / v::kBlockPeriodUs;
-        Ray ray = laser_ray(snap.robot, l, az);
+        Ray ray = laser_ray(snap.robot, cos_yaw, sin_yaw, l, az);
         double range = hit_ground(ray);
         bool ground = true;
         for (const Solid& solid : snap.solids) {

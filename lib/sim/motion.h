@@ -14,8 +14,10 @@ struct ObstacleState {
   double vy = 0.0;
 };
 
-// State of obstacle `s` at `t_s` seconds after the motion started. For
-// t_s <= 0 (not started yet) it is at its initial position, at rest.
+// State of obstacle `s` at `t_s` seconds after the motion started. Its own
+// motion begins s.start_delay_s later: for t_s <= s.start_delay_s (not
+// started yet) it is at its initial position, at rest; after that the
+// models below run on t = t_s - s.start_delay_s.
 //  - static: always at (x, y);
 //  - constant velocity: (x, y) + (vx, vy) t;
 //  - waypoints: arc length speed*t along the path (x, y) -> waypoints...,

@@ -7,8 +7,11 @@ namespace evade::sim {
 namespace {
 
 // Top-level keys of a scenario file (SPEC.md, "Scenario file").
-const std::set<std::string> kTopLevelKeys = {"name",  "duration_s", "robot",     "route",
-                                             "lidar", "obstacles",  "obstacles_start"};
+const std::set<std::string> kTopLevelKeys = {"name",  "duration_s", "robot",           "route",
+                                             "lidar", "obstacles",  "obstacles_start", "seed"};
+
+// Longest start_delay_s accepted: a day; anything longer is a typo.
+constexpr double kMaxStartDelayS = 86400.0;
 
 Vec2 point(const std::vector<double>& xy) { return Vec2{xy[0], xy[1]}; }
 
@@ -39,6 +42,10 @@ ObstacleSpec parse_obstacle(const config::Node& o, int id) {
   if (!waypoints) {
     for (const char* k : {"speed", "mode"})
       if (o.has(k)) o.fail(k, "only meaningful with waypoints");
+  }
+  if (o.has("start_delay_s")) {
+    if (!velocity && !waypoints) o.fail("start_delay_s", "only meaningful with a motion (vx/vy or waypoints)");
+    s.start_delay_s = o.get_double("start_delay_s", 0.0, kMaxStartDelayS);
   }
   if (velocity) {
     s.motion = MotionKind::kConstantVelocity;
@@ -81,6 +88,11 @@ Scenario read_scenario(const config::Node& root) {
   sc.file = root.file();
   sc.name = root.get<std::string>("name");
   sc.duration_s = root.get_positive("duration_s");
+  if (root.has("seed")) {
+    int64_t seed = root.get<int64_t>("seed");
+    if (seed < 0) root.fail("seed", "must be 0 or greater");
+    sc.seed = static_cast<uint64_t>(seed);
+  }
 
   config::Node robot = root.section("robot");
   config::Node start = robot.section("start");

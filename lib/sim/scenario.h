@@ -5,6 +5,7 @@
 // naming the file, the line and the key.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,9 @@ struct ObstacleSpec {
   std::vector<Vec2> waypoints;
   double speed = 0.0;  // m/s
   WaypointMode mode = WaypointMode::kOnce;
+  // s: a moving obstacle stays at (x, y), at rest, until this long after
+  // the obstacles started moving, then follows its motion from there.
+  double start_delay_s = 0.0;
 };
 
 struct LidarSpec {
@@ -72,6 +76,9 @@ struct Scenario {
   LidarSpec lidar;
   std::vector<ObstacleSpec> obstacles;
   ObstaclesStart obstacles_start = ObstaclesStart::kOnRobotMotion;
+  // Seeds the simulator's sensor noise (the LiDAR range noise): the same
+  // scenario and seed give the same noise. A runner may override it.
+  uint64_t seed = 1;
 };
 
 // Throws config::ConfigError "file:line: key 'k': reason".

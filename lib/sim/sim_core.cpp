@@ -23,7 +23,6 @@ SimParams SimParams::from_config(const config::Node& root) {
   p.robot.step_us = us_from_s(s.get_double("physics_step_s", 1e-5, 0.01));
   p.robot.command_timeout_us = us_from_s(s.get_positive("command_timeout_s"));
   p.lidar.max_range_m = s.get_positive("lidar_max_range_m");
-  p.lidar.noise_seed = static_cast<uint64_t>(s.get<int64_t>("noise_seed"));
   p.lidar.ground_reflectivity = static_cast<uint8_t>(s.get_int("ground_reflectivity", 0, 255));
   p.lidar.obstacle_reflectivity = static_cast<uint8_t>(s.get_int("obstacle_reflectivity", 0, 255));
   p.battery_voltage_v = s.get_double("battery_voltage_v", 0.0, 6553.5);
@@ -50,6 +49,7 @@ SimCore::SimCore(const Scenario& scenario, const SimParams& params)
   params_.lidar.rate_hz = scenario_.lidar.rate_hz;
   params_.lidar.range_noise_std_m = scenario_.lidar.range_noise_std;
   params_.lidar.mount_height_m = scenario_.lidar.height;
+  params_.lidar.noise_seed = scenario_.seed;
 
   every(params_.lidar_period_us, [this] {
     start(now());

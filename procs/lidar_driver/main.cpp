@@ -5,6 +5,8 @@
 //   lidar_driver --pcap FILE [--rate X]                     capture at X times its pace
 //                                                           (0 = as fast as possible),
 //                                                           last revolution flushed, exit 0
+//   lidar_driver --from-scan                                live: LIDAR_SCAN from the bus (a log
+//                                                           played back) -> LIDAR_POINTS
 //   lidar_driver --replay IN.lcmlog --replay-out OUT.lcmlog re-decode LIDAR_SCAN messages
 #include <unistd.h>
 
@@ -114,6 +116,10 @@ int main(int argc, char** argv) {
   app.add_option("--rate", rate, "with --pcap: replay speed (1 = recorded pace, 0 = as fast as possible)")
       ->needs(pcap_opt)
       ->check(CLI::NonNegativeNumber);
+  bool from_scan = false;
+  app.add_flag("--from-scan", from_scan,
+               "decode LIDAR_SCAN from the bus (a played-back log) instead of UDP; publishes LIDAR_POINTS only")
+      ->excludes(pcap_opt);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -129,8 +135,8 @@ int main(int argc, char** argv) {
   }
 
   if (!opts.replay_in.empty()) {
-    if (opts.replay_out.empty() || !pcap_path.empty()) {
-      std::fprintf(stderr, "%s: --replay needs --replay-out and excludes --pcap\n", kName);
+    if (opts.replay_out.empty() || !pcap_path.empty() || from_scan) {
+      std::fprintf(stderr, "%s: --replay needs --replay-out and excludes --pcap and --from-scan\n", kName);
       return 2;
     }
     std::string why;
@@ -154,6 +160,14 @@ int main(int argc, char** argv) {
 
   const std::string url = opts.lcm_url.empty() ? evade::bus::default_lcm_url() : opts.lcm_url;
   try {
+    if (from_scan) {
+      LidarDriverCore core(params, LidarDriverCore::Source::kScans);
+      evade::bus::LiveBus bus(url);
+      bus.add(core);
+      std::fprintf(stderr, "%s: decoding %s from the bus\n", kName, evade::sensing::kLidarScanChannel);
+      bus.run(evade::bus::stop_on_signals());
+      return 0;
+    }
     LidarDriverCore core(params, LidarDriverCore::Source::kPackets);
     evade::bus::guard_bus(kName, url, root, {&core});
     evade::bus::LiveBus bus(url);

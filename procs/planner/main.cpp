@@ -1,6 +1,7 @@
-// planner: Ceres MPC with discrete-time D-CBF constraints (and the paper's
-// baseline modes). Reads ODOMETRY, ROUTE, OBSTACLE_PREDICTIONS; writes PLAN
-// and CMD_VEL. `--mode` overrides planner.mode of the configuration.
+// planner: Ceres MPC with discrete-time D-CBF constraints: evade's planner
+// (mode evade) and the paper's Table I modes (lib/planning/modes.h). Reads
+// ODOMETRY, ROUTE, OBSTACLES, OBSTACLE_PREDICTIONS; writes PLAN and CMD_VEL.
+// `--mode` overrides planner.mode of the configuration.
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -15,15 +16,15 @@ int main(int argc, char** argv) {
   return evade::bus::process_main(
       argc, argv, "planner",
       [&](CLI::App& app) {
-        app.add_option("--mode", mode, "planner mode: dcbf | mpc | cbf | kf | cbf_curvefit (default: config)")
-            ->check(CLI::IsMember({"dcbf", "mpc", "cbf", "kf", "cbf_curvefit"}));
+        app.add_option("--mode", mode,
+                       "planner mode: evade (evade's planner) | the paper's mpc | cbf | kf | cbf_curvefit | dcbf "
+                       "(default: config planner.mode)")
+            ->check(CLI::IsMember(evade::planning::mode_names()));
       },
       [&](const evade::config::Node& root) -> std::unique_ptr<evade::bus::Core> {
         evade::planning::PlannerParams params = evade::planning::PlannerParams::from_config(root);
         if (!mode.empty()) params.mode = evade::planning::parse_mode(mode);
         return std::make_unique<evade::planning::PlannerCore>(params);
       },
-      // After a long solve only the newest inputs matter: planning from each
-      // queued pose would plan from the past (and judge it stale).
-      evade::bus::ProcessOptions{{"ODOMETRY", "OBSTACLE_PREDICTIONS", "ROUTE"}});
+      evade::bus::ProcessOptions{evade::planning::PlannerCore::conflated_inputs()});
 }

@@ -284,8 +284,8 @@ TEST(BaseDriverPty, NonTerminalDeviceIsRefusedWithoutAborting) {
   EXPECT_NE(msg.find("not a terminal"), std::string::npos) << msg;
 }
 
-// The failure this design avoids (FACTS.md): a plain libserial SerialPort
-// destroyed after a hang-up takes the process down.
+// The failure this design avoids (libserial 1.0, Debian 12): a plain
+// libserial SerialPort destroyed after a hang-up takes the process down.
 TEST(BaseDriverPtyDeathTest, PlainLibSerialAbortsAfterHangUp) {
   GTEST_FLAG_SET(death_test_style, "fast");  // fork only: the child uses the parent's temp dir
   TempDir tmp;

@@ -128,19 +128,19 @@ TEST(Safety, APlannerPeriodNotBelowTheWatchdogIsRefused) {
 }
 
 TEST(Safety, PlanningWithoutPredictionsOnlyInATestConfig) {
-  const std::string err = safety_error("require_predictions: true", "require_predictions: false");
-  EXPECT_NE(err.find("key 'planner.require_predictions': false"), std::string::npos) << err;
+  const std::string err = safety_error("require_obstacles: true", "require_obstacles: false");
+  EXPECT_NE(err.find("key 'planner.require_obstacles': false"), std::string::npos) << err;
   // the line is the key's own
   std::ifstream in(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
   std::string line;
   int n = 0, at = 0;
   while (std::getline(in, line) && !at) {
     ++n;
-    if (line.find("require_predictions:") != std::string::npos) at = n;
+    if (line.find("require_obstacles:") != std::string::npos) at = n;
   }
   EXPECT_NE(err.find("safety.yaml:" + std::to_string(at) + ":"), std::string::npos) << err;
-  EXPECT_EQ(safety_error("require_predictions: true", "require_predictions: false", "test_config: true\n"), "");
-  EXPECT_NE(safety_error("require_predictions: true", "require_predictions: false", "test_config: false\n"), "");
+  EXPECT_EQ(safety_error("require_obstacles: true", "require_obstacles: false", "test_config: true\n"), "");
+  EXPECT_NE(safety_error("require_obstacles: true", "require_obstacles: false", "test_config: false\n"), "");
 }
 
 }  // namespace

@@ -18,9 +18,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }();
   fuzz::Bytes in(data, size);
   planning::PlannerParams p = params;
-  static const planning::Mode modes[] = {planning::Mode::kDcbf, planning::Mode::kMpc, planning::Mode::kCbf,
+  static const planning::Mode modes[] = {planning::Mode::kEvade, planning::Mode::kDcbf, planning::Mode::kMpc, planning::Mode::kCbf,
                                          planning::Mode::kKf, planning::Mode::kCbfCurvefit};
-  p.mode = modes[in.u8() % 5];
+  p.mode = modes[in.u8() % 6];
   planning::PlannerCore core(p);
   static const std::vector<uint8_t> straight = [] {
     evade::path_t r{};

@@ -1,6 +1,7 @@
 // The planner process core in closed loop with a kinematic robot and
 // constant-velocity obstacles on the in-memory bus: static obstacle passed,
-// head-on and crossing movers avoided, modes built as the paper says,
+// head-on and crossing movers avoided (mode evade, the default), the
+// paper's modes built as the paper says and reading their own inputs,
 // stale input and missing route handled, never NaN.
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 #include "bus/memory_bus.h"
 #include "config/config.h"
 #include "evade/cmd_vel_t.hpp"
+#include "evade/obstacle_list_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "evade/path_t.hpp"
 #include "evade/plan_t.hpp"
@@ -68,6 +70,24 @@ evade::prediction_list_t predictions(const std::vector<SimObstacle>& obs, int64_
   return m;
 }
 
+// The tracker's view of the same obstacles at t_s: their ellipses as
+// observed (no uncertainty inflation), ids as in predictions().
+evade::obstacle_list_t observed(const std::vector<SimObstacle>& obs, int64_t utime, double t_s) {
+  evade::obstacle_list_t m;
+  m.utime = utime;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    evade::obstacle_t o{};
+    o.id = static_cast<int64_t>(i) + 1;
+    o.x = obs[i].x + obs[i].vx * t_s;
+    o.y = obs[i].y + obs[i].vy * t_s;
+    o.a = o.b = obs[i].radius;
+    o.theta = 0.0;
+    m.obstacles.push_back(o);
+  }
+  m.num_obstacles = static_cast<int32_t>(m.obstacles.size());
+  return m;
+}
+
 struct RunResult {
   double min_h = 1e9;            // true clearance beyond d_safe over the run
   double final_x = 0, final_y = 0;
@@ -75,12 +95,13 @@ struct RunResult {
   int plans = 0, ok = 0, nan = 0;
   int64_t restarts_skipped = 0;  // HEALTH counter restart_skipped at the end
   int64_t detour_movers = 0;     // HEALTH counter detour_movers at the end
+  int64_t detour = 0;            // HEALTH counter detour at the end
   std::vector<evade::plan_t> plan_log;
   std::vector<double> robot_y;   // per plan
 };
 
-// Closed loop: odometry at 50 Hz, predictions at 10 Hz, the robot follows
-// CMD_VEL exactly (unicycle).
+// Closed loop: odometry at 50 Hz, OBSTACLES and their predictions at 10 Hz,
+// the robot follows CMD_VEL exactly (unicycle).
 RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double duration_s, double route_end = 12.0,
               double x0 = 0.0, double y0 = 0.0) {
   bus::MemoryBus bus;
@@ -93,7 +114,10 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   for (int i = 0; i * 0.02 < duration_s; ++i) {
     const double t = i * 0.02;
     const int64_t now = t0 + static_cast<int64_t>(std::llround(t * 1e6));
-    if (i % 5 == 0) bus.inject("OBSTACLE_PREDICTIONS", predictions(obs, now, t), now);
+    if (i % 5 == 0) {
+      bus.inject("OBSTACLES", observed(obs, now, t), now);
+      bus.inject("OBSTACLE_PREDICTIONS", predictions(obs, now, t), now);
+    }
     evade::odometry_t o{};
     o.utime = now;
     o.x = x;
@@ -132,6 +156,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   out.final_y = y;
   out.restarts_skipped = core.counter("restart_skipped");
   out.detour_movers = core.counter("detour_movers");
+  out.detour = core.counter("detour");
   return out;
 }
 
@@ -469,69 +494,297 @@ TEST(PlannerCore, LogReplayIsDeterministic) {
   EXPECT_EQ(runs[0][1].utime - runs[0][0].utime, 100'000);
 }
 
-// ---- modes (paper Table I) ----
+// ---- modes (modes.h; the paper's Table I and evade) ----
 
-TEST(Modes, ConstraintObstaclesFollowThePaper) {
-  PlannerParams p = default_params();
-  const int N = p.horizon_steps;
-  const auto msg = predictions({{2.0, 0.0, -1.0, 0.0, 0.3}}, 1'000'000, 0.0);
-  CurveFitHistory hist(p.curvefit_degree, p.curvefit_window_s);
-  const int64_t t_plan = 1'050'000;  // 0.05 s after the predictions
-  auto build = [&](Mode m) {
-    p.mode = m;
-    auto v = constraint_obstacles(p, msg, hist, t_plan, 0, 0, nullptr);
-    EXPECT_EQ(v.size(), 1u);
-    return v[0];
-  };
-  const ObstacleTrack dcbf = build(Mode::kDcbf), kf = build(Mode::kKf), mpc = build(Mode::kMpc),
-                      cbf = build(Mode::kCbf);
-  // dcbf / kf: predictions aligned to the planning time (x = 2 - 1 * (0.05 + 0.1 k))
-  EXPECT_NEAR(dcbf.x[0], 1.95, 1e-9);
-  EXPECT_NEAR(dcbf.x[N], 2.0 - (0.05 + 0.1 * N), 1e-9);
-  EXPECT_DOUBLE_EQ(dcbf.decay, 1 - p.gamma);
-  EXPECT_DOUBLE_EQ(kf.decay, 0.0);
-  EXPECT_NEAR(kf.x[10], 2.0 - 1.05, 1e-9);
-  // mpc / cbf: the current (index 0) position held
-  EXPECT_DOUBLE_EQ(mpc.x[N], 2.0);
-  EXPECT_DOUBLE_EQ(mpc.decay, 0.0);
-  EXPECT_DOUBLE_EQ(cbf.x[N], 2.0);
-  EXPECT_DOUBLE_EQ(cbf.decay, 1 - p.gamma);
+TEST(Modes, EvadeIsTheDefault) {
+  EXPECT_EQ(default_params().mode, Mode::kEvade);  // config/robot.yaml
+  EXPECT_EQ(PlannerParams{}.mode, Mode::kEvade);
+  EXPECT_EQ(parse_mode("evade"), Mode::kEvade);
+  EXPECT_THROW(parse_mode("ours"), std::invalid_argument);
+  for (const ModeSpec& m : all_modes()) EXPECT_EQ(parse_mode(m.name), m.mode);
 }
 
-TEST(Modes, CurveFitExtrapolatesTheTrackHistory) {
+// Each mode's constraint obstacles come from its own input: the observed
+// ellipse stands at (2, 0); the prediction says it is at (2.5, 1) moving
+// at -1 m/s along x (they disagree on purpose).
+TEST(Modes, EachModeBuildsItsConstraintFromItsOwnInput) {
+  PlannerParams p = default_params();
+  ASSERT_DOUBLE_EQ(p.gamma, 0.15);  // the paper's (its Section IV)
+  const int N = p.horizon_steps;
+  const auto pred = predictions({{2.5, 1.0, -1.0, 0.0, 0.4, 0.1}}, 1'000'000, 0.0);
+  const auto obs = observed({{2.0, 0.0, 0.0, 0.0, 0.3}}, 1'000'000, 0.0);
+  CurveFitHistory hist(p.curvefit_degree, p.curvefit_window_s);
+  hist.add(obs);
+  const int64_t t_plan = 1'050'000;  // 0.05 s after both
+  auto build = [&](Mode m) {
+    p.mode = m;
+    auto v = constraint_obstacles(p, {&pred, &obs, &hist}, t_plan, 0, 0, nullptr);
+    EXPECT_EQ(v.size(), 1u) << mode_name(m);
+    return v.empty() ? ObstacleTrack{} : v[0];
+  };
+  // mpc, cbf: the observed ellipse held over the horizon
+  for (Mode m : {Mode::kMpc, Mode::kCbf, Mode::kCbfCurvefit}) {
+    const ObstacleTrack o = build(m);
+    for (int k = 0; k <= N; ++k) {
+      EXPECT_DOUBLE_EQ(o.x[k], 2.0) << mode_name(m) << " k " << k;  // one sample: the fit holds it too
+      EXPECT_DOUBLE_EQ(o.y[k], 0.0) << mode_name(m) << " k " << k;
+      EXPECT_DOUBLE_EQ(o.a[k], 0.3) << mode_name(m) << " k " << k;  // not inflated
+    }
+  }
+  EXPECT_DOUBLE_EQ(build(Mode::kMpc).decay, 0.0);
+  EXPECT_DOUBLE_EQ(build(Mode::kCbf).decay, 1 - 0.15);
+  EXPECT_DOUBLE_EQ(build(Mode::kCbfCurvefit).decay, 1 - 0.15);
+  // kf, dcbf, evade: the predictions aligned to the planning time
+  // (x = 2.5 - (0.05 + 0.1 k)), inflated as predicted
+  for (Mode m : {Mode::kKf, Mode::kDcbf, Mode::kEvade}) {
+    const ObstacleTrack o = build(m);
+    EXPECT_NEAR(o.x[0], 2.45, 1e-9) << mode_name(m);
+    EXPECT_NEAR(o.x[N], 2.5 - (0.05 + 0.1 * N), 1e-9) << mode_name(m);
+    EXPECT_DOUBLE_EQ(o.y[N], 1.0) << mode_name(m);
+    EXPECT_GT(o.a[N], 0.4) << mode_name(m);
+  }
+  EXPECT_DOUBLE_EQ(build(Mode::kKf).decay, 0.0);
+  EXPECT_DOUBLE_EQ(build(Mode::kDcbf).decay, 1 - 0.15);
+  EXPECT_DOUBLE_EQ(build(Mode::kEvade).decay, 1 - p.evade_gamma);
+  // no message of the mode's input: no constraint, whatever the other says
+  p.mode = Mode::kMpc;
+  EXPECT_TRUE(constraint_obstacles(p, {&pred, nullptr, &hist}, t_plan, 0, 0, nullptr).empty());
+  p.mode = Mode::kDcbf;
+  EXPECT_TRUE(constraint_obstacles(p, {nullptr, &obs, &hist}, t_plan, 0, 0, nullptr).empty());
+}
+
+TEST(Modes, CurveFitExtrapolatesTheObservedCentres) {
   PlannerParams p = default_params();
   p.mode = Mode::kCbfCurvefit;
   CurveFitHistory hist(2, 1.0);
-  // a track moving as x = 1 + 0.5 t + 0.2 t^2
+  // an observed ellipse moving as x = 1 + 0.5 t + 0.2 t^2
   auto pos = [](double t) { return 1 + 0.5 * t + 0.2 * t * t; };
-  evade::prediction_list_t last;
+  evade::obstacle_list_t last;
   for (int i = 0; i <= 5; ++i) {
     const double t = 0.1 * i;
-    last = predictions({{pos(t), 0.0, 0.0, 0.0, 0.3}}, 1'000'000 + 100'000 * i, 0.0);
+    last = observed({{pos(t), 0.0, 0.0, 0.0, 0.3}}, 1'000'000 + 100'000 * i, 0.0);
     hist.add(last);
   }
   EXPECT_EQ(hist.samples(1), 6u);
-  ObstacleTrack o = hist.extrapolate(last.tracks[0], 1'500'000, p.horizon_steps, p.dt_s);
+  ObstacleTrack o = hist.extrapolate(last.obstacles[0], 1'500'000, p.horizon_steps, p.dt_s);
   for (int k = 0; k <= p.horizon_steps; ++k) EXPECT_NEAR(o.x[k], pos(0.5 + 0.1 * k), 1e-6) << k;
+  // the mode's constraint is that fit (predictions, here standing still
+  // elsewhere, play no part)
+  const auto pred = predictions({{0.0, 3.0, 0.0, 0.0, 0.3}}, 1'500'000, 0.0);
+  auto v = constraint_obstacles(p, {&pred, &last, &hist}, 1'500'000, 0, 0, nullptr);
+  ASSERT_EQ(v.size(), 1u);
+  for (int k = 0; k <= p.horizon_steps; ++k) EXPECT_NEAR(v[0].x[k], pos(0.5 + 0.1 * k), 1e-6) << k;
+}
+
+// One planning cycle of a core in `mode` from rest at the origin with the
+// route along x, given OBSTACLES and/or OBSTACLE_PREDICTIONS (t = 0).
+evade::plan_t one_plan(Mode mode, const std::vector<SimObstacle>* obs_msg, const std::vector<SimObstacle>* pred_msg,
+                       PlannerCore** core_out = nullptr) {
+  PlannerParams p = default_params();
+  p.mode = mode;
+  bus::MemoryBus bus;
+  PlannerCore core(p);
+  bus.add(core);
+  const int64_t t0 = 1'000'000;
+  bus.inject("ROUTE", straight_route(0, 10), t0);
+  if (obs_msg) bus.inject("OBSTACLES", observed(*obs_msg, t0, 0.0), t0);
+  if (pred_msg) bus.inject("OBSTACLE_PREDICTIONS", predictions(*pred_msg, t0, 0.0), t0);
+  evade::odometry_t o{};
+  o.utime = t0 + 20'000;
+  o.v = 0.8;
+  bus.inject("ODOMETRY", o, o.utime);
+  auto plans = bus.decoded<evade::plan_t>("PLAN");
+  EXPECT_EQ(plans.size(), 1u);
+  return plans.empty() ? evade::plan_t{} : plans[0];
+}
+
+double max_plan_difference(const evade::plan_t& a, const evade::plan_t& b) {
+  double d = 0;
+  for (size_t k = 0; k < a.x.size() && k < b.x.size(); ++k)
+    d = std::max(d, std::hypot(a.x[k] - b.x[k], a.y[k] - b.y[k]));
+  return d;
+}
+
+// mpc reads the tracker's OBSTACLES: with no prediction ever received it
+// plans round an observed ellipse on the route; evade, reading the
+// predictions, has no obstacle input and stops.
+TEST(Modes, MpcReactsToAnObservedEllipseWithoutPredictions) {
+  const std::vector<SimObstacle> bin = {{2.0, 0.05, 0.0, 0.0, 0.3}}, none;
+  const evade::plan_t free = one_plan(Mode::kMpc, &none, nullptr);
+  const evade::plan_t pl = one_plan(Mode::kMpc, &bin, nullptr);
+  EXPECT_EQ(pl.status, int8_t{evade::plan_t::STATUS_OK});
+  ASSERT_EQ(pl.num_obstacles, 1);
+  EXPECT_DOUBLE_EQ(pl.obstacle_x[0], 2.0);
+  EXPECT_GE(pl.min_barrier, -1e-3);
+  EXPECT_GT(max_plan_difference(pl, free), 0.2) << "the plan did not react to the ellipse";
+  EXPECT_EQ(one_plan(Mode::kEvade, &bin, nullptr).status, int8_t{evade::plan_t::STATUS_STALE_INPUT});
+}
+
+// A non-finite or degenerate observed ellipse is skipped and counted; the
+// others still constrain the plan.
+TEST(Modes, InvalidObservedEllipsesAreCountedAndSkipped) {
+  PlannerParams p = default_params();
+  p.mode = Mode::kCbf;
+  bus::MemoryBus bus;
+  PlannerCore core(p);
+  bus.add(core);
+  bus.inject("ROUTE", straight_route(0, 10), 1'000'000);
+  // beyond obstacle_consider_radius_m: counted and skipped (issue 20: near
+  // the robot, or of unknown position, they make it brake instead, test
+  // PlannerInputs.ObservedObstaclesLateOrBrokenAreNotUsed)
+  const std::vector<SimObstacle> three = {{2.0, 0.05, 0.0, 0.0, 0.3}, {20.0, 0.0, 0.0, 0.0, 0.3},
+                                         {30.0, 0.0, 0.0, 0.0, 0.3}};
+  evade::obstacle_list_t m = observed(three, 1'000'000, 0.0);
+  m.obstacles[1].a = std::nan("");
+  m.obstacles[2].b = 0.0;
+  bus.inject("OBSTACLES", m, 1'000'000);
+  evade::odometry_t o{};
+  o.utime = 1'020'000;
+  bus.inject("ODOMETRY", o, o.utime);
+  auto plans = bus.decoded<evade::plan_t>("PLAN");
+  ASSERT_EQ(plans.size(), 1u);
+  EXPECT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_OK});
+  ASSERT_EQ(plans[0].num_obstacles, 1);
+  EXPECT_EQ(plans[0].obstacle_id[0], 1);
+  EXPECT_EQ(core.counter("tracks_invalid"), 2);
+}
+
+// A walker beside the route, 1.6 m off it, about to cross: the predictions
+// put it on the route 2 s ahead, where the robot will be. mpc and cbf hold
+// the observed ellipse where it is (their plan is the free one); kf and
+// dcbf, reading the predictions, react.
+TEST(Modes, OnlyThePredictionModesSeeWhereAMoverWillBe) {
+  const std::vector<SimObstacle> walker = {{1.8, 1.6, 0.0, -0.8, 0.3}}, none;
+  for (Mode m : {Mode::kMpc, Mode::kCbf, Mode::kKf, Mode::kDcbf}) {
+    const evade::plan_t free = one_plan(m, &none, &none);
+    const evade::plan_t pl = one_plan(m, &walker, &walker);
+    const double diff = max_plan_difference(pl, free);
+    if (mode_spec(m).source == ObstacleSource::kObserved)
+      EXPECT_LT(diff, 1e-3) << mode_name(m);
+    else
+      EXPECT_GT(diff, 0.1) << mode_name(m);
+  }
+}
+
+// The mode's input going stale stops the robot; the other input does not
+// matter.
+TEST(Modes, StalenessFollowsTheModesInput) {
+  for (Mode m : {Mode::kMpc, Mode::kDcbf}) {
+    PlannerParams p = default_params();
+    p.mode = m;
+    bus::MemoryBus bus;
+    PlannerCore core(p);
+    bus.add(core);
+    bus.inject("ROUTE", straight_route(0, 10), 1'000'000);
+    // the mode's own input 2 s old, the other fresh
+    const bool observed_mode = mode_spec(m).source == ObstacleSource::kObserved;
+    const int64_t t_obs = observed_mode ? 1'000'000 : 3'000'000, t_pred = observed_mode ? 3'000'000 : 1'000'000;
+    bus.inject("OBSTACLES", observed({}, t_obs, 0), t_obs);
+    bus.inject("OBSTACLE_PREDICTIONS", predictions({}, t_pred, 0), t_pred);
+    evade::odometry_t o{};
+    o.utime = 3'000'000;
+    o.v = 0.5;
+    bus.inject("ODOMETRY", o, o.utime);
+    auto plans = bus.decoded<evade::plan_t>("PLAN");
+    ASSERT_EQ(plans.size(), 1u);
+    EXPECT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_STALE_INPUT}) << mode_name(m);
+    EXPECT_EQ(core.counter(observed_mode ? "stale_obstacles" : "stale_predictions"), 1) << mode_name(m);
+  }
+}
+
+// The paper's planner follows the route: a wide static obstacle on it
+// stops dcbf in front of it (evade goes round, WideStaticObstacleOnTheRoute-
+// IsGotAround), no detour is ever planned.
+TEST(Modes, PaperModesKeepTheRouteAsTheReference) {
+  const std::vector<SimObstacle> planter = {{4.0, 0.1, 0.0, 0.0, 1.0, 0.15}};
+  PlannerParams p = default_params();
+  p.mode = Mode::kDcbf;
+  RunResult r = run(p, planter, 20.0, 10.0);
+  EXPECT_EQ(r.nan, 0);
+  EXPECT_EQ(r.detour, 0);
+  EXPECT_LT(r.final_x, 4.0);
+  p.mode = Mode::kEvade;
+  EXPECT_GT(run(p, planter, 20.0, 10.0).detour, 0);  // the premise: evade's reference would go round
+}
+
+// When the hard solve fails the paper's planner brakes at the limits
+// (planner.paper_fallback brake); none of evade's recovery (restarts,
+// relaxed problem, dashes, the plan with the most clearance) runs.
+TEST(Modes, PaperModesBrakeWhenTheSolveFails) {
+  std::vector<SimObstacle> obs;  // a wall of fast obstacles closing in: nothing keeps h >= 0
+  for (int i = 0; i < 8; ++i) {
+    const double a = i * M_PI / 4;
+    obs.push_back({3.0 * std::cos(a), 3.0 * std::sin(a), -2.0 * std::cos(a), -2.0 * std::sin(a), 0.4});
+  }
+  PlannerParams p = default_params();
+  p.paper_fallback = PaperFallback::kBrake;
+  for (Mode m : {Mode::kDcbf, Mode::kMpc}) {
+    p.mode = m;
+    RunResult r = run(p, obs, 2.0);
+    EXPECT_EQ(r.nan, 0);
+    int stopping = 0;
+    for (const auto& pl : r.plan_log) {
+      EXPECT_TRUE(pl.status == evade::plan_t::STATUS_OK || pl.status == evade::plan_t::STATUS_STOPPING)
+          << mode_name(m) << " status " << int{pl.status};
+      if (pl.status != evade::plan_t::STATUS_STOPPING) continue;
+      ++stopping;
+      for (size_t k = 1; k < pl.v.size(); ++k) EXPECT_LE(pl.v[k], pl.v[k - 1]) << mode_name(m);
+    }
+    EXPECT_GT(stopping, 0) << mode_name(m);
+  }
+}
+
+// planner.paper_fallback last_plan: the last solved plan, shifted to the
+// cycle, while it reaches that far; then braking.
+TEST(Modes, PaperFallbackLastPlanReplaysTheLastSolvedPlan) {
+  PlannerParams p = default_params();
+  p.mode = Mode::kDcbf;
+  p.paper_fallback = PaperFallback::kLastPlan;
+  bus::MemoryBus bus;
+  PlannerCore core(p);
+  bus.add(core);
+  const int64_t t0 = 1'000'000, period = 100'000;
+  bus.inject("ROUTE", straight_route(0, 10), t0);
+  // one free cycle, then a 3 m obstacle round the robot: no plan meets h >= 0
+  const std::vector<SimObstacle> none, around = {{0.5, 0.0, 0.0, 0.0, 3.0}};
+  std::vector<evade::plan_t> plans;
+  for (int i = 0; i < 30; ++i) {
+    const int64_t now = t0 + i * period;
+    bus.inject("OBSTACLE_PREDICTIONS", predictions(i == 0 ? none : around, now, 0.0), now);
+    evade::odometry_t o{};
+    o.utime = now;
+    o.x = plans.empty() ? 0.0 : plans.back().x[1];  // the robot follows its plans
+    o.v = plans.empty() ? 0.5 : plans.back().v[0];
+    bus.inject("ODOMETRY", o, now);
+    plans.push_back(bus.decoded<evade::plan_t>("PLAN").back());
+  }
+  ASSERT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_OK});
+  const int N = p.horizon_steps;
+  for (int i = 1; i < N; ++i) {
+    ASSERT_EQ(plans[i].status, int8_t{evade::plan_t::STATUS_FALLBACK}) << i;
+    EXPECT_NEAR(plans[i].v[0], plans[0].v[i], 1e-3) << i;  // the solved plan, i steps on (projected onto the limits)
+  }
+  EXPECT_EQ(plans[N].status, int8_t{evade::plan_t::STATUS_STOPPING});  // it reaches no further
+  EXPECT_EQ(core.counter("fallback"), N - 1);
 }
 
 TEST(Modes, DcbfReactsEarlierThanMpcToAHeadOnMover) {
-  // The paper (Table I): D-CBF over predictions reacts sooner and keeps a
-  // larger margin than the distance constraint on current positions.
-  // The constraints alone: the oncoming mover's way in the detour grid
-  // would turn both aside at the same cycle.
+  // The paper (Table I): D-CBF over predictions reacts sooner than the
+  // distance constraint on the current observed ellipse. A reaction: the
+  // first plan more than 0.1 m from the plan of the same cycle without the
+  // mover (the runs are the same up to it).
   PlannerParams p = default_params();
-  p.detour.oncoming_sweep_s = 0.0;
   const std::vector<SimObstacle> obs = {{9.0, 0.05, -0.8, 0.0, 0.3}};
-  auto first_swerve = [&](Mode m) {
+  auto first_reaction = [&](Mode m) {
     p.mode = m;
-    RunResult r = run(p, obs, 8.0);
-    for (size_t i = 0; i < r.plan_log.size(); ++i)
-      for (double y : r.plan_log[i].y)
-        if (std::fabs(y) > 0.2) return static_cast<int>(i);
+    const RunResult r = run(p, obs, 8.0), free = run(p, {}, 8.0);
+    for (size_t i = 0; i < r.plan_log.size() && i < free.plan_log.size(); ++i)
+      if (max_plan_difference(r.plan_log[i], free.plan_log[i]) > 0.1) return static_cast<int>(i);
     return 1 << 30;
   };
-  EXPECT_LT(first_swerve(Mode::kDcbf), first_swerve(Mode::kMpc));
+  const int dcbf = first_reaction(Mode::kDcbf), mpc = first_reaction(Mode::kMpc);
+  std::printf("[figures] head-on mover: first reaction at plan %d (dcbf), %d (mpc)\n", dcbf, mpc);
+  EXPECT_LT(dcbf, mpc);
 }
 
 // ---- reference ----

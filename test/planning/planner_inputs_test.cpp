@@ -10,6 +10,7 @@
 #include "config/config.h"
 #include "evade/cmd_vel_t.hpp"
 #include "evade/odometry_t.hpp"
+#include "evade/obstacle_list_t.hpp"
 #include "evade/path_t.hpp"
 #include "evade/plan_t.hpp"
 #include "evade/prediction_list_t.hpp"
@@ -68,7 +69,7 @@ evade::odometry_t odom(int64_t utime, double x = 0.0, double v = 0.5, int64_t ep
 }
 
 struct Rig {
-  Rig() : core(params()) {
+  explicit Rig(const PlannerParams& p = params()) : core(p) {
     core.set_measure_latency(false);
     bus.add(core);
     bus.inject("ROUTE", route(), kT0);
@@ -193,6 +194,34 @@ TEST(PlannerInputs, OdometryNotNewerThanTheLastIsNotUsed) {
   // nothing fresh follows: the watchdog brakes (STALE_INPUT)
   r.bus.advance_to(t + 400'000);
   EXPECT_EQ(r.plans().back().status, int8_t{evade::plan_t::STATUS_STALE_INPUT});
+}
+
+// The modes that read OBSTACLES (mpc, cbf, cbf_curvefit) gate them alike.
+TEST(PlannerInputs, ObservedObstaclesLateOrBrokenAreNotUsed) {
+  PlannerParams p = params();
+  p.mode = parse_mode("mpc");
+  Rig r(p);
+  const int64_t t = kT0 + 2'000'000;
+  evade::obstacle_list_t m{};
+  m.utime = t - 1'000'000;  // 1 s old on arrival
+  m.num_obstacles = 1;
+  evade::obstacle_t o{};
+  o.id = 1;
+  o.x = 1.5;
+  o.a = o.b = 0.3;
+  m.obstacles.push_back(o);
+  r.bus.inject("OBSTACLES", m, t);
+  r.bus.inject("ODOMETRY", odom(t), t);
+  EXPECT_EQ(r.core.counter("obstacles_late"), 1);
+  ASSERT_EQ(r.plans().size(), 1u);
+  EXPECT_EQ(r.plans()[0].status, int8_t{evade::plan_t::STATUS_STALE_INPUT});
+  // on time but non-finite, 1.5 m ahead: brake
+  m.utime = t + 100'000;
+  m.obstacles[0].a = NAN;
+  r.bus.inject("OBSTACLES", m, t + 100'000);
+  r.bus.inject("ODOMETRY", odom(t + 120'000), t + 120'000);
+  EXPECT_EQ(r.plans().back().status, int8_t{evade::plan_t::STATUS_STOPPING});
+  EXPECT_EQ(r.core.counter("tracks_invalid_near"), 1);
 }
 
 }  // namespace

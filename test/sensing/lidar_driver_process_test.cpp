@@ -23,6 +23,7 @@
 #include <thread>
 
 #include "evade/health_t.hpp"
+#include "evade/lidar_scan_t.hpp"
 #include "evade/pointcloud_t.hpp"
 #include "sensing/rs_helios.h"
 #include "synthetic.h"
@@ -33,7 +34,7 @@ using Clock = std::chrono::steady_clock;
 constexpr int kTestPort = 23680;
 
 std::string source(const std::string& rel) { return std::string(EVADE_SOURCE_DIR) + "/" + rel; }
-std::string sample_path() { return source("../shared/data/vlp16_sample.pcap"); }
+std::string sample_path() { return source("test/data/vlp16_sample.pcap"); }
 // A temp file of this process: ctest runs this binary's tests side by side,
 // and one reading a shared file while another rewrote it saw half a file.
 std::string temp_path(const std::string& stem, const std::string& ext) {
@@ -253,7 +254,7 @@ TEST(LidarDriverProcess, RsHeliosMsopAndDifopOnTheirOwnPorts) {
 }
 
 TEST(LidarDriverProcess, PcapModeFlushesExitsAndReplaysIdentically) {
-  if (!exists(sample_path())) GTEST_SKIP() << "no " << sample_path();
+  ASSERT_TRUE(exists(sample_path())) << "missing " << sample_path();
   Listener l;
   const auto t0 = Clock::now();
   pid_t pid = spawn({LIDAR_DRIVER_BIN, "--config", test_config(), "--pcap", sample_path(), "--rate", "1"});
@@ -315,7 +316,7 @@ TEST(LidarDriverProcess, PcapModeFlushesExitsAndReplaysIdentically) {
 // second revolution starts 23 packets (1.327 ms apart) after the first,
 // whatever the replay speed; two runs give the same spacing.
 TEST(LidarDriverProcess, PcapAtFullSpeedKeepsTheCaptureTimeSpacing) {
-  if (!exists(sample_path())) GTEST_SKIP() << "no " << sample_path();
+  ASSERT_TRUE(exists(sample_path())) << "missing " << sample_path();
   std::vector<int64_t> spacing;
   for (int run = 0; run < 2; ++run) {
     Listener l;
@@ -330,6 +331,43 @@ TEST(LidarDriverProcess, PcapAtFullSpeedKeepsTheCaptureTimeSpacing) {
   }
   EXPECT_EQ(spacing[0], spacing[1]);
   EXPECT_NEAR(static_cast<double>(spacing[0]), 23 * 1327.0, 1327.0 / 2);  // within half a packet
+}
+
+// --from-scan: no socket; LIDAR_SCAN messages on the bus (a log played
+// back) become LIDAR_POINTS, and no LIDAR_SCAN is published again.
+TEST(LidarDriverProcess, FromScanDecodesLidarScanMessagesOnTheBus) {
+  Listener l;
+  pid_t pid = spawn({LIDAR_DRIVER_BIN, "--config", test_config(), "--from-scan"});
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(l.spin_until([&] { return l.count("HEALTH") > 0; }, 10.0)) << "no HEALTH from lidar_driver";
+  evade::sensing::testing::SyntheticVlp16 s;  // cuts near packets 16, 91, 166
+  for (int part = 0; part < 2; ++part) {      // packets 0-99, then 100-199
+    evade::lidar_scan_t scan{};
+    scan.sensor_model = "vlp16";
+    for (int k = part * 100; k < part * 100 + 100; ++k) {
+      auto p = s.packet(k);
+      evade::lidar_packet_t pk{};
+      pk.utime = p.sensor_utime + 1500;
+      pk.data.assign(p.bytes.begin(), p.bytes.end());
+      pk.size = static_cast<int32_t>(p.bytes.size());
+      scan.packets.push_back(pk);
+    }
+    scan.num_packets = static_cast<int32_t>(scan.packets.size());
+    scan.utime = scan.packets.front().utime;
+    ASSERT_EQ(l.lcm.publish("LIDAR_SCAN", &scan), 0);
+  }
+  EXPECT_TRUE(l.spin_until([&] { return l.count("LIDAR_POINTS") >= 3; }, 10.0));
+  const auto clouds = l.decoded<evade::pointcloud_t>("LIDAR_POINTS");
+  ASSERT_EQ(clouds.size(), 3u);  // the partial first revolution and the two full ones
+  const double firings = 2.0 * 360.0 / s.degrees_per_block();
+  for (int i : {1, 2}) {
+    const auto& c = clouds[static_cast<size_t>(i)];
+    EXPECT_NEAR(c.n, 16.0 * firings, 32.0);
+    for (int j = 0; j < c.n; j += 97) ASSERT_NEAR(std::hypot(c.x[j], c.y[j]), 10.0, 0.01);
+  }
+  EXPECT_EQ(l.count("LIDAR_SCAN"), 2u);  // the test's own two, heard back
+  ::kill(pid, SIGTERM);
+  EXPECT_EQ(wait_exit(pid, 5.0), 0);
 }
 
 TEST(LidarDriverProcess, BadConfigExitsWithStatusTwo) {

@@ -1,4 +1,4 @@
-// The real VLP-16 capture ../shared/data/vlp16_sample.pcap (see FACTS.md):
+// The real VLP-16 capture test/data/vlp16_sample.pcap (test/data/README.md):
 // 84 data packets (factory byte 0x21, VLP-16 data), 16 position packets on
 // port 8308, azimuth 250.35 deg -> wrap after packet 23 -> 286.4 deg.
 #include <gtest/gtest.h>
@@ -18,7 +18,7 @@
 namespace evade::sensing {
 namespace {
 
-std::string sample_path() { return std::string(EVADE_SOURCE_DIR) + "/../shared/data/vlp16_sample.pcap"; }
+std::string sample_path() { return std::string(EVADE_SOURCE_DIR) + "/test/data/vlp16_sample.pcap"; }
 
 bool exists(const std::string& p) {
   struct stat st;
@@ -65,8 +65,7 @@ Decoded decode_sample(double max_range_m) {
 }
 
 TEST(Vlp16SamplePcap, DecodesTheRealCapture) {
-  if (!exists(sample_path()))
-    GTEST_SKIP() << "no " << sample_path() << " (the shared data folder is not next to the repository)";
+  ASSERT_TRUE(exists(sample_path())) << "missing " << sample_path();
   Decoded s = decode_sample(vlp16::kMaxEncodableRangeM);
 
   EXPECT_EQ(s.datagrams, 100);
@@ -132,7 +131,7 @@ TEST(Vlp16SamplePcap, DecodesTheRealCapture) {
 }
 
 TEST(Vlp16SamplePcap, RangeLimitFromConfigDropsAndCounts) {
-  if (!exists(sample_path())) GTEST_SKIP() << "no " << sample_path();
+  ASSERT_TRUE(exists(sample_path())) << "missing " << sample_path();
   Decoded all = decode_sample(vlp16::kMaxEncodableRangeM);
   Decoded near = decode_sample(10.0);
   int64_t all_n = 0, near_n = 0, all_within = 0;

@@ -91,6 +91,22 @@ TEST(Motion, FirstWaypointAwayFromTheStartIsVisited) {
   expect_state(obstacle_state(s, 7.5), 0.0, -3.0 + 1.2 * 2.5, 0.0, 1.2);
 }
 
+TEST(Motion, StartDelayHoldsTheObstacleThenShiftsItsMotion) {
+  ObstacleSpec s = walker(WaypointMode::kOnce);
+  s.start_delay_s = 2.5;
+  expect_state(obstacle_state(s, 0.0), 0.0, 0.0, 0.0, 0.0);
+  expect_state(obstacle_state(s, 2.5), 0.0, 0.0, 0.0, 0.0);  // still waiting
+  expect_state(obstacle_state(s, 3.5), 1.0, 0.0, 1.0, 0.0);  // 1 s into its own motion
+  expect_state(obstacle_state(s, 7.5), 3.0, 2.0, 0.0, 1.0);
+  expect_state(obstacle_state(s, 9.5), 3.0, 4.0, 0.0, 0.0);
+  ObstacleSpec c;
+  c.motion = MotionKind::kConstantVelocity;
+  c.vx = 2.0;
+  c.start_delay_s = 1.0;
+  expect_state(obstacle_state(c, 0.9), 0.0, 0.0, 0.0, 0.0);
+  expect_state(obstacle_state(c, 1.5), 1.0, 0.0, 2.0, 0.0);
+}
+
 RobotLimits limits() {
   RobotLimits l;
   l.max_accel_mps2 = 1.0;

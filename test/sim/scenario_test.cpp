@@ -83,6 +83,27 @@ TEST(Scenario, ObstaclesStartAtStart) {
   EXPECT_EQ(sc.obstacles_start, ObstaclesStart::kAtStart);
 }
 
+TEST(Scenario, SeedDefaultsToOneAndIsRead) {
+  EXPECT_EQ(parse_scenario(kSpecExample, "s.yaml").seed, 1u);
+  EXPECT_EQ(parse_scenario(std::string(kSpecExample) + "seed: 4000000000\n", "s.yaml").seed, 4000000000u);
+  EXPECT_EQ(parse_scenario(std::string(kSpecExample) + "seed: 0\n", "s.yaml").seed, 0u);
+  EXPECT_EQ(error_of(std::string(kSpecExample) + "seed: -3\n"), "bad.yaml:17: key 'seed': must be 0 or greater");
+  EXPECT_EQ(error_of(std::string(kSpecExample) + "seed: 1.5\n").rfind("bad.yaml:17: key 'seed':", 0), 0u);
+}
+
+TEST(Scenario, StartDelayIsReadForMoversOnly) {
+  Scenario sc = parse_scenario(kSpecExample, "s.yaml");
+  for (const ObstacleSpec& o : sc.obstacles) EXPECT_EQ(o.start_delay_s, 0.0);
+  sc = parse_scenario(replace(kSpecExample, "mode: pingpong}", "mode: pingpong, start_delay_s: 2.5}"), "s.yaml");
+  EXPECT_DOUBLE_EQ(sc.obstacles[3].start_delay_s, 2.5);
+  sc = parse_scenario(replace(kSpecExample, "vx: -1.0, vy: 0.5}", "vx: -1.0, vy: 0.5, start_delay_s: 1}"), "s.yaml");
+  EXPECT_DOUBLE_EQ(sc.obstacles[2].start_delay_s, 1.0);
+  EXPECT_EQ(error_of(replace(kSpecExample, "x: 5.0, y: 4.0}", "x: 5.0, y: 4.0, start_delay_s: 1}")),
+            "bad.yaml:10: key 'obstacles[0].start_delay_s': only meaningful with a motion (vx/vy or waypoints)");
+  EXPECT_EQ(error_of(replace(kSpecExample, "mode: pingpong}", "mode: pingpong, start_delay_s: -1}")),
+            "bad.yaml:16: key 'obstacles[3].start_delay_s': value -1 outside [0, 86400]");
+}
+
 TEST(Scenario, UnknownTopLevelKeyNamesFileLineKey) {
   EXPECT_EQ(error_of(std::string(kSpecExample) + "speed_limit: 3\n"), "bad.yaml:17: key 'speed_limit': unknown key");
 }

@@ -217,6 +217,47 @@ TEST_F(SimCoreTest, TruthAndPacketRates) {
   EXPECT_GT(pts.size(), 8u * 1800u * 9u);  // nine revolutions of ground and obstacle returns
 }
 
+// The LiDAR packets of the first 0.2 s of a scenario with range noise.
+std::vector<Packet> noisy_packets(const std::string& seed_line) {
+  std::string text = kScenario;
+  text.replace(text.find("range_noise_std: 0.0"), 20, "range_noise_std: 0.02");
+  SimCore core(parse_scenario(text + seed_line, "noisy.yaml"), test_params());
+  std::vector<Packet> packets;
+  core.set_packet_sink([&](const Packet& p) { packets.push_back(p); });
+  bus::MemoryBus bus;
+  bus.add(core);
+  for (int64_t t = kT0; t <= kT0 + 200'000; t += 1000) bus.advance_to(t);
+  return packets;
+}
+
+TEST(SimCoreSeed, TheScenarioSeedSeedsTheRangeNoise) {
+  std::vector<Packet> one = noisy_packets("");
+  ASSERT_GT(one.size(), 100u);
+  EXPECT_EQ(noisy_packets("seed: 1\n"), one);  // 1 is the default
+  std::vector<Packet> seven = noisy_packets("seed: 7\n");
+  EXPECT_EQ(noisy_packets("seed: 7\n"), seven);
+  ASSERT_EQ(seven.size(), one.size());
+  EXPECT_NE(seven, one);
+}
+
+TEST(SimCoreDelay, ADelayedObstacleWaitsInTheTruth) {
+  std::string text = kScenario;
+  text.replace(text.find("vx: -1.0, vy: 0.5}"), 18, "vx: -1.0, vy: 0.5, start_delay_s: 0.5}");
+  text += "obstacles_start: at_start\n";
+  SimCore core(parse_scenario(text, "delay.yaml"), test_params());
+  bus::MemoryBus bus;
+  bus.add(core);
+  for (int64_t t = kT0; t <= kT0 + 1'500'000; t += 1000) bus.advance_to(t);
+  auto truths = bus.decoded<evade::sim_truth_t>("SIM_TRUTH");
+  ASSERT_GT(truths.size(), 70u);
+  for (const auto& tr : truths) {
+    double t = (tr.utime - kT0) * 1e-6;
+    double moved = std::max(0.0, t - 0.5);
+    EXPECT_NEAR(tr.obstacles[0].x, -4.5 - moved, 1e-9) << t;
+    EXPECT_DOUBLE_EQ(tr.obstacles[0].vx, t > 0.5 ? -1.0 : 0.0) << t;
+  }
+}
+
 TEST_F(SimCoreTest, FinishesAfterTheScenarioDuration) {
   run_until(kT0 + 29'000'000);
   EXPECT_FALSE(core_.finished());

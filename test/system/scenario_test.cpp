@@ -20,12 +20,12 @@ std::string slurp(const std::string& path) {
   return ss.str();
 }
 
-TEST(Scenario, PaperSceneInDcbfModeReachesTheGoalWithoutCollision) {
+TEST(Scenario, PaperSceneInEvadeModeReachesTheGoalWithoutCollision) {
   const std::string src = EVADE_SOURCE_DIR;
   const std::string out = ::testing::TempDir() + "/scenario_paper_sim";
   std::filesystem::remove_all(out);
   const std::string cmd = src + "/tools/run_scenario " + src + "/config/scenarios/paper_sim.yaml --out " + out +
-                          " --mode dcbf --quiet > " + out + ".log 2>&1";
+                          " --mode evade --quiet > " + out + ".log 2>&1";
   std::filesystem::create_directories(out);
   const int status = std::system(cmd.c_str());
   const std::string metrics = slurp(out + "/metrics.json");

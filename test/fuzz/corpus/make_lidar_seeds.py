@@ -4,6 +4,7 @@
 Stream seeds follow test/sensing/fuzz_lidar_common.h: two flag bytes, then
 packets as [uint16 little-endian length][payload]. Run from anywhere:
   python3 test/fuzz/corpus/make_lidar_seeds.py [path/to/vlp16_sample.pcap]
+The capture defaults to the repository's test/data/vlp16_sample.pcap.
 """
 import math
 import os
@@ -111,18 +112,17 @@ def main():
     write('lidar_vlp16', 'synthetic_wrap', stream([0, 0], [vlp16_packet(355.0 + 4.78 * k, gap, t0 + 1327 * k) for k in range(3)]))
     write('lidar_vlp16', 'synthetic_dual', stream([0, 1], [vlp16_packet(358.0 + 2.39 * k, gap, t0 + 664 * k, 0x39) for k in range(3)]))
     write('lidar_vlp16', 'single_packet', vlp16_packet(10.0, gap, t0))
-    sample = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, '../../../../shared/data/vlp16_sample.pcap')
-    if os.path.exists(sample):
-        p = sample_payloads(sample)
-        # real packets around the azimuth wrap, with a position packet
-        write('lidar_vlp16', 'sample_wrap', stream([0, 0], [p[i] for i in range(26, 31)] + [p[3]]))
-        # the head of the real capture: data and position packets, Ethernet
-        d = open(sample, 'rb').read()
-        off = 24
-        for _ in range(6):
-            incl = struct.unpack('<IIII', d[off:off + 16])[2]
-            off += 16 + incl
-        write('lidar_pcap', 'sample_head.pcap', d[:off])
+    sample = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, '../../data/vlp16_sample.pcap')
+    p = sample_payloads(sample)
+    # real packets around the azimuth wrap, with a position packet
+    write('lidar_vlp16', 'sample_wrap', stream([0, 0], [p[i] for i in range(26, 31)] + [p[3]]))
+    # the head of the real capture: data and position packets, Ethernet
+    d = open(sample, 'rb').read()
+    off = 24
+    for _ in range(6):
+        incl = struct.unpack('<IIII', d[off:off + 16])[2]
+        off += 16 + incl
+    write('lidar_pcap', 'sample_head.pcap', d[:off])
     pk = [vlp16_packet(359.0 + 4.78 * k, gap, t0 + 1327 * k) for k in range(3)]
     write('lidar_pcap', 'vlan_fragment_truncated.pcap', pcap(1, [
         (ether(udp_ipv4(pk[0]), vlan=True), 0),

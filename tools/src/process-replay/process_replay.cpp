@@ -91,8 +91,8 @@ const std::vector<ProcessCase>& process_cases() {
     // The planner's outputs come out of an iterative solver: a last-bit
     // difference can move an iterate, so its tolerance is 1 mm / 1 mrad;
     // solve_time_us is wall time and never compared.
-    ProcessCase planner{"planner", {"ODOMETRY", "ROUTE", "OBSTACLE_PREDICTIONS"}, tolerances(1e-3, 1e-6),
-                        "logged ODOMETRY, ROUTE, OBSTACLE_PREDICTIONS; PLAN and CMD_VEL compared"};
+    ProcessCase planner{"planner", {"ODOMETRY", "ROUTE", "OBSTACLES", "OBSTACLE_PREDICTIONS"}, tolerances(1e-3, 1e-6),
+                        "logged ODOMETRY, ROUTE, OBSTACLES, OBSTACLE_PREDICTIONS; PLAN and CMD_VEL compared"};
     planner.diff.ignore_fields = {"PLAN.solve_time_us"};
     c.push_back(planner);
     return c;

@@ -1,0 +1,49 @@
+// How much faster than real time the lockstep closed loop runs a whole
+// scenario on one core: simulated seconds per CPU second of this thread
+// (counter x_real_time_cpu; the goal is at least 10x for
+// paper_sim). The log is not written, so that the figure is the stack's
+// and the simulator's, not the disk's.
+//   build/bin/bench_lockstep --benchmark_repetitions=3
+#include <benchmark/benchmark.h>
+
+#include <ctime>
+#include <string>
+
+#include "closedloop/closed_loop.h"
+#include "config/config.h"
+#include "sim/scenario.h"
+
+namespace {
+
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+void run_scenario(benchmark::State& state, const std::string& file) {
+  const std::string src = EVADE_SOURCE_DIR;
+  const evade::config::Node root = evade::config::load_robot_config(src + "/config/robot.yaml");
+  const evade::sim::Scenario scenario = evade::sim::load_scenario(src + "/config/scenarios/" + file);
+  double sim_s = 0.0, cpu_s = 0.0;
+  for (auto _ : state) {
+    evade::closedloop::ClosedLoop loop(root, scenario, evade::closedloop::LockstepRun{});
+    const double c0 = thread_cpu_s();
+    const evade::closedloop::LockstepResult r = loop.run(nullptr);
+    cpu_s += thread_cpu_s() - c0;
+    sim_s += r.sim_s;
+    benchmark::DoNotOptimize(r.events);
+  }
+  state.counters["sim_s"] = sim_s / static_cast<double>(state.iterations());
+  state.counters["x_real_time_cpu"] = cpu_s > 0 ? sim_s / cpu_s : 0.0;
+}
+
+void BM_LockstepPaperSim(benchmark::State& state) { run_scenario(state, "paper_sim.yaml"); }
+void BM_LockstepMixedStreet(benchmark::State& state) { run_scenario(state, "mixed_street.yaml"); }
+
+BENCHMARK(BM_LockstepPaperSim)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_LockstepMixedStreet)->Unit(benchmark::kSecond)->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,195 @@
+#include "closedloop/closed_loop.h"
+
+#include <stdexcept>
+
+#include "base/base_driver_core.h"
+#include "closedloop/event_queue.h"
+#include "closedloop/lockstep_params.h"
+#include "closedloop/process_node.h"
+#include "closedloop/run_monitor.h"
+#include "closedloop/serial_line.h"
+#include "evade/plan_t.hpp"
+#include "mapping/elevation_map_core.h"
+#include "planning/planner_core.h"
+#include "prediction/predictor_core.h"
+#include "route/route_publisher.h"
+#include "sensing/lidar_driver_core.h"
+#include "sim/sim_core.h"
+#include "tracking/tracker_core.h"
+
+namespace evade::closedloop {
+
+namespace {
+
+int64_t us(double s) { return std::llround(s * 1e6); }
+
+bool published_other_than_health(const std::vector<bus::LogEvent>& outputs) {
+  for (const auto& o : outputs)
+    if (o.channel != bus::kHealthChannel) return true;
+  return false;
+}
+
+// callback_s per callback, publish_s more when it published.
+ProcessNode::ComputeModel fixed_cost(const ProcessCost& c) {
+  return [c](const std::vector<bus::LogEvent>& out) {
+    return us(c.callback_s + (published_other_than_health(out) ? c.publish_s : 0.0));
+  };
+}
+
+// A planner cycle is charged the solve time its PLAN reports (the compute
+// model put in PLAN.solve_time_us, see PlannerCore::set_solve_time_model),
+// plus callback_s; other callbacks as fixed_cost.
+ProcessNode::ComputeModel planner_cost(const ProcessCost& c) {
+  return [c](const std::vector<bus::LogEvent>& out) {
+    for (const auto& o : out) {
+      if (o.channel != "PLAN") continue;
+      evade::plan_t plan;
+      if (bus::decode(o.data.data(), o.data.size(), &plan)) return us(c.callback_s) + std::max<int64_t>(0, plan.solve_time_us);
+    }
+    return us(c.callback_s + (published_other_than_health(out) ? c.publish_s : 0.0));
+  };
+}
+
+route::RouteParams route_params(const config::Node& root, const sim::Scenario& scenario) {
+  route::RouteParams p = route::RouteParams::from_config(root.section("route"));
+  p.waypoints.clear();
+  for (const auto& w : scenario.route) p.waypoints.push_back({w.x, w.y});
+  const std::string why = route::validate_route(p.waypoints);
+  if (!why.empty()) throw config::ConfigError(scenario.file + ":0: key 'route': " + why);
+  return p;
+}
+
+}  // namespace
+
+struct ClosedLoop::Impl {
+  LockstepParams params;
+  LockstepRun run;
+  EventQueue q;
+  std::unique_ptr<sim::SimCore> sim;
+  std::unique_ptr<sensing::LidarDriverCore> lidar;
+  std::unique_ptr<base::BaseDriverCore> base;
+  std::unique_ptr<planning::PlannerCore> planner;
+  std::vector<std::unique_ptr<bus::Core>> others;  // elevation_map, tracker, predictor, route
+  std::unique_ptr<RunMonitor> monitor;
+  std::vector<std::unique_ptr<ProcessNode>> nodes;
+  std::map<std::string, std::vector<ProcessNode*>> subscribers;
+  std::unique_ptr<SerialLine> to_base, to_sim;
+  ProcessNode* sim_node = nullptr;
+  ProcessNode* lidar_node = nullptr;
+  ProcessNode* base_node = nullptr;
+  bus::LogWriter* log = nullptr;
+  double duration_s = 0.0;
+
+  void build(const config::Node& root, sim::Scenario scenario);
+  ProcessNode* add(bus::Core& core, ProcessNode::ComputeModel model, std::set<std::string> conflated = {});
+  void route(const std::string& channel, int64_t t_leave, const Bytes& data);
+  void wire_devices(int baud_rate);
+};
+
+ProcessNode* ClosedLoop::Impl::add(bus::Core& core, ProcessNode::ComputeModel model, std::set<std::string> conflated) {
+  nodes.push_back(std::make_unique<ProcessNode>(core, q, std::move(model), std::move(conflated)));
+  ProcessNode* n = nodes.back().get();
+  n->set_router([this](const std::string& ch, int64_t t, const Bytes& data) { route(ch, t, data); });
+  for (const auto& ch : core.channels()) subscribers[ch].push_back(n);
+  return n;
+}
+
+// An LCM message: logged (as lcm-logger would record it) and delivered to
+// every subscriber when it arrives.
+void ClosedLoop::Impl::route(const std::string& channel, int64_t t_leave, const Bytes& data) {
+  const int64_t t = t_leave + us(params.bus_latency_s);
+  if (log && !run.unlogged.count(channel)) q.at(t, [this, t, channel, data] { log->write(t, channel, *data); });
+  auto it = subscribers.find(channel);
+  if (it == subscribers.end()) return;
+  for (ProcessNode* n : it->second) q.at(t, [n, channel, data] { n->deliver(channel, data); });
+}
+
+// The simulator's two devices: VLP-16 packets over UDP to the driver, and
+// the Scout's UART both ways.
+void ClosedLoop::Impl::wire_devices(int baud_rate) {
+  const int64_t udp = us(params.udp_latency_s);
+  sim->set_packet_sink([this, udp](const sim::Packet& p) {
+    auto bytes = std::make_shared<const std::vector<uint8_t>>(p.begin(), p.end());
+    q.at(q.now() + udp, [this, bytes] {
+      lidar_node->input([this, bytes] { lidar->on_packet(bytes->data(), bytes->size()); }, "udp");
+    });
+  });
+  to_base = std::make_unique<SerialLine>(q, baud_rate, [this](const std::vector<uint8_t>& b) {
+    base_node->input([this, b] { base->on_serial_bytes(b.data(), b.size()); }, "serial");
+  });
+  to_sim = std::make_unique<SerialLine>(q, baud_rate, [this](const std::vector<uint8_t>& b) {
+    sim_node->input([this, b] { sim->on_serial_bytes(b.data(), b.size()); }, "");
+  });
+  sim->set_serial_sink([this](const uint8_t* d, size_t n) { to_base->write(q.now(), std::vector<uint8_t>(d, d + n)); });
+  base_node->set_after([this](int64_t leave) {
+    std::vector<uint8_t> tx = base->take_tx();
+    if (!tx.empty()) to_sim->write(leave, std::move(tx));
+  });
+}
+
+void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
+  duration_s = scenario.duration_s;
+  sim::SimParams sp = sim::SimParams::from_config(root);
+  if (run.seed) scenario.seed = *run.seed;
+  sim = std::make_unique<sim::SimCore>(scenario, sp);
+  lidar = std::make_unique<sensing::LidarDriverCore>(sensing::LidarDriverParams::from_config(root),
+                                                     sensing::LidarDriverCore::Source::kPackets);
+  base::BaseDriverParams bp = base::BaseDriverParams::from_config(root);
+  bp.initial_pose = base::Pose2{scenario.start.x, scenario.start.y, scenario.start.yaw};
+  base = std::make_unique<base::BaseDriverCore>(bp);
+  planning::PlannerParams pp = planning::PlannerParams::from_config(root);
+  if (!run.planner_mode.empty()) pp.mode = planning::parse_mode(run.planner_mode);
+  planner = std::make_unique<planning::PlannerCore>(pp);
+  const LockstepParams* lp = &params;
+  planner->set_solve_time_model([lp](int it, double measured_us) { return lp->planner_cycle_us(it, measured_us); });
+  others.push_back(mapping::ElevationMapCore::from_config(root));
+  others.push_back(tracking::TrackerCore::from_config(root));
+  others.push_back(std::make_unique<prediction::PredictorCore>(
+      prediction::PredictorParams::from_config(root.section("predictor"))));
+  others.push_back(std::make_unique<route::RoutePublisher>(route_params(root, scenario)));
+  RunMonitorParams mp;
+  mp.margin_s = params.goal_margin_s;
+  mp.quiet = run.quiet;
+  monitor = std::make_unique<RunMonitor>(mp);
+
+  sim_node = add(*sim, nullptr);
+  lidar_node = add(*lidar, fixed_cost(params.costs.at("lidar_driver")));
+  base_node = add(*base, fixed_cost(params.costs.at("base_driver")));
+  for (auto& c : others) add(*c, fixed_cost(params.costs.at(c->name())));
+  const auto conflated = planning::PlannerCore::conflated_inputs();
+  add(*planner, planner_cost(params.costs.at("planner")), {conflated.begin(), conflated.end()});
+  add(*monitor, nullptr);
+  wire_devices(bp.baud_rate);
+}
+
+ClosedLoop::ClosedLoop(const config::Node& root, const sim::Scenario& scenario, const LockstepRun& run)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->params = LockstepParams::from_config(root);
+  if (!run.planner_compute.empty()) impl_->params.planner_compute = parse_planner_compute(run.planner_compute);
+  impl_->run = run;
+  impl_->build(root, scenario);
+}
+
+ClosedLoop::~ClosedLoop() = default;
+
+LockstepResult ClosedLoop::run(bus::LogWriter* log) {
+  Impl& m = *impl_;
+  m.log = log;
+  const int64_t t0 = m.params.start_utime_us;
+  m.q.set_now(t0);
+  m.base_node->input([&m] { m.base->on_link_opened(); }, "");
+  for (auto& n : m.nodes) n->start(t0);
+  // A safety cap in case the monitor never hears the end (a broken sim).
+  const int64_t cap = t0 + us(m.duration_s + 60.0);
+  LockstepResult r;
+  while (m.monitor->result() == RunMonitor::kRunning && m.q.next_time() <= cap && m.q.run_next()) {
+  }
+  r.outcome = m.monitor->result();
+  r.sim_s = (m.q.now() - t0) * 1e-6;
+  r.events = static_cast<int64_t>(m.q.events_run());
+  for (auto& n : m.nodes)
+    r.processes[n->core().name()] = ProcessStats{n->callbacks(), n->compute_us() * 1e-6};
+  return r;
+}
+
+}  // namespace evade::closedloop
