@@ -30,23 +30,41 @@ std::vector<Vec2> straight_across(double x_meet, int side, double angle_deg, dou
   return {along(meet, *dir, -approach), along(meet, *dir, exit)};
 }
 
+// A straight course across the route, drawn in this order: where it meets
+// the route, from which side, at what angle, how far before and past, how
+// early the mover gets there.
+struct Crossing {
+  double x = 0.0, angle = 0.0, approach = 0.0, exit = 0.0, lead = 0.0;
+  int side = 1;
+  Vec2 dir;
+  std::vector<Vec2> path;
+};
+
+Crossing draw_crossing(Ctx& c, Draft& d, const Range& angle_deg, const Range& approach_m, const Range& exit_m,
+                       const Range& lead_s) {
+  Crossing k;
+  k.x = meet_x(c, d);
+  k.side = c.rng.sign();
+  k.angle = c.rng.uniform(angle_deg);
+  k.approach = c.rng.uniform(approach_m);
+  k.exit = c.rng.uniform(exit_m);
+  k.lead = c.rng.uniform(lead_s);
+  k.path = straight_across(k.x, k.side, k.angle, k.approach, k.exit, &k.dir);
+  return k;
+}
+
 bool crosser(Ctx& c, Draft& d) {
   const CrossingParams& k = c.p.crossing;
   bool bike = c.rng.chance(k.bike_share);
-  double x = meet_x(c, d);
-  int side = c.rng.sign();
-  double angle = c.rng.uniform(k.crossing_angle_deg);
-  double approach = c.rng.uniform(k.approach_m), exit = c.rng.uniform(k.exit_m);
-  double lead = c.rng.uniform(k.lead_s);
-  Vec2 dir;
-  std::vector<Vec2> path = straight_across(x, side, angle, approach, exit, &dir);
-  ObstacleSpec o = bike ? box_body(c, c.p.shapes.bike, std::atan2(dir.y, dir.x)) : cylinder_body(c, c.p.shapes.walker);
+  const Crossing x = draw_crossing(c, d, k.crossing_angle_deg, k.approach_m, k.exit_m, k.lead_s);
+  ObstacleSpec o =
+      bike ? box_body(c, c.p.shapes.bike, std::atan2(x.dir.y, x.dir.x)) : cylinder_body(c, c.p.shapes.walker);
   double speed = c.rng.uniform(bike ? c.p.shapes.bike.speed_mps : c.p.shapes.walker.speed_mps);
-  follow_timed(o, path, speed, approach, arrival_s(c, d, x) - lead);
+  follow_timed(o, x.path, speed, x.approach, arrival_s(c, d, x.x) - x.lead);
   return add_if_clear(c, d, o,
-                      std::string(bike ? "bike" : "walker") + " crossing from " + side_name(side) + " at " +
-                          num(o.speed) + " m/s, " + num(angle) + " deg, meets the route at x " + num(x) + " " +
-                          timing(lead));
+                      std::string(bike ? "bike" : "walker") + " crossing from " + side_name(x.side) + " at " +
+                          num(o.speed) + " m/s, " + num(x.angle) + " deg, meets the route at x " + num(x.x) + " " +
+                          timing(x.lead));
 }
 
 bool headon_mover(Ctx& c, Draft& d) {
@@ -130,14 +148,11 @@ bool first_crossing(const std::vector<Vec2>& path, Vec2* at, double* arc) {
 bool small_mover(Ctx& c, Draft& d) {
   const FastSmallParams& k = c.p.fast_small;
   bool ball = c.rng.chance(k.ball_share);
-  double x = meet_x(c, d);
-  int side = c.rng.sign();
-  double angle = c.rng.uniform(k.crossing_angle_deg);
-  double approach = c.rng.uniform(k.approach_m), exit = c.rng.uniform(k.exit_m);
-  double lead = c.rng.uniform(k.lead_s);
-  Vec2 dir;
-  std::vector<Vec2> path = straight_across(x, side, angle, approach, exit, &dir);
-  if (!ball) path = zigzag(c, path.front(), dir, approach + exit);
+  const Crossing course = draw_crossing(c, d, k.crossing_angle_deg, k.approach_m, k.exit_m, k.lead_s);
+  const double x = course.x, lead = course.lead;
+  const int side = course.side;
+  std::vector<Vec2> path = course.path;
+  if (!ball) path = zigzag(c, path.front(), course.dir, course.approach + course.exit);
   Vec2 cross;
   double s_meet = 0.0;
   if (std::fabs(path.front().y) < 1.0 || !first_crossing(path, &cross, &s_meet)) return false;
