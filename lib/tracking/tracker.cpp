@@ -6,6 +6,12 @@
 
 namespace evade::tracking {
 
+namespace {
+// Seconds from `then` to `now`, in double: any two stamps (INT64_MIN from a
+// broken sender, then a real one) give a finite gap instead of overflowing.
+double gap_seconds(int64_t now, int64_t then) { return (static_cast<double>(now) - static_cast<double>(then)) * 1e-6; }
+}  // namespace
+
 TrackerParams TrackerParams::from_config(const config::Node& s) {
   TrackerParams p;
   p.eps_m = s.get_positive("dbscan_eps_m");
@@ -149,7 +155,7 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
   for (int t = 0; t < nt; ++t) {
     const Track& tr = tracks_[size_t(t)];
     double px = tr.cx, py = tr.cy;
-    const double gap_s = (g.utime - tr.last_seen_utime) * 1e-6;
+    const double gap_s = gap_seconds(g.utime, tr.last_seen_utime);
     const bool predict = p_.predict_with_velocity && tr.has_velocity && gap_s <= p_.max_prediction_gap_s;
     if (predict) {
       px += tr.vx * gap_s;
@@ -179,7 +185,7 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
     if (t < 0) continue;
     Track& tr = tracks_[size_t(t)];
     const Ellipse& e = detections_[size_t(d)].ellipse;
-    const double gap_s = (g.utime - tr.last_seen_utime) * 1e-6;
+    const double gap_s = gap_seconds(g.utime, tr.last_seen_utime);
     if (gap_s > 0.0 && gap_s <= p_.max_prediction_gap_s) {
       const double vx = (e.cx - tr.cx) / gap_s, vy = (e.cy - tr.cy) / gap_s;
       const double k = tr.has_velocity ? p_.velocity_smoothing : 1.0;

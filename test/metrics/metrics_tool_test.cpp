@@ -18,8 +18,11 @@ struct Result {
   std::string out;
 };
 
+// ctest runs each test as a process of its own, side by side: the output
+// file is named after the test, so that two never share one.
 Result run(const std::string& args) {
-  const std::string path = ::testing::TempDir() + "/metrics_tool_test.out";
+  const std::string path = ::testing::TempDir() + "/metrics_tool_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".out";
   const std::string cmd = std::string(METRICS_BIN) + " " + args + " > " + path + " 2>&1";
   const int st = std::system(cmd.c_str());
   std::ifstream f(path);
