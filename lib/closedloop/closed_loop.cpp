@@ -40,13 +40,13 @@ ProcessNode::ComputeModel fixed_cost(const ProcessCost& c) {
 // model put in PLAN.solve_time_us, see PlannerCore::set_solve_time_model),
 // plus callback_s; other callbacks as fixed_cost.
 ProcessNode::ComputeModel planner_cost(const ProcessCost& c) {
-  return [c](const std::vector<bus::LogEvent>& out) {
+  return [c, other = fixed_cost(c)](const std::vector<bus::LogEvent>& out) {
     for (const auto& o : out) {
       if (o.channel != "PLAN") continue;
       evade::plan_t plan;
       if (bus::decode(o.data.data(), o.data.size(), &plan)) return us(c.callback_s) + std::max<int64_t>(0, plan.solve_time_us);
     }
-    return us(c.callback_s + (published_other_than_health(out) ? c.publish_s : 0.0));
+    return other(out);
   };
 }
 
