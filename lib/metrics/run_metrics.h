@@ -11,7 +11,10 @@
 
 #include "bus/log.h"
 #include "config/config.h"
+#include "metrics/contacts.h"
 #include "metrics/geometry.h"
+#include "metrics/reaction.h"
+#include "planning/params.h"
 
 namespace evade::metrics {
 
@@ -20,7 +23,10 @@ struct MetricsParams {
   double motion_threshold_mps = 0.02;
   double dynamic_speed_threshold_mps = 0.05;
   double react_match_radius_m = 1.0;
-  double react_active_tol_m = 0.02;
+  double react_owner_switch_s = 0.5;
+  double react_plan_diff_m = 0.1;
+  double react_max_s = 10.0;
+  double fault_approach_speed_mps = 0.1;
   static MetricsParams from_config(const config::Node& section);
 };
 
@@ -31,8 +37,11 @@ struct ObstacleTrack {
   bool dynamic = false;
   std::vector<Vec2> path;        // centre per SIM_TRUTH sample
   std::vector<double> yaw;
-  std::optional<double> t_enter_s;  // since first motion
-  std::optional<double> t_react_s;
+  std::optional<double> t_enter_s;   // since the first SIM_TRUTH: first inside the local map, moving
+  std::optional<double> t_leave_s;   // last inside the local map, moving
+  std::optional<double> t_change_s;  // first plan that differs without it (reaction rule), at any time
+  std::optional<double> t_react_s;   // ... in [t_enter_s, min(t_leave_s, t_enter_s + react_max_s)]
+  std::vector<int64_t> tracks;       // perception tracks that were it at some time (when reactions were computed)
 };
 
 struct RunMetrics {
@@ -40,6 +49,12 @@ struct RunMetrics {
   std::string mode;
   bool reached_goal = false;
   bool collided = false;
+  std::vector<Contact> contacts;
+  bool at_fault = false;
+  int collisions_at_fault = 0;
+  int collisions_not_at_fault = 0;
+  bool success = false;
+  bool timed_out = false;
   double min_dist_m = 0.0;
   std::optional<double> time_to_goal_s;
   std::optional<double> reaction_time_s;
@@ -48,9 +63,12 @@ struct RunMetrics {
   double path_length_m = 0.0;
   std::optional<double> planner_solve_ms_p50;
   std::optional<double> planner_solve_ms_p99;
+  std::optional<double> planner_cycle_ms_p99;
   int solver_failures = 0;
+  std::optional<ReplayCheck> replay_check;  // set when the reactions were computed
   int plans = 0;
   double duration_s = 0.0;  // SIM_TRUTH span
+  double scenario_duration_s = 0.0;  // the scenario's time limit
   double final_goal_distance_m = 0.0;
 
   // For the picture.
@@ -68,8 +86,12 @@ struct RunMetrics {
   Vec2 closest_on_robot, closest_on_obstacle;
 };
 
-// Throws std::runtime_error when the log has no SIM_TRUTH.
-RunMetrics compute_metrics(const std::vector<bus::LogEvent>& events, const MetricsParams& params);
+// Throws std::runtime_error when the log has no SIM_TRUTH. With `planner`
+// (the run's planner configuration; its mode is taken from the log's PLAN)
+// the reaction times are computed by counterfactual replay; without it
+// there are none.
+RunMetrics compute_metrics(const std::vector<bus::LogEvent>& events, const MetricsParams& params,
+                           const planning::PlannerParams* planner = nullptr);
 std::string metrics_json(const RunMetrics& m);
 // How every metric is computed, in words.
 const char* metrics_rules();

@@ -232,7 +232,8 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
   cairo_set_font_size(cr, 15);
   char line[512];
   std::snprintf(line, sizeof line, "%s   mode %s   %s%s", m.scenario.c_str(), m.mode.empty() ? "?" : m.mode.c_str(),
-                m.reached_goal ? "goal reached" : "goal NOT reached", m.collided ? ", COLLIDED" : "");
+                m.reached_goal ? "goal reached" : "goal NOT reached",
+                !m.collided ? "" : m.at_fault ? ", COLLIDED (at fault)" : ", COLLIDED (not at fault)");
   cairo_move_to(cr, kMarginPx, ly);
   cairo_show_text(cr, line);
   cairo_set_font_size(cr, 13);

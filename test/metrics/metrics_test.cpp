@@ -49,6 +49,7 @@ std::vector<bus::LogEvent> straight_run() {
     s.scenario = "straight";
     s.goal_x = 5.0;
     s.goal_tolerance = 0.3;
+    s.duration_s = 11.0;
     s.obstacles_moving = t >= 0.5;
     evade::sim_obstacle_t o{};
     o.id = 0;
@@ -97,6 +98,12 @@ TEST(RunMetrics, StraightRunKnownAnswers) {
   EXPECT_EQ(m.plans, 111);
   ASSERT_TRUE(m.planner_solve_ms_p50);
   EXPECT_NEAR(*m.planner_solve_ms_p50, 1.55, 1e-9);
+  // every plan's solve time: 1.00 + 0.01 i ms, i = 0..110; p99 at i = 108.9
+  ASSERT_TRUE(m.planner_cycle_ms_p99);
+  EXPECT_NEAR(*m.planner_cycle_ms_p99, 2.089, 1e-9);
+  EXPECT_TRUE(m.contacts.empty());
+  EXPECT_TRUE(m.success);
+  EXPECT_FALSE(m.timed_out);
   EXPECT_EQ(m.scenario, "straight");
   EXPECT_EQ(m.mode, "dcbf");
 }
@@ -119,40 +126,6 @@ TEST(RunMetrics, SpeedVarianceWhileADynamicObstacleIsNear) {
   EXPECT_NEAR(*m.speed_var, 0.04, 0.002);  // speeds 0.8 and 1.2 in equal shares
 }
 
-TEST(RunMetrics, ReactionTimeFromTheFirstActiveConstraintOfAMatchedTrack) {
-  auto ev = straight_run();
-  // The crossing obstacle enters the local map at t = 4.0 s: put it at
-  // x = 2 (robot at x = -1.5 then, |dx| = 3.5 <= 5) with y from -5 upward.
-  for (auto& e : ev) {
-    if (e.channel == "SIM_TRUTH") {
-      evade::sim_truth_t s;
-      ASSERT_TRUE(bus::decode(e.data.data(), e.data.size(), &s));
-      double t = (s.utime - 1'000'000) * 1e-6;
-      s.obstacles[1].x = 2.0;
-      s.obstacles[1].y = t < 4.0 ? -30.0 : -5.0 + (t - 4.0);
-      e.data = bus::encode(s);
-    } else if (e.channel == "PLAN") {
-      evade::plan_t p;
-      ASSERT_TRUE(bus::decode(e.data.data(), e.data.size(), &p));
-      double t = (p.utime - 1'000'000) * 1e-6;
-      // A track of it from t = 4.5 s, 0.3 m off its true centre; its
-      // constraint becomes active at t = 5.5 s. A far track is always active.
-      if (t >= 4.5) {
-        p.obstacle_id = {7, 9};
-        p.obstacle_x = {2.3, 20.0};
-        p.obstacle_y = {-5.0 + (t - 4.0), 20.0};
-        p.obstacle_slack = {t >= 5.5 ? 0.001 : 0.5, 0.0};
-        p.num_obstacles = 2;
-      }
-      e.data = bus::encode(p);
-    }
-  }
-  auto m = compute_metrics(ev, MetricsParams{});
-  ASSERT_TRUE(m.reaction_time_s);
-  EXPECT_NEAR(*m.reaction_time_s, 1.5, 0.011);  // 4.0 s -> 5.5 s (plans at 10 Hz)
-  EXPECT_EQ(m.reaction_missed, 0);
-}
-
 TEST(RunMetrics, CollisionAndPicture) {
   auto ev = straight_run();
   for (auto& e : ev) {
@@ -165,6 +138,7 @@ TEST(RunMetrics, CollisionAndPicture) {
   auto m = compute_metrics(ev, MetricsParams{});
   EXPECT_TRUE(m.collided);
   EXPECT_LT(m.min_dist_m, 0.0);
+  EXPECT_EQ(m.contacts.size(), 1u);
   std::string png = ::testing::TempDir() + "/metrics_test.png";
   plot_trajectory(m, png);
   FILE* f = std::fopen(png.c_str(), "rb");
@@ -175,6 +149,112 @@ TEST(RunMetrics, CollisionAndPicture) {
   EXPECT_EQ(sig[1], 'P');
   EXPECT_EQ(sig[2], 'N');
   EXPECT_EQ(sig[3], 'G');
+}
+
+// Rewrites every SIM_TRUTH of a run with fn(sample, t) (t in s since the first).
+template <class Fn>
+void edit_truth(std::vector<bus::LogEvent>* ev, Fn fn) {
+  for (auto& e : *ev) {
+    if (e.channel != "SIM_TRUTH") continue;
+    evade::sim_truth_t s;
+    ASSERT_TRUE(bus::decode(e.data.data(), e.data.size(), &s));
+    fn(&s, (s.utime - 1'000'000) * 1e-6);
+    e.data = bus::encode(s);
+  }
+}
+
+TEST(Contacts, DrivingIntoAStaticObstacleIsAtFault) {
+  auto ev = straight_run();
+  // the static cylinder (r 0.25) on the robot's line at x = 0: the front
+  // edge (x + 0.21) touches it at x = -0.46 (t = 5.04 s), the rear edge
+  // leaves it at x = 0.46 (t = 5.96 s); deepest: centre inside, 0.155 to
+  // the side edges, + 0.25
+  edit_truth(&ev, [](evade::sim_truth_t* s, double) { s->obstacles[0].y = 0.0; });
+  auto m = compute_metrics(ev, MetricsParams{});
+  ASSERT_EQ(m.contacts.size(), 1u);
+  const Contact& c = m.contacts[0];
+  EXPECT_EQ(c.obstacle_id, 0);
+  EXPECT_NEAR(c.t_start_s, 5.04, 0.011);
+  EXPECT_NEAR(c.t_end_s, 5.96, 0.011);
+  EXPECT_NEAR(c.max_penetration_m, 0.405, 1e-9);
+  EXPECT_NEAR(c.robot_speed_mps, 1.0, 1e-12);
+  EXPECT_NEAR(c.approach_speed_mps, 1.0, 1e-9);  // straight at it
+  EXPECT_TRUE(c.at_fault);
+  EXPECT_TRUE(m.collided);
+  EXPECT_TRUE(m.at_fault);
+  EXPECT_EQ(m.collisions_at_fault, 1);
+  EXPECT_EQ(m.collisions_not_at_fault, 0);
+  EXPECT_TRUE(m.reached_goal);
+  EXPECT_FALSE(m.success);  // reached, but hit something on the way
+  // a threshold above the approach speed: the same contact is not at fault
+  MetricsParams lenient;
+  lenient.fault_approach_speed_mps = 1.5;
+  EXPECT_FALSE(compute_metrics(ev, lenient).contacts.at(0).at_fault);
+}
+
+TEST(Contacts, AMoverWalkingIntoAStandingRobotIsNotAtFaultAndEachPassIsOneContact) {
+  auto ev = straight_run();
+  // the robot stands at x = -5 for the whole run; the mover walks back and
+  // forth across it (y = 2.5 sin(2 pi (t - 1.25) / 5): through y = 0 at
+  // t = 1.25, 3.75, 6.25, 8.75 s)
+  edit_truth(&ev, [](evade::sim_truth_t* s, double t) {
+    s->x = -5.0;
+    s->v = 0.0;
+    s->obstacles[1].x = -5.0;
+    s->obstacles[1].y = 2.5 * std::sin(2 * M_PI * (t - 1.25) / 5.0);
+    s->obstacles[1].vy = 2.5 * 2 * M_PI / 5.0 * std::cos(2 * M_PI * (t - 1.25) / 5.0);
+  });
+  auto m = compute_metrics(ev, MetricsParams{});
+  ASSERT_EQ(m.contacts.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(m.contacts[i].obstacle_id, 1);
+    EXPECT_NEAR(m.contacts[i].t_start_s, 1.25 + 2.5 * i, 0.15);
+    EXPECT_LT(m.contacts[i].t_start_s, 1.25 + 2.5 * i);  // contact starts before the centres meet
+    EXPECT_NEAR(m.contacts[i].max_penetration_m, 0.405, 0.01);
+    EXPECT_EQ(m.contacts[i].approach_speed_mps, 0.0);
+    EXPECT_FALSE(m.contacts[i].at_fault);
+  }
+  EXPECT_TRUE(m.collided);
+  EXPECT_FALSE(m.at_fault);
+  EXPECT_EQ(m.collisions_not_at_fault, 4);
+  EXPECT_FALSE(m.reached_goal);
+  EXPECT_TRUE(m.timed_out);
+  EXPECT_FALSE(m.success);
+}
+
+TEST(Contacts, HitFromTheSideWhileDrivingPastIsNotAtFault) {
+  auto ev = straight_run();
+  // the robot drives along y = 0 at 1 m/s; a mover comes down x = 0 from
+  // the left at 1 m/s and reaches y = 0.405 (contact) as the robot's
+  // centre is under it: the robot's own velocity is across the contact
+  // direction, not towards it
+  edit_truth(&ev, [](evade::sim_truth_t* s, double t) {
+    s->obstacles[1].x = 0.0;
+    s->obstacles[1].y = 0.405 + 5.5 - t;
+    s->obstacles[1].vy = -1.0;
+  });
+  auto m = compute_metrics(ev, MetricsParams{});
+  ASSERT_GE(m.contacts.size(), 1u);
+  const Contact& c = m.contacts[0];
+  EXPECT_EQ(c.obstacle_id, 1);
+  EXPECT_NEAR(c.t_start_s, 5.5, 0.02);
+  EXPECT_NEAR(c.robot_speed_mps, 1.0, 1e-12);
+  EXPECT_NEAR(c.approach_speed_mps, 0.0, 0.02);
+  EXPECT_FALSE(c.at_fault);
+}
+
+TEST(Contacts, PointVelocityIncludesTheTurn) {
+  evade::sim_truth_t s{};
+  s.x = 1.0;
+  s.y = 2.0;
+  s.yaw = M_PI / 2;
+  s.v = 0.5;    // along +y
+  s.omega = 1;  // counter-clockwise
+  // the front-left corner of a 0.42 x 0.31 footprint: (1 - 0.155, 2 + 0.21)
+  const Vec2 p{1.0 - 0.155, 2.21};
+  // v = (0, 0.5) + omega x (p - c) = (0, 0.5) + (-0.21, -0.155)
+  EXPECT_NEAR(point_velocity_along(s, p, {0, 1}), 0.5 - 0.155, 1e-12);
+  EXPECT_NEAR(point_velocity_along(s, p, {-1, 0}), 0.21, 1e-12);
 }
 
 TEST(RunMetrics, NoTruthIsAnError) {

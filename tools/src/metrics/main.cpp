@@ -1,13 +1,15 @@
-// metrics LOG [--out metrics.json] [--plot trajectory.png] [--config robot.yaml]
+// metrics LOG [--out metrics.json] [--plot trajectory.png] [--config robot.yaml] [--no-reaction]
 // metrics --table MODE=LOG [MODE=LOG ...]   (the paper's Table I beside ours)
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
 #include "bus/log.h"
 #include "metrics/run_metrics.h"
 #include "metrics/trajectory_plot.h"
+#include "planning/params.h"
 
 namespace {
 
@@ -35,6 +37,54 @@ std::string fmt(const std::optional<double>& v, const char* f = "%.3f") {
   return b;
 }
 
+struct Params {
+  evade::metrics::MetricsParams metrics;
+  evade::planning::PlannerParams planner;
+};
+
+// Throws evade::config::ConfigError.
+Params load_params(const std::string& path) {
+  auto root = evade::config::load_robot_config(path);
+  Params p;
+  p.metrics = evade::metrics::MetricsParams::from_config(root.section("metrics"));
+  p.planner = evade::planning::PlannerParams::from_config(root);
+  return p;
+}
+
+// The configuration a run's reaction replay uses: --config, else the
+// robot.yaml run_scenario writes beside run.lcmlog, else the default.
+std::string config_for(const std::string& log, const std::string& config_path) {
+  if (!config_path.empty()) return config_path;
+  const auto beside = std::filesystem::path(log).parent_path() / "robot.yaml";
+  return std::filesystem::exists(beside) ? beside.string() : evade::config::default_config_path();
+}
+
+void print_table(const std::vector<std::string>& pairs, const std::string& config_path) {
+  std::printf("%-18s | %-22s | %-14s | %-14s | %-16s | %s\n", "algorithm", "min dist (m)", "time (s)",
+              "reaction (s)", "speed var", "contacts");
+  std::printf("%-18s | %-22s | %-14s | %-14s | %-16s | %s\n", "", "here / paper", "here / paper", "here / paper",
+              "here / paper", "(at fault)");
+  std::printf("-------------------+------------------------+----------------+----------------+------------------+");
+  std::printf("-----------\n");
+  for (const auto& pair : pairs) {
+    auto eq = pair.find('=');
+    if (eq == std::string::npos) throw std::runtime_error("--table takes MODE=LOG, got " + pair);
+    const std::string mode = pair.substr(0, eq), log = pair.substr(eq + 1);
+    const Params params = load_params(config_for(log, config_path));
+    auto m = evade::metrics::compute_metrics(evade::bus::read_log(log), params.metrics, &params.planner);
+    const PaperRow* paper = nullptr;
+    for (const auto& r : kPaper)
+      if (mode == r.mode) paper = &r;
+    std::string dist = m.collided ? "0 (collided)" : fmt(m.min_dist_m);
+    std::string time = m.reached_goal ? fmt(m.time_to_goal_s, "%.2f") : "-";
+    std::string contacts = std::to_string(m.contacts.size()) + " (" + std::to_string(m.collisions_at_fault) + ")";
+    std::printf("%-18s | %-10s / %-9s | %-6s / %-5s | %-6s / %-5s | %-7s / %-6s | %s\n",
+                paper ? paper->name : mode.c_str(), dist.c_str(), paper ? paper->min_dist : "", time.c_str(),
+                paper ? paper->time : "", fmt(m.reaction_time_s).c_str(), paper ? paper->reaction : "",
+                fmt(m.speed_var, "%.4f").c_str(), paper ? paper->speed_var : "", contacts.c_str());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -45,48 +95,27 @@ int main(int argc, char** argv) {
   app.add_option("log", log, "run log (lcm-logger file)");
   app.add_option("--out", out, "also write the metrics JSON here");
   app.add_option("--plot", plot, "write the trajectory picture (PNG) here");
-  app.add_option("--config", config_path, "robot configuration (section metrics:)");
+  app.add_option("--config", config_path,
+                 "the run's robot configuration (sections metrics: and planner:; default config/robot.yaml, and "
+                 "with --table the robot.yaml beside each log when there is one)");
   app.add_option("--table", table, "MODE=LOG pairs: print Table I for these runs beside the paper's");
+  bool no_reaction = false;
+  app.add_flag("--no-reaction", no_reaction,
+               "skip the counterfactual planner replay: no reaction times (the costly part; see below)");
   CLI11_PARSE(app, argc, argv);
-
-  evade::metrics::MetricsParams params;
-  try {
-    auto root = evade::config::load_robot_config(config_path.empty() ? evade::config::default_config_path() : config_path);
-    params = evade::metrics::MetricsParams::from_config(root.section("metrics"));
-  } catch (const evade::config::ConfigError& e) {
-    std::fprintf(stderr, "metrics: %s\n", e.what());
-    return 2;
-  }
 
   try {
     if (!table.empty()) {
-      std::printf("%-18s | %-22s | %-14s | %-14s | %-16s\n", "algorithm", "min dist (m)", "time (s)", "reaction (s)",
-                  "speed var");
-      std::printf("%-18s | %-22s | %-14s | %-14s | %-16s\n", "", "here / paper", "here / paper", "here / paper",
-                  "here / paper");
-      std::printf("-------------------+------------------------+----------------+----------------+-----------------\n");
-      for (const auto& pair : table) {
-        auto eq = pair.find('=');
-        if (eq == std::string::npos) throw std::runtime_error("--table takes MODE=LOG, got " + pair);
-        std::string mode = pair.substr(0, eq);
-        auto m = evade::metrics::compute_metrics(evade::bus::read_log(pair.substr(eq + 1)), params);
-        const PaperRow* paper = nullptr;
-        for (const auto& r : kPaper)
-          if (mode == r.mode) paper = &r;
-        std::string dist = m.collided ? "0 (collided)" : fmt(m.min_dist_m);
-        std::string time = m.reached_goal ? fmt(m.time_to_goal_s, "%.2f") : "-";
-        std::printf("%-18s | %-10s / %-9s | %-6s / %-5s | %-6s / %-5s | %-7s / %-6s\n",
-                    paper ? paper->name : mode.c_str(), dist.c_str(), paper ? paper->min_dist : "",
-                    time.c_str(), paper ? paper->time : "", fmt(m.reaction_time_s).c_str(),
-                    paper ? paper->reaction : "", fmt(m.speed_var, "%.4f").c_str(), paper ? paper->speed_var : "");
-      }
+      print_table(table, config_path);
       return 0;
     }
     if (log.empty()) {
       std::fprintf(stderr, "metrics: a LOG is required (see --help)\n");
       return 2;
     }
-    auto m = evade::metrics::compute_metrics(evade::bus::read_log(log), params);
+    const Params params = load_params(config_path.empty() ? evade::config::default_config_path() : config_path);
+    auto m = evade::metrics::compute_metrics(evade::bus::read_log(log), params.metrics,
+                                             no_reaction ? nullptr : &params.planner);
     std::string json = evade::metrics::metrics_json(m);
     std::fputs(json.c_str(), stdout);
     if (!out.empty()) {
@@ -95,6 +124,9 @@ int main(int argc, char** argv) {
       if (!f) throw std::runtime_error("cannot write " + out);
     }
     if (!plot.empty()) evade::metrics::plot_trajectory(m, plot);
+  } catch (const evade::config::ConfigError& e) {
+    std::fprintf(stderr, "metrics: %s\n", e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "metrics: %s\n", e.what());
     return 1;
