@@ -1,11 +1,13 @@
 // metrics LOG [--out metrics.json] [--plot trajectory.png] [--config robot.yaml] [--no-reaction]
 // metrics --table MODE=LOG [MODE=LOG ...]   (the paper's Table I beside ours)
+// metrics --stats RESULTS.jsonl              (the same over many runs: mean ± sd)
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
+#include "benchmark/benchmark_summary.h"
 #include "bus/log.h"
 #include "metrics/run_metrics.h"
 #include "metrics/trajectory_plot.h"
@@ -82,6 +84,48 @@ void print_table(const std::vector<std::string>& pairs, const std::string& confi
                 paper ? paper->name : mode.c_str(), dist.c_str(), paper ? paper->min_dist : "", time.c_str(),
                 paper ? paper->time : "", fmt(m.reaction_time_s).c_str(), paper ? paper->reaction : "",
                 fmt(m.speed_var, "%.4f").c_str(), paper ? paper->speed_var : "", contacts.c_str());
+    }
+  }
+
+std::string mean_sd(const std::optional<evade::benchmark::MeanSd>& s, const char* f) {
+  if (!s) return "-";
+  return s->n > 1 ? fmt(s->mean, f) + " ± " + fmt(s->sd, f) : fmt(s->mean, f);
+}
+
+// Pads to a width in characters (UTF-8: "±" is two bytes, one character).
+std::string pad(std::string s, size_t width) {
+  size_t chars = 0;
+  for (unsigned char c : s) chars += (c & 0xC0) != 0x80;
+  if (chars < width) s.append(width - chars, ' ');
+  return s;
+}
+
+// Table I over the runs of a benchmark's results.jsonl (tools/table1 --runs N):
+// mean ± sample sd per metric, the paper's value, and the collision counts.
+void print_stats(const std::string& results) {
+  const size_t w[] = {18, 4, 30, 22, 22, 26, 9};
+  auto row = [&](const std::vector<std::string>& cells, const std::string& last) {
+    std::string line;
+    for (size_t i = 0; i < cells.size(); ++i) line += pad(cells[i], w[i]) + " | ";
+    std::printf("%s%s\n", line.c_str(), last.c_str());
+  };
+  row({"algorithm", "runs", "min dist (m)", "time (s)", "reaction (s)", "speed var", "goal"}, "runs with contacts");
+  row({"", "", "mean ± sd / paper", "mean ± sd / paper", "mean ± sd / paper", "mean ± sd / paper", "reached"},
+      "at fault / not");
+  for (const auto& s : evade::benchmark::mode_stats(evade::benchmark::read_results(results))) {
+    const PaperRow* paper = nullptr;
+    for (const auto& r : kPaper)
+      if (s.mode == r.mode) paper = &r;
+    auto cell = [&](const std::optional<evade::benchmark::MeanSd>& v, const char* f, const char* p) {
+      return mean_sd(v, f) + " / " + (paper ? p : "");
+    };
+    std::string goal = std::to_string(s.reached_goal) + "/" + std::to_string(s.runs);
+    if (s.errors > 0) goal += " +" + std::to_string(s.errors) + " err";
+    row({paper ? paper->name : s.mode, std::to_string(s.runs), cell(s.min_dist_m, "%.3f", paper ? paper->min_dist : ""),
+         cell(s.time_to_goal_s, "%.2f", paper ? paper->time : ""),
+         cell(s.reaction_time_s, "%.3f", paper ? paper->reaction : ""),
+         cell(s.speed_var, "%.4f", paper ? paper->speed_var : ""), goal},
+        std::to_string(s.runs_at_fault) + " / " + std::to_string(s.runs_not_at_fault));
   }
 }
 
@@ -102,9 +146,17 @@ int main(int argc, char** argv) {
   bool no_reaction = false;
   app.add_flag("--no-reaction", no_reaction,
                "skip the counterfactual planner replay: no reaction times (the costly part; see below)");
+  std::string stats;
+  app.add_option("--stats", stats,
+                 "RESULTS.jsonl of tools/benchmark: Table I as mean ± sd over the runs of each mode "
+                 "(time over the runs that reached the goal), beside the paper's");
   CLI11_PARSE(app, argc, argv);
 
   try {
+    if (!stats.empty()) {
+      print_stats(stats);
+      return 0;
+    }
     if (!table.empty()) {
       print_table(table, config_path);
       return 0;

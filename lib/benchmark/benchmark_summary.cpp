@@ -1,0 +1,227 @@
+#include "benchmark/benchmark_summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <stdexcept>
+#include <tuple>
+
+namespace evade::benchmark {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+void remember(std::vector<std::string>& order, const std::string& name) {
+  if (std::find(order.begin(), order.end(), name) == order.end()) order.push_back(name);
+}
+
+GroupSummary summarize_group(const std::string& family, const std::string& mode,
+                             const std::vector<const Episode*>& rows) {
+  GroupSummary g;
+  g.family = family;
+  g.mode = mode;
+  std::vector<double> min_dist, times;
+  for (const Episode* e : rows) {
+    if (!e->error.empty()) {
+      ++g.errors;
+      continue;
+    }
+    ++g.episodes;
+    g.successes += e->success;
+    g.reached_goal += e->reached_goal;
+    g.at_fault += e->collisions_at_fault > 0 || e->at_fault;
+    g.not_at_fault += e->collisions_not_at_fault > 0;
+    g.contacts_at_fault += e->collisions_at_fault;
+    g.contacts_not_at_fault += e->collisions_not_at_fault;
+    g.timeouts += e->timed_out;
+    if (e->min_dist_m) min_dist.push_back(*e->min_dist_m);
+    if (e->reached_goal && e->time_to_goal_s) times.push_back(*e->time_to_goal_s);
+    if (e->planner_cycle_ms_p99)
+      g.planner_cycle_ms_p99_max = std::max(g.planner_cycle_ms_p99_max.value_or(0.0), *e->planner_cycle_ms_p99);
+  }
+  g.success_ci = wilson_interval(g.successes, g.episodes);
+  if (!min_dist.empty()) {
+    g.min_dist_p5_m = percentile(min_dist, 0.05);
+    g.min_dist_p50_m = percentile(min_dist, 0.5);
+  }
+  if (auto t = mean_sd(times)) g.mean_time_to_goal_s = t->mean;
+  return g;
+}
+
+Json opt(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
+
+std::string fmt(const std::optional<double>& v, const char* f) {
+  if (!v) return "-";
+  char b[48];
+  std::snprintf(b, sizeof b, f, *v);
+  return b;
+}
+
+std::string count_rate(int count, const GroupSummary& g) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%d (%.0f %%)", count, 100.0 * g.rate(count));
+  return b;
+}
+
+}  // namespace
+
+Interval wilson_interval(int k, int n, double z) {
+  if (n < 0 || k < 0 || k > n) throw std::invalid_argument("wilson_interval: need 0 <= k <= n");
+  if (n == 0) return {0.0, 1.0};
+  double p = static_cast<double>(k) / n;
+  double z2 = z * z;
+  double centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
+  double half = z / (1.0 + z2 / n) * std::sqrt(p * (1.0 - p) / n + z2 / (4.0 * n * n));
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) throw std::invalid_argument("percentile of no values");
+  if (!(p >= 0.0 && p <= 1.0)) throw std::invalid_argument("percentile: p outside [0, 1]");
+  std::sort(v.begin(), v.end());
+  double pos = p * static_cast<double>(v.size() - 1);
+  size_t lo = static_cast<size_t>(std::floor(pos));
+  size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+std::optional<MeanSd> mean_sd(const std::vector<double>& values) {
+  if (values.empty()) return std::nullopt;
+  MeanSd s;
+  s.n = static_cast<int>(values.size());
+  for (double v : values) s.mean += v;
+  s.mean /= s.n;
+  if (s.n > 1) {
+    double ss = 0;
+    for (double v : values) ss += (v - s.mean) * (v - s.mean);
+    s.sd = std::sqrt(ss / (s.n - 1));
+  }
+  return s;
+}
+
+void check_rows(const std::vector<Episode>& rows) {
+  std::set<std::tuple<std::string, int64_t, std::string>> seen;
+  std::map<std::pair<std::string, int64_t>, std::pair<std::string, std::string>> scenario;  // hash, mode
+  for (const Episode& e : rows) {
+    const EpisodeId& id = e.id;
+    if (!seen.insert({id.family, id.seed, id.mode}).second)
+      throw std::runtime_error("episode " + id.family + " seed " + std::to_string(id.seed) + " mode " + id.mode +
+                               " appears twice");
+    if (id.scenario_sha256.empty()) continue;
+    auto [it, fresh] = scenario.insert({{id.family, id.seed}, {id.scenario_sha256, id.mode}});
+    if (!fresh && it->second.first != id.scenario_sha256)
+      throw std::runtime_error(id.family + " seed " + std::to_string(id.seed) + ": mode " + id.mode +
+                               " ran another scenario than mode " + it->second.second +
+                               " (scenario_sha256 differs): the modes are not paired");
+  }
+}
+
+std::vector<GroupSummary> summarize(const std::vector<Episode>& rows) {
+  std::vector<std::string> families, modes;
+  for (const Episode& e : rows) {
+    remember(families, e.id.family);
+    remember(modes, e.id.mode);
+  }
+  std::vector<GroupSummary> out;
+  for (const auto& f : families)
+    for (const auto& m : modes) {
+      std::vector<const Episode*> group;
+      for (const Episode& e : rows)
+        if (e.id.family == f && e.id.mode == m) group.push_back(&e);
+      if (!group.empty()) out.push_back(summarize_group(f, m, group));
+    }
+  if (families.size() > 1)
+    for (const auto& m : modes) {
+      std::vector<const Episode*> group;
+      for (const Episode& e : rows)
+        if (e.id.mode == m) group.push_back(&e);
+      out.push_back(summarize_group("all", m, group));
+    }
+  return out;
+}
+
+std::string summary_json(const std::vector<GroupSummary>& groups) {
+  Json arr = Json::array();
+  for (const auto& g : groups) {
+    Json j;
+    j["family"] = g.family;
+    j["mode"] = g.mode;
+    j["episodes"] = g.episodes;
+    j["errors"] = g.errors;
+    j["successes"] = g.successes;
+    j["success_rate"] = g.rate(g.successes);
+    j["success_ci95"] = {g.success_ci.lo, g.success_ci.hi};
+    j["reached_goal"] = g.reached_goal;
+    j["at_fault"] = g.at_fault;
+    j["at_fault_rate"] = g.rate(g.at_fault);
+    j["not_at_fault"] = g.not_at_fault;
+    j["not_at_fault_rate"] = g.rate(g.not_at_fault);
+    j["contacts_at_fault"] = g.contacts_at_fault;
+    j["contacts_not_at_fault"] = g.contacts_not_at_fault;
+    j["timeouts"] = g.timeouts;
+    j["timeout_rate"] = g.rate(g.timeouts);
+    j["min_dist_p5_m"] = opt(g.min_dist_p5_m);
+    j["min_dist_p50_m"] = opt(g.min_dist_p50_m);
+    j["mean_time_to_goal_s"] = opt(g.mean_time_to_goal_s);
+    j["planner_cycle_ms_p99_max"] = opt(g.planner_cycle_ms_p99_max);
+    arr.push_back(j);
+  }
+  Json root;
+  root["groups"] = arr;
+  return root.dump(2) + "\n";
+}
+
+std::string markdown_table(const std::vector<GroupSummary>& groups) {
+  std::string s =
+      "| family | mode | episodes | success (95 % CI) | at-fault | not-at-fault | timeouts | min dist p5/p50 (m) | "
+      "mean time (s) |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& g : groups) {
+    char success[96];
+    std::snprintf(success, sizeof success, "%.0f %% (%.0f-%.0f %%)", 100.0 * g.rate(g.successes),
+                  100.0 * g.success_ci.lo, 100.0 * g.success_ci.hi);
+    std::string episodes = std::to_string(g.episodes);
+    if (g.errors > 0) episodes += " (+" + std::to_string(g.errors) + " errors)";
+    s += "| " + g.family + " | " + g.mode + " | " + episodes + " | " + success + " | " + count_rate(g.at_fault, g) +
+         " | " + count_rate(g.not_at_fault, g) + " | " + count_rate(g.timeouts, g) + " | " +
+         fmt(g.min_dist_p5_m, "%.2f") + " / " + fmt(g.min_dist_p50_m, "%.2f") + " | " +
+         fmt(g.mean_time_to_goal_s, "%.1f") + " |\n";
+  }
+  return s;
+}
+
+std::vector<ModeStats> mode_stats(const std::vector<Episode>& rows) {
+  std::vector<std::string> modes;
+  for (const Episode& e : rows) remember(modes, e.id.mode);
+  std::vector<ModeStats> out;
+  for (const auto& m : modes) {
+    ModeStats s;
+    s.mode = m;
+    std::vector<double> dist, time, reaction, var;
+    for (const Episode& e : rows) {
+      if (e.id.mode != m) continue;
+      if (!e.error.empty()) {
+        ++s.errors;
+        continue;
+      }
+      ++s.runs;
+      s.reached_goal += e.reached_goal;
+      s.runs_at_fault += e.collisions_at_fault > 0 || e.at_fault;
+      s.runs_not_at_fault += e.collisions_not_at_fault > 0;
+      if (e.min_dist_m) dist.push_back(*e.min_dist_m);
+      if (e.reached_goal && e.time_to_goal_s) time.push_back(*e.time_to_goal_s);
+      if (e.reaction_time_s) reaction.push_back(*e.reaction_time_s);
+      if (e.speed_var) var.push_back(*e.speed_var);
+    }
+    s.min_dist_m = mean_sd(dist);
+    s.time_to_goal_s = mean_sd(time);
+    s.reaction_time_s = mean_sd(reaction);
+    s.speed_var = mean_sd(var);
+    out.push_back(s);
+  }
+  return out;
+}
+
+}  // namespace evade::benchmark
