@@ -54,6 +54,23 @@ TEST(ScenarioGenTool, StdoutAndOutGiveTheLibrarysBytes) {
   std::filesystem::remove(file);
 }
 
+TEST(ScenarioGenTool, CheckNamesTheRulesAFileBreaks) {
+  std::string flags = " --config " + kRobot + " --families " + kFamilies;
+  std::string good = std::string(EVADE_SOURCE_DIR) + "/config/scenarios/paper_sim.yaml";
+  Ran r = run("--check " + good + flags);
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out, "");
+  std::string bad = (std::filesystem::temp_directory_path() / "scenario_gen_tool_bad.yaml").string();
+  {
+    std::ofstream f(bad);
+    f << read(good) << "  - {shape: cylinder, radius: 0.3, height: 1.7, x: -9.3, y: 0.0}\n";
+  }
+  r = run("--check " + bad + flags);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.out, bad + ": obstacles[8]: comes 0.190 m from the robot's start footprint in the first 2.0 s\n");
+  std::filesystem::remove(bad);
+}
+
 TEST(ScenarioGenTool, BadInputExitsTwoWithOneLine) {
   Ran r = run("--family stampede --seed 1");
   EXPECT_EQ(r.status, 2);

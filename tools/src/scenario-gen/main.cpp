@@ -1,8 +1,11 @@
 // scenario-gen --family F --seed K [--out FILE] [--config ROBOT.yaml]
-//              [--families FAMILIES.yaml] [--list]
+//              [--families FAMILIES.yaml]
+// scenario-gen --check SCENARIO.yaml [--config ...] [--families ...]
+// scenario-gen --list
 // Writes one scenario of family F drawn with seed K (lib/sim/scenario_gen.h)
 // to FILE, or to stdout. The same family, seed and configuration give the
-// same bytes.
+// same bytes. --check prints the validity rules a scenario file breaks
+// (lib/sim/scenario_check.h), one a line; exit 1 if any.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -32,7 +35,7 @@ void write_file(const std::string& path, const std::string& text) {
 int main(int argc, char** argv) {
   namespace gen = evade::sim::gen;
   CLI::App app{"Write a randomized scenario of one family (lib/sim/README.md)"};
-  std::string family, out, config_path, families_path;
+  std::string family, out, config_path, families_path, check;
   uint64_t seed = 1;
   bool list = false;
   app.add_option("--family", family, "crossing, headon, overtaking, crowd, doorway, occlusion, fast_small, "
@@ -42,12 +45,13 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path, "robot configuration (default: config/robot.yaml)");
   app.add_option("--families", families_path, "family ranges (default: config/scenario_families.yaml)");
   app.add_flag("--list", list, "print the family names and exit");
+  app.add_option("--check", check, "print the validity rules this scenario file breaks (exit 1 if any)");
   CLI11_PARSE(app, argc, argv);
   if (list) {
     for (const auto& f : gen::family_names()) std::printf("%s\n", f.c_str());
     return 0;
   }
-  if (family.empty()) {
+  if (family.empty() && check.empty()) {
     std::fprintf(stderr, "scenario-gen: --family is required (--list names them)\n");
     return 2;
   }
@@ -56,6 +60,12 @@ int main(int argc, char** argv) {
     if (families_path.empty()) families_path = gen::default_families_path();
     gen::RobotFacts robot = gen::RobotFacts::from_config(evade::config::load_robot_config(config_path));
     gen::FamilyParams params = gen::FamilyParams::from_config(evade::config::load_file(families_path), robot);
+    if (!check.empty()) {
+      std::vector<std::string> problems =
+          evade::sim::check_scenario(evade::sim::load_scenario(check), gen::check_params(params, robot));
+      for (const auto& p : problems) std::printf("%s: %s\n", check.c_str(), p.c_str());
+      return problems.empty() ? 0 : 1;
+    }
     gen::Generated g = gen::generate(family, seed, params, robot);
     if (out.empty()) std::cout << g.yaml << std::flush;
     else write_file(out, g.yaml);
