@@ -35,6 +35,11 @@ Vlp16Simulator::Vlp16Simulator(const LidarSimParams& params, int64_t start_us)
   }
 }
 
+void Vlp16Simulator::skip_packet() {
+  returns_.reach(revolution_at(packet_offset_us(next_packet_)));
+  ++next_packet_;
+}
+
 int64_t Vlp16Simulator::next_packet_ready_us() const {
   return start_us_ + static_cast<int64_t>(std::ceil(packet_offset_us(next_packet_ + 1)));
 }
@@ -94,7 +99,10 @@ Packet Vlp16Simulator::make_packet(const WorldAt& world) {
     for (int s = 0; s < v::kSequencesPerBlock; ++s) {
       // One snapshot per firing sequence: within its 55 us the robot moves
       // at most a few hundredths of a millimetre.
-      world(start_us_ + std::llround(t0 + v::firing_offset_us(b, s, 0)), &snap);
+      const double sequence_us = t0 + v::firing_offset_us(b, s, 0);
+      world(start_us_ + std::llround(sequence_us), &snap);
+      const int64_t revolution = revolution_at(sequence_us);
+      returns_.reach(revolution);
       const double cos_yaw = std::cos(snap.robot.yaw), sin_yaw = std::sin(snap.robot.yaw);
       for (int l = 0; l < v::kLasers; ++l) {
         double within_block_us = s * v::kSequencePeriodUs + l * v::kFiringIntervalUs;
@@ -102,15 +110,18 @@ Packet Vlp16Simulator::make_packet(const WorldAt& world) {
         Ray ray = laser_ray(snap.robot, cos_yaw, sin_yaw, l, az);
         double range = hit_ground(ray);
         bool ground = true;
-        for (const Solid& solid : snap.solids) {
-          double t = hit_solid(ray, solid);
+        size_t hit = 0;
+        for (size_t i = 0; i < snap.solids.size(); ++i) {
+          double t = hit_solid(ray, snap.solids[i]);
           if (t < range) {
             range = t;
             ground = false;
+            hit = i;
           }
         }
         double distance = 0.0;  // no return
         if (range <= p_.max_range_m) {
+          if (!ground) returns_.add(revolution, hit);
           distance = range + (p_.range_noise_std_m > 0.0 ? p_.range_noise_std_m * noise_(rng_) : 0.0);
           if (distance < v::kDistanceUnitM) distance = 0.0;  // noise cannot make a negative range
         }

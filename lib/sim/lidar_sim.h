@@ -22,6 +22,7 @@
 
 #include "sensing/vlp16.h"
 #include "sim/raycast.h"
+#include "sim/return_counter.h"
 #include "sim/scenario.h"
 
 namespace evade::sim {
@@ -67,7 +68,12 @@ class Vlp16Simulator {
   // Builds the next packet: every firing cast against world(t) at its time.
   Packet make_packet(const WorldAt& world);
   // Drops the next packet unbuilt (the sender fell behind).
-  void skip_packet() { ++next_packet_; }
+  void skip_packet();
+
+  // Returns from each solid of the world (its index in WorldSnapshot::solids)
+  // in the last complete revolution of the packets made; -1 each before the
+  // first revolution is complete (ReturnCounter).
+  std::vector<int32_t> returns_last_revolution(size_t solids) const { return returns_.last_complete(solids); }
 
   // Sensor azimuth (deg, [0, 360)) `offset_us` after the start.
   double azimuth_at_offset(double offset_us) const;
@@ -88,6 +94,10 @@ class Vlp16Simulator {
   std::normal_distribution<double> noise_{0.0, 1.0};
   double mount_rot_[3][3];  // sensor -> base rotation (yaw * pitch * roll)
   std::array<double, sensing::vlp16::kLasers> cos_el_{}, sin_el_{};  // of each laser's elevation
+  ReturnCounter returns_;
+  int64_t revolution_at(double offset_us) const {
+    return static_cast<int64_t>(std::floor(p_.rate_hz * offset_us * 1e-6));
+  }
 };
 
 }  // namespace evade::sim

@@ -212,6 +212,7 @@ evade::sim_truth_t SimCore::truth_at(int64_t utime) {
     t.obstacles.push_back(m);
   }
   t.num_obstacles = static_cast<int32_t>(t.obstacles.size());
+  t.lidar_returns = lidar_->returns_last_revolution(t.obstacles.size());
   return t;
 }
 

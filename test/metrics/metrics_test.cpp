@@ -66,6 +66,7 @@ std::vector<bus::LogEvent> straight_run() {
     m.vy = t >= 0.5 ? 1.0 : 0.0;
     s.obstacles.push_back(m);
     s.num_obstacles = 2;
+    s.lidar_returns = {40, 40};
     ev.push_back({s.utime, "SIM_TRUTH", bus::encode(s)});
     if (k % 10 == 0) {
       evade::plan_t p{};

@@ -102,6 +102,7 @@ evade::sim_truth_t truth(const std::vector<Mover>& movers, double t, int64_t uti
     s.obstacles.push_back(o);
   }
   s.num_obstacles = static_cast<int32_t>(s.obstacles.size());
+  s.lidar_returns.assign(s.obstacles.size(), 40);
   return s;
 }
 

@@ -141,6 +141,7 @@ void populate(WorldState& w) {
   so.height = 0.5;
   truth.obstacles = {so};
   truth.num_obstacles = 1;
+  truth.lidar_returns = {40};
   feed(w, "SIM_TRUTH", truth, kT);
   evade::mapping::SynthWorld world;
   world.cylinders.push_back({3.1, 1.0, 0.25, 0.5});

@@ -1,0 +1,370 @@
+#include "metrics/perception_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "bus/core.h"
+#include "evade/obstacle_list_t.hpp"
+#include "evade/odometry_t.hpp"
+#include "evade/prediction_list_t.hpp"
+#include "evade/sim_truth_t.hpp"
+
+namespace evade::metrics {
+
+PerceptionParams PerceptionParams::from_config(const config::Node& s) {
+  PerceptionParams p;
+  p.range_m = s.get_positive("range_m");
+  p.min_returns = s.get_int("min_returns", 1, 100000);
+  p.match_gate_m = s.get_positive("match_gate_m");
+  p.max_object_size_m = s.get_positive("max_object_size_m");
+  p.min_track_age_s = s.get_double("min_track_age_s", 0.0, 60.0);
+  p.walker_max_radius_m = s.get_positive("walker_max_radius_m");
+  p.walker_max_speed_mps = s.get_positive("walker_max_speed_mps");
+  s.close();
+  return p;
+}
+
+namespace {
+
+struct Pose {
+  double x = 0.0, y = 0.0, yaw = 0.0;
+};
+
+double lerp_angle(double a, double b, double f) { return a + f * std::remainder(b - a, 2.0 * M_PI); }
+
+// The world at one time: the robot, the obstacles, and the odometry pose.
+struct Snapshot {
+  Pose robot_world, robot_odom;
+  std::vector<evade::sim_obstacle_t> obstacles;  // world frame, interpolated
+  std::vector<int32_t> returns;                  // -1: not recorded
+  // World -> odometry frame (exact at this time: odometry drift removed).
+  Vec2 to_odom(Vec2 w) const {
+    const double c = std::cos(robot_world.yaw), s = std::sin(robot_world.yaw);
+    const double rx = c * (w.x - robot_world.x) + s * (w.y - robot_world.y);
+    const double ry = -s * (w.x - robot_world.x) + c * (w.y - robot_world.y);
+    const double co = std::cos(robot_odom.yaw), so = std::sin(robot_odom.yaw);
+    return {robot_odom.x + co * rx - so * ry, robot_odom.y + so * rx + co * ry};
+  }
+  double yaw_to_odom(double yaw) const { return yaw + robot_odom.yaw - robot_world.yaw; }
+};
+
+class Timeline {
+ public:
+  Timeline(std::vector<evade::sim_truth_t> truth, std::vector<evade::odometry_t> odom)
+      : truth_(std::move(truth)), odom_(std::move(odom)) {}
+
+  // False outside the truth's time span.
+  bool at(int64_t utime, Snapshot* s) const {
+    auto hi = std::lower_bound(truth_.begin(), truth_.end(), utime,
+                               [](const evade::sim_truth_t& t, int64_t u) { return t.utime < u; });
+    if (hi == truth_.end()) return false;
+    if (hi->utime != utime && hi == truth_.begin()) return false;
+    const evade::sim_truth_t& b = *hi;
+    const evade::sim_truth_t& a = hi->utime == utime ? b : *(hi - 1);
+    const double f = b.utime == a.utime ? 1.0 : double(utime - a.utime) / double(b.utime - a.utime);
+    s->robot_world = {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), lerp_angle(a.yaw, b.yaw, f)};
+    s->obstacles = b.obstacles;
+    for (size_t i = 0; i < s->obstacles.size() && i < a.obstacles.size(); ++i) {
+      s->obstacles[i].x = a.obstacles[i].x + f * (b.obstacles[i].x - a.obstacles[i].x);
+      s->obstacles[i].y = a.obstacles[i].y + f * (b.obstacles[i].y - a.obstacles[i].y);
+    }
+    s->returns = a.lidar_returns;
+    s->robot_odom = odom_at(utime, s->robot_world);
+    return true;
+  }
+
+ private:
+  Pose odom_at(int64_t utime, const Pose& fallback) const {
+    auto it = std::upper_bound(odom_.begin(), odom_.end(), utime,
+                               [](int64_t u, const evade::odometry_t& o) { return u < o.utime; });
+    if (it == odom_.begin()) return fallback;  // no odometry yet: the frames agree
+    --it;
+    // Dead-reckon from the last sample to `utime` (at most one period).
+    const double dt = (utime - it->utime) * 1e-6;
+    return {it->x + it->v * dt * std::cos(it->yaw), it->y + it->v * dt * std::sin(it->yaw), it->yaw + it->omega * dt};
+  }
+  std::vector<evade::sim_truth_t> truth_;
+  std::vector<evade::odometry_t> odom_;
+};
+
+struct Decoded {
+  std::vector<evade::sim_truth_t> truth;
+  std::vector<evade::odometry_t> odom;
+  std::vector<evade::obstacle_list_t> lists;
+  std::vector<evade::prediction_list_t> predictions;
+};
+
+Decoded decode(const std::vector<bus::LogEvent>& events, const std::string& obstacles, const std::string& predictions) {
+  Decoded d;
+  for (const auto& e : events) {
+    if (e.channel == "SIM_TRUTH") {
+      evade::sim_truth_t t;
+      if (bus::decode(e.data.data(), e.data.size(), &t)) d.truth.push_back(std::move(t));
+    } else if (e.channel == "ODOMETRY") {
+      evade::odometry_t o;
+      if (bus::decode(e.data.data(), e.data.size(), &o)) d.odom.push_back(o);
+    } else if (e.channel == obstacles) {
+      evade::obstacle_list_t l;
+      if (bus::decode(e.data.data(), e.data.size(), &l)) d.lists.push_back(std::move(l));
+    } else if (e.channel == predictions) {
+      evade::prediction_list_t p;
+      if (bus::decode(e.data.data(), e.data.size(), &p)) d.predictions.push_back(std::move(p));
+    }
+  }
+  if (d.truth.empty()) throw std::runtime_error("no SIM_TRUTH in the log: perception metrics need a simulated run");
+  auto by_time = [](const auto& a, const auto& b) { return a.utime < b.utime; };
+  std::stable_sort(d.truth.begin(), d.truth.end(), by_time);
+  std::stable_sort(d.odom.begin(), d.odom.end(), by_time);
+  std::stable_sort(d.lists.begin(), d.lists.end(), by_time);
+  return d;
+}
+
+double object_size(const evade::sim_obstacle_t& o) {
+  return o.shape == "box" ? std::max(o.length, o.width) : 2.0 * o.radius;
+}
+
+TrueObject true_object(const Snapshot& s, size_t i, const PerceptionParams& p) {
+  const evade::sim_obstacle_t& o = s.obstacles[i];
+  TrueObject t;
+  t.id = o.id;
+  t.centre = s.to_odom({o.x, o.y});
+  if (o.shape == "box") t.box = OrientedRect{t.centre, s.yaw_to_odom(o.yaw), o.length, o.width};
+  else t.radius = o.radius;
+  const int32_t returns = i < s.returns.size() ? s.returns[i] : -1;
+  const bool visible = returns < 0 || returns >= p.min_returns;  // -1: not recorded, counted visible
+  const double range = std::hypot(o.x - s.robot_world.x, o.y - s.robot_world.y);
+  t.scored = visible && range <= p.range_m && object_size(o) <= p.max_object_size_m;
+  return t;
+}
+
+// Scored matches of one frame: track id -> index of the true object.
+using FrameMatches = std::map<int64_t, size_t>;
+
+}  // namespace
+
+namespace {
+
+struct TrackingPass {
+  std::map<int64_t, FrameMatches> frames;   // by the obstacle list's utime
+  std::map<int64_t, int64_t> first_seen;    // track id -> first utime
+  int64_t untruthful = 0;
+};
+
+TrackingPass run_tracking(const Decoded& d, const Timeline& tl, const PerceptionParams& p, ClearMot* mot) {
+  TrackingPass pass;
+  const int64_t t0 = d.truth.front().utime;
+  for (size_t f = 0; f < d.lists.size(); ++f) {
+    const evade::obstacle_list_t& l = d.lists[f];
+    for (const auto& o : l.obstacles) pass.first_seen.emplace(o.id, l.utime);
+    Snapshot s;
+    if (!tl.at(l.utime, &s)) {
+      ++pass.untruthful;
+      continue;
+    }
+    std::vector<TrueObject> objects;
+    for (size_t i = 0; i < s.obstacles.size(); ++i) objects.push_back(true_object(s, i, p));
+    std::vector<Hypothesis> hyps;
+    for (const auto& o : l.obstacles)
+      hyps.push_back({o.id, {o.x, o.y}, std::hypot(o.x - s.robot_odom.x, o.y - s.robot_odom.y) <= p.range_m});
+    const int64_t next = f + 1 < d.lists.size() ? d.lists[f + 1].utime : l.utime;
+    const int64_t prev = f > 0 ? d.lists[f - 1].utime : l.utime;
+    const double dt_s = (next > l.utime ? next - l.utime : l.utime - prev) * 1e-6;
+    const std::map<int, int64_t> matches = mot->add_frame((l.utime - t0) * 1e-6, dt_s, objects, hyps);
+    FrameMatches& fm = pass.frames[l.utime];
+    for (size_t i = 0; i < objects.size(); ++i) {
+      auto m = matches.find(objects[i].id);
+      if (objects[i].scored && m != matches.end()) fm[m->second] = i;
+    }
+  }
+  return pass;
+}
+
+struct Displacement {
+  double ade_sum = 0.0, fde_sum = 0.0;
+  int64_t n = 0;
+  std::optional<double> ade() const { return n ? std::optional<double>(ade_sum / n) : std::nullopt; }
+  std::optional<double> fde() const { return n ? std::optional<double>(fde_sum / n) : std::nullopt; }
+};
+
+// Errors of one track's predicted centres against the truth; false when
+// the truth ends before the horizon does.
+bool score_track(const evade::prediction_list_t& list, const evade::track_prediction_t& tp, size_t object,
+                 const Timeline& tl, std::vector<double>* errors, std::vector<bool>* inside, std::vector<double>* area) {
+  for (int k = 0; k < tp.horizon; ++k) {
+    Snapshot s;
+    if (!tl.at(list.utime + std::llround(k * list.dt * 1e6), &s) || object >= s.obstacles.size()) return false;
+    const Vec2 truth = s.to_odom({s.obstacles[object].x, s.obstacles[object].y});
+    const double dx = truth.x - tp.x[k], dy = truth.y - tp.y[k];
+    const double c = std::cos(tp.theta[k]), sn = std::sin(tp.theta[k]);
+    const double u = (c * dx + sn * dy) / tp.a[k], v = (-sn * dx + c * dy) / tp.b[k];
+    errors->push_back(std::hypot(dx, dy));
+    inside->push_back(u * u + v * v <= 1.0);
+    area->push_back(M_PI * tp.a[k] * tp.b[k]);
+  }
+  return true;
+}
+
+void add_displacement(const std::vector<double>& err, double dt, double horizon_s, Displacement* d) {
+  const int k = static_cast<int>(std::lround(horizon_s / dt));
+  if (k < 1 || k >= static_cast<int>(err.size())) return;
+  double sum = 0.0;
+  for (int i = 1; i <= k; ++i) sum += err[static_cast<size_t>(i)];
+  d->ade_sum += sum / k;
+  d->fde_sum += err[static_cast<size_t>(k)];
+  ++d->n;
+}
+
+bool is_walker(const evade::sim_obstacle_t& o, const PerceptionParams& p) {
+  return o.shape == "cylinder" && o.radius <= p.walker_max_radius_m && std::hypot(o.vx, o.vy) <= p.walker_max_speed_mps;
+}
+
+}  // namespace
+
+PerceptionMetrics compute_perception(const std::vector<bus::LogEvent>& events, const PerceptionParams& p,
+                                     const std::string& obstacles_channel, const std::string& predictions_channel) {
+  Decoded d = decode(events, obstacles_channel, predictions_channel);
+  Timeline tl(d.truth, d.odom);
+  ClearMot mot(p.match_gate_m);
+  const TrackingPass pass = run_tracking(d, tl, p, &mot);
+  PerceptionMetrics m;
+  m.mot = mot.totals();
+  m.untruthful_frames = pass.untruthful;
+  Displacement d1, d25, walker1;
+  for (const auto& list : d.predictions) {
+    auto frame = pass.frames.find(list.utime);
+    if (frame == pass.frames.end()) continue;
+    Snapshot now;
+    if (!tl.at(list.utime, &now)) continue;
+    if (m.dt_s == 0.0) m.dt_s = list.dt;
+    for (const auto& tp : list.tracks) {
+      auto match = frame->second.find(tp.id);
+      if (match == frame->second.end() || tp.horizon < 1) continue;
+      std::vector<double> err, area;
+      std::vector<bool> inside;
+      if (!score_track(list, tp, match->second, tl, &err, &inside, &area)) continue;
+      const auto seen = pass.first_seen.find(tp.id);
+      const bool old = seen != pass.first_seen.end() && (list.utime - seen->second) * 1e-6 >= p.min_track_age_s;
+      if (m.steps.size() < err.size()) m.steps.resize(err.size());
+      for (size_t k = 0; k < err.size(); ++k) {
+        StepScore& st = m.steps[k];
+        ++st.n_all;
+        st.inside_all += inside[k];
+        st.error_sum_m += err[k];
+        st.area_sum_m2 += area[k];
+        if (old) {
+          ++st.n;
+          st.inside += inside[k];
+        }
+      }
+      ++m.predictions;
+      add_displacement(err, list.dt, 1.0, &d1);
+      add_displacement(err, list.dt, 2.5, &d25);
+      if (is_walker(now.obstacles[match->second], p)) add_displacement(err, list.dt, 1.0, &walker1);
+    }
+  }
+  m.ade_1s_m = d1.ade();
+  m.fde_1s_m = d1.fde();
+  m.ade_2_5s_m = d25.ade();
+  m.fde_2_5s_m = d25.fde();
+  m.walker_ade_1s_m = walker1.ade();
+  m.walker_predictions = walker1.n;
+  return m;
+}
+
+namespace {
+
+std::string num(std::optional<double> v) {
+  if (!v || !std::isfinite(*v)) return "null";
+  std::ostringstream s;
+  s.precision(6);
+  s << *v;
+  return s.str();
+}
+
+template <typename F>
+std::string array(const std::vector<StepScore>& steps, F f) {
+  std::string out = "[";
+  for (size_t k = 0; k < steps.size(); ++k) out += (k ? ", " : "") + f(steps[k]);
+  return out + "]";
+}
+
+std::string ratio(int64_t a, int64_t b) { return b ? num(double(a) / double(b)) : "null"; }
+
+}  // namespace
+
+std::string perception_json(const PerceptionMetrics& m, const PerceptionParams& p) {
+  const MotTotals& t = m.mot;
+  double ttt_sum = 0.0, ttt_max = 0.0;
+  for (double v : t.time_to_track_s) {
+    ttt_sum += v;
+    ttt_max = std::max(ttt_max, v);
+  }
+  // Coverage of the calibrated tracks over the first 2.5 s (the worst step).
+  std::optional<double> coverage_min;
+  for (size_t k = 1; k < m.steps.size() && k * m.dt_s <= 2.5 + 1e-9; ++k)
+    if (m.steps[k].n) coverage_min = std::min(coverage_min.value_or(1.0), double(m.steps[k].inside) / m.steps[k].n);
+  std::ostringstream o;
+  o << "{\n  \"frames\": " << t.frames << ",\n  \"objects\": " << t.objects << ",\n  \"matches\": " << t.matches
+    << ",\n  \"misses\": " << t.misses << ",\n  \"false_positives\": " << t.false_positives
+    << ",\n  \"id_switches\": " << t.id_switches << ",\n  \"fragmentations\": " << t.fragmentations
+    << ",\n  \"mota\": " << num(t.mota()) << ",\n  \"motp_m\": " << num(t.motp_m())
+    << ",\n  \"track_s\": " << num(t.track_s)
+    << ",\n  \"id_switches_per_100_track_s\": " << num(t.track_s > 0 ? std::optional<double>(100.0 * t.id_switches / t.track_s) : std::nullopt)
+    << ",\n  \"mostly_tracked\": " << t.mostly_tracked << ",\n  \"partially_tracked\": " << t.partially_tracked
+    << ",\n  \"mostly_lost\": " << t.mostly_lost << ",\n  \"never_tracked\": " << t.never_tracked
+    << ",\n  \"time_to_track_s_mean\": "
+    << num(t.time_to_track_s.empty() ? std::nullopt : std::optional<double>(ttt_sum / t.time_to_track_s.size()))
+    << ",\n  \"time_to_track_s_max\": " << num(t.time_to_track_s.empty() ? std::nullopt : std::optional<double>(ttt_max))
+    << ",\n  \"untruthful_frames\": " << m.untruthful_frames << ",\n  \"predictions\": " << m.predictions
+    << ",\n  \"ade_1s_m\": " << num(m.ade_1s_m) << ",\n  \"fde_1s_m\": " << num(m.fde_1s_m)
+    << ",\n  \"ade_2_5s_m\": " << num(m.ade_2_5s_m) << ",\n  \"fde_2_5s_m\": " << num(m.fde_2_5s_m)
+    << ",\n  \"walker_ade_1s_m\": " << num(m.walker_ade_1s_m) << ",\n  \"walker_predictions\": " << m.walker_predictions
+    << ",\n  \"step_dt_s\": " << num(m.dt_s)
+    << ",\n  \"coverage\": " << array(m.steps, [](const StepScore& s) { return ratio(s.inside, s.n); })
+    << ",\n  \"coverage_n\": " << array(m.steps, [](const StepScore& s) { return std::to_string(s.n); })
+    << ",\n  \"coverage_inside\": " << array(m.steps, [](const StepScore& s) { return std::to_string(s.inside); })
+    << ",\n  \"coverage_all\": " << array(m.steps, [](const StepScore& s) { return ratio(s.inside_all, s.n_all); })
+    << ",\n  \"coverage_min_2_5s\": " << num(coverage_min)
+    << ",\n  \"mean_error_m\": " << array(m.steps, [](const StepScore& s) { return s.n_all ? num(s.error_sum_m / s.n_all) : std::string("null"); })
+    << ",\n  \"ellipse_area_m2\": " << array(m.steps, [](const StepScore& s) { return s.n_all ? num(s.area_sum_m2 / s.n_all) : std::string("null"); })
+    << ",\n  \"params\": {\"range_m\": " << num(p.range_m) << ", \"min_returns\": " << p.min_returns
+    << ", \"match_gate_m\": " << num(p.match_gate_m) << ", \"max_object_size_m\": " << num(p.max_object_size_m)
+    << ", \"min_track_age_s\": " << num(p.min_track_age_s) << "}\n}\n";
+  return o.str();
+}
+
+const char* perception_rules() {
+  return R"(Perception metrics (lib/metrics/perception_metrics.h, clear_mot.h), from one run log:
+- Frames: every OBSTACLES message. The truth at its utime is SIM_TRUTH interpolated
+  linearly between the samples around it, carried into the odometry frame through the
+  robot's true and odometry poses at that time (odometry drift does not count as error).
+- Scored objects: within range_m of the robot (centre), visible (at least min_returns
+  LiDAR returns in the sensor's last complete revolution, SIM_TRUTH lidar_returns; -1,
+  not recorded, counts as visible), and no larger than max_object_size_m (walls are not
+  one object). Tracks farther than range_m from the robot are never false positives.
+- Matching (CLEAR MOT): an object keeps last frame's track while that is within
+  match_gate_m of its shape; the rest are matched nearest first within the gate.
+  mota = 1 - (misses + false_positives + id_switches) / objects (object-frames);
+  motp_m = mean centre distance of the matches; an identity switch: a scored object
+  matched to another track than its previous one; a fragmentation: tracked, missed,
+  tracked again; a track unmatched near an unscored object is no false positive.
+  mostly_tracked / mostly_lost: matched in >= 80 % / <= 20 % of its scored frames;
+  time_to_track_s: first scored frame to first match. track_s: scored matches times
+  the frame period; id_switches_per_100_track_s = 100 * id_switches / track_s.
+- Predictions: every track of an OBSTACLE_PREDICTIONS list whose utime is a frame's and
+  whose track was matched to a scored object there. Step k is compared with the
+  object's true centre at utime + k * dt. ade_Ts_m: mean over predictions of the mean
+  error over steps 1..T/dt; fde_Ts_m: the error at step T/dt (T = 1 s, 2.5 s);
+  walker_ade_1s_m: the same for cylinders no wider than walker_max_radius_m moving no
+  faster than walker_max_speed_mps.
+- Calibration: coverage[k] = fraction of true centres inside the published (inflated)
+  ellipse at step k, over tracks at least min_track_age_s old (first OBSTACLES
+  appearance); coverage_all: every track; coverage_min_2_5s: the worst step in
+  (0, 2.5 s]; ellipse_area_m2[k]: mean pi * a * b.
+)";
+}
+
+}  // namespace evade::metrics
