@@ -76,3 +76,44 @@ TEST_F(ReplayTools, CutOntoAnExistingCaseNeedsForce) {
 }
 
 }  // namespace
+
+#include "bus/core.h"
+#include "evade/sim_truth_t.hpp"
+
+namespace {
+
+// log-migrate sim-truth-returns: a SIM_TRUTH without lidar_returns (the
+// layout before issue 23) gets the current type with -1 per obstacle; a
+// current one is left alone; bytes of neither layout stop it, the log untouched.
+TEST_F(ReplayTools, LogMigrateAddsUnknownLidarReturnsToOldSimTruth) {
+  evade::sim_truth_t t{};
+  t.utime = 42;
+  t.scenario = "old";
+  t.obstacles.resize(2);
+  t.obstacles[0].shape = "cylinder";
+  t.obstacles[1].shape = "box";
+  t.obstacles[1].x = 3.5;
+  t.num_obstacles = 2;
+  t.lidar_returns = {7, 9};
+  std::vector<uint8_t> current = evade::bus::encode(t);
+  std::vector<uint8_t> old(current.begin(), current.end() - 8);  // without the two int32
+  old[0] ^= 0x5a;                                                 // another fingerprint
+  const fs::path in = dir_ / "old.lcmlog", out = dir_ / "migrated.lcmlog";
+  evade::bus::write_log(in.string(), {{1, "SIM_TRUTH", old}, {2, "SIM_TRUTH", current}});
+  ASSERT_EQ(run(kBin + "/log-migrate sim-truth-returns " + in.string() + " " + out.string()), 0);
+  auto events = evade::bus::read_log(out.string());
+  ASSERT_EQ(events.size(), 2u);
+  evade::sim_truth_t a, b;
+  ASSERT_TRUE(evade::bus::decode(events[0].data.data(), events[0].data.size(), &a));
+  ASSERT_TRUE(evade::bus::decode(events[1].data.data(), events[1].data.size(), &b));
+  EXPECT_EQ(a.lidar_returns, std::vector<int32_t>({-1, -1}));
+  EXPECT_DOUBLE_EQ(a.obstacles[1].x, 3.5);
+  EXPECT_EQ(a.scenario, "old");
+  EXPECT_EQ(b.lidar_returns, std::vector<int32_t>({7, 9}));
+  // Garbage on the channel: exit 1, no output written.
+  evade::bus::write_log(in.string(), {{1, "SIM_TRUTH", std::vector<uint8_t>(old.begin(), old.end() - 3)}});
+  EXPECT_EQ(run(kBin + "/log-migrate sim-truth-returns " + in.string() + " " + (dir_ / "bad.lcmlog").string()), 1);
+  EXPECT_FALSE(fs::exists(dir_ / "bad.lcmlog"));
+}
+
+}  // namespace

@@ -267,3 +267,46 @@ TEST_F(SimCoreTest, FinishesAfterTheScenarioDuration) {
 
 }  // namespace
 }  // namespace evade::sim
+
+namespace evade::sim {
+namespace {
+
+// SIM_TRUTH's lidar_returns: -1 until the first revolution is complete, then
+// the returns of each obstacle in the last one; a walker hidden behind a
+// wall gives none, the wall and a walker in the open give many.
+TEST(SimCoreReturns, EachObstacleReturnsOfTheLastRevolution) {
+  const char* text = R"(name: returns
+duration_s: 30
+robot:
+  start: {x: 0.0, y: 0.0, yaw: 0.0}
+  goal: {x: 9.0, y: 0.0, tolerance: 0.3}
+  footprint: {length: 0.42, width: 0.31}
+lidar: {model: vlp16, rate_hz: 10, height: 0.5, range_noise_std: 0.0}
+obstacles:
+  - {shape: cylinder, radius: 0.25, height: 1.7, x: 3.0, y: 0.0}
+  - {shape: box, size: [0.3, 4.0, 2.0], x: 0.0, y: 4.0, yaw: 1.5707963}
+  - {shape: cylinder, radius: 0.25, height: 1.7, x: 0.0, y: 6.0}
+  - {shape: cylinder, radius: 0.25, height: 1.7, x: 150.0, y: 0.0}
+)";
+  SimCore core(parse_scenario(text, "returns.yaml"), test_params());
+  bus::MemoryBus bus;
+  bus.add(core);
+  for (int64_t t = kT0; t <= kT0 + 350'000; t += 1000) bus.advance_to(t);
+  auto truths = bus.decoded<evade::sim_truth_t>("SIM_TRUTH");
+  ASSERT_GT(truths.size(), 15u);
+  EXPECT_EQ(truths.front().lidar_returns, std::vector<int32_t>(4, -1));
+  const auto& last = truths.back();
+  ASSERT_EQ(last.lidar_returns.size(), 4u);
+  EXPECT_GT(last.lidar_returns[0], 50);  // 0.5 m wide at 3 m: about 10 deg of the sweep, many rings
+  EXPECT_GT(last.lidar_returns[1], 100);  // the wall
+  EXPECT_EQ(last.lidar_returns[2], 0);    // behind the wall
+  EXPECT_EQ(last.lidar_returns[3], 0);    // beyond the sensor's range
+  // The revolution before, with the world at rest, gives about the same
+  // counts (the firings' azimuths shift a little from one turn to the next).
+  const auto& earlier = truths[truths.size() - 6];  // 0.1 s before
+  ASSERT_EQ(earlier.lidar_returns.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) EXPECT_NEAR(earlier.lidar_returns[i], last.lidar_returns[i], 0.05 * last.lidar_returns[i] + 1) << i;
+}
+
+}  // namespace
+}  // namespace evade::sim
