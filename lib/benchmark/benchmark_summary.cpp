@@ -48,6 +48,7 @@ GroupSummary summarize_group(const std::string& family, const std::string& mode,
     g.min_dist_p50_m = percentile(min_dist, 0.5);
   }
   if (auto t = mean_sd(times)) g.mean_time_to_goal_s = t->mean;
+  g.perception = pool_perception(rows);
   return g;
 }
 
@@ -167,11 +168,43 @@ std::string summary_json(const std::vector<GroupSummary>& groups) {
     j["min_dist_p50_m"] = opt(g.min_dist_p50_m);
     j["mean_time_to_goal_s"] = opt(g.mean_time_to_goal_s);
     j["planner_cycle_ms_p99_max"] = opt(g.planner_cycle_ms_p99_max);
+    if (g.perception) {
+      const PerceptionPool& p = *g.perception;
+      Json q;
+      q["episodes"] = p.episodes;
+      q["objects"] = p.sum.objects;
+      q["mota"] = p.mota();
+      q["motp_m"] = opt(p.motp_m());
+      q["id_switches"] = p.sum.id_switches;
+      q["id_switches_per_100_track_s"] = opt(p.id_switches_per_100_track_s());
+      q["fragmentations"] = p.sum.fragmentations;
+      q["ade_1s_m"] = opt(p.sum.ade_1s_m);
+      q["fde_2_5s_m"] = opt(p.sum.fde_2_5s_m);
+      q["walker_ade_1s_m"] = opt(p.sum.walker_ade_1s_m);
+      q["coverage_min_2_5s"] = opt(p.coverage_min(2.5));
+      j["perception"] = q;
+    }
     arr.push_back(j);
   }
   Json root;
   root["groups"] = arr;
   return root.dump(2) + "\n";
+}
+
+std::string perception_markdown_table(const std::vector<GroupSummary>& groups) {
+  std::string s;
+  for (const auto& g : groups) {
+    if (!g.perception) continue;
+    const PerceptionPool& p = *g.perception;
+    if (s.empty())
+      s = "| family | mode | episodes | MOTA | MOTP (m) | id switches /100 track-s | ADE 1 s (m) | FDE 2.5 s (m) | "
+          "walker ADE 1 s (m) | coverage, worst step to 2.5 s |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    s += "| " + g.family + " | " + g.mode + " | " + std::to_string(p.episodes) + " | " + fmt(p.mota(), "%.3f") + " | " +
+         fmt(p.motp_m(), "%.3f") + " | " + fmt(p.id_switches_per_100_track_s(), "%.2f") + " | " +
+         fmt(p.sum.ade_1s_m, "%.3f") + " | " + fmt(p.sum.fde_2_5s_m, "%.3f") + " | " + fmt(p.sum.walker_ade_1s_m, "%.3f") +
+         " | " + fmt(p.coverage_min(2.5), "%.3f") + " |\n";
+  }
+  return s;
 }
 
 std::string markdown_table(const std::vector<GroupSummary>& groups) {
@@ -222,6 +255,90 @@ std::vector<ModeStats> mode_stats(const std::vector<Episode>& rows) {
     out.push_back(s);
   }
   return out;
+}
+
+}  // namespace evade::benchmark
+
+namespace evade::benchmark {
+
+double PerceptionPool::mota() const {
+  if (sum.objects == 0) return 1.0;
+  return 1.0 - static_cast<double>(sum.misses + sum.false_positives + sum.id_switches) / static_cast<double>(sum.objects);
+}
+
+std::optional<double> PerceptionPool::motp_m() const {
+  if (sum.matches == 0) return std::nullopt;
+  return sum.centre_error_sum_m / static_cast<double>(sum.matches);
+}
+
+std::optional<double> PerceptionPool::id_switches_per_100_track_s() const {
+  if (sum.track_s <= 0.0) return std::nullopt;
+  return 100.0 * static_cast<double>(sum.id_switches) / sum.track_s;
+}
+
+std::optional<double> PerceptionPool::coverage_min(double horizon_s) const {
+  std::optional<double> worst;
+  for (size_t k = 1; k < sum.coverage_n.size() && k * sum.step_dt_s <= horizon_s + 1e-9; ++k)
+    if (sum.coverage_n[k] > 0)
+      worst = std::min(worst.value_or(1.0), static_cast<double>(sum.coverage_inside[k]) / sum.coverage_n[k]);
+  return worst;
+}
+
+namespace {
+
+// Weighted mean of an optional value over episodes.
+struct Weighted {
+  double sum = 0.0;
+  int64_t weight = 0;
+  void add(const std::optional<double>& v, int64_t w) {
+    if (!v || w <= 0) return;
+    sum += *v * static_cast<double>(w);
+    weight += w;
+  }
+  std::optional<double> mean() const { return weight ? std::optional<double>(sum / weight) : std::nullopt; }
+};
+
+void add_steps(const PerceptionCounts& c, PerceptionCounts* s) {
+  if (s->coverage_n.size() < c.coverage_n.size()) {
+    s->coverage_n.resize(c.coverage_n.size(), 0);
+    s->coverage_inside.resize(c.coverage_n.size(), 0);
+  }
+  for (size_t k = 0; k < c.coverage_n.size(); ++k) {
+    s->coverage_n[k] += c.coverage_n[k];
+    s->coverage_inside[k] += c.coverage_inside[k];
+  }
+  if (s->step_dt_s == 0.0) s->step_dt_s = c.step_dt_s;
+}
+
+}  // namespace
+
+std::optional<PerceptionPool> pool_perception(const std::vector<const Episode*>& rows) {
+  PerceptionPool p;
+  Weighted ade, fde, walker;
+  for (const Episode* e : rows) {
+    if (!e->error.empty() || !e->perception) continue;
+    const PerceptionCounts& c = *e->perception;
+    ++p.episodes;
+    p.sum.objects += c.objects;
+    p.sum.matches += c.matches;
+    p.sum.misses += c.misses;
+    p.sum.false_positives += c.false_positives;
+    p.sum.id_switches += c.id_switches;
+    p.sum.fragmentations += c.fragmentations;
+    p.sum.centre_error_sum_m += c.centre_error_sum_m;
+    p.sum.track_s += c.track_s;
+    p.sum.predictions += c.predictions;
+    p.sum.walker_predictions += c.walker_predictions;
+    ade.add(c.ade_1s_m, c.predictions);
+    fde.add(c.fde_2_5s_m, c.predictions);
+    walker.add(c.walker_ade_1s_m, c.walker_predictions);
+    add_steps(c, &p.sum);
+  }
+  if (p.episodes == 0) return std::nullopt;
+  p.sum.ade_1s_m = ade.mean();
+  p.sum.fde_2_5s_m = fde.mean();
+  p.sum.walker_ade_1s_m = walker.mean();
+  return p;
 }
 
 }  // namespace evade::benchmark

@@ -31,6 +31,19 @@ struct MeanSd {
 };
 std::optional<MeanSd> mean_sd(const std::vector<double>& values);  // none for no values
 
+// Perception pooled over a group's episodes that carry it: rates from the
+// summed counts, displacement errors weighted by each episode's scored
+// predictions, coverage per step from the summed counts.
+struct PerceptionPool {
+  int episodes = 0;
+  PerceptionCounts sum;  // counts summed; ade/fde here are weighted means
+  double mota() const;
+  std::optional<double> motp_m() const;
+  std::optional<double> id_switches_per_100_track_s() const;
+  std::optional<double> coverage_min(double horizon_s) const;  // worst step in (0, horizon_s]
+};
+std::optional<PerceptionPool> pool_perception(const std::vector<const Episode*>& rows);
+
 struct GroupSummary {
   std::string family;  // "all": every family together
   std::string mode;
@@ -46,6 +59,7 @@ struct GroupSummary {
   std::optional<double> min_dist_p5_m, min_dist_p50_m;
   std::optional<double> mean_time_to_goal_s;  // over the episodes that reached the goal
   std::optional<double> planner_cycle_ms_p99_max;
+  std::optional<PerceptionPool> perception;
   double rate(int count) const { return episodes > 0 ? static_cast<double>(count) / episodes : 0.0; }
 };
 
@@ -63,6 +77,10 @@ std::string summary_json(const std::vector<GroupSummary>& groups);
 // family | mode | episodes | success (95 % CI) | at-fault | not-at-fault |
 // timeouts | min dist p5/p50 | mean time
 std::string markdown_table(const std::vector<GroupSummary>& groups);
+// family | mode | episodes | MOTA | MOTP | id switches /100 track-s |
+// ADE 1 s | FDE 2.5 s | walker ADE 1 s | coverage (worst step to 2.5 s);
+// empty when no group has perception.
+std::string perception_markdown_table(const std::vector<GroupSummary>& groups);
 
 // Table I over many runs: per mode (in order of first appearance).
 struct ModeStats {

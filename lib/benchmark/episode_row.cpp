@@ -59,15 +59,73 @@ int integer(const Json& j, const char* key) {
   return v.get<int>();
 }
 
+// Keys of perception-metrics' JSON that a row carries (they pool).
+const char* const kPerceptionKeys[] = {"objects", "matches", "misses", "false_positives", "id_switches",
+                                       "fragmentations", "motp_m", "track_s", "predictions", "ade_1s_m",
+                                       "fde_2_5s_m", "walker_ade_1s_m", "walker_predictions", "step_dt_s",
+                                       "coverage_inside", "coverage_n"};
+
+Json perception_subset(const std::string& text) {
+  Json p;
+  try {
+    p = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    throw std::runtime_error(std::string("perception JSON is not JSON: ") + e.what());
+  }
+  Json out = Json::object();
+  for (const char* k : kPerceptionKeys) out[k] = need(p, k, " in the perception JSON");
+  return out;
+}
+
+std::vector<int64_t> counts(const Json& j, const char* key) {
+  const Json& v = need(j, key, " in perception");
+  if (!v.is_array()) throw std::runtime_error(std::string("perception '") + key + "' is not a list");
+  std::vector<int64_t> out;
+  for (const Json& x : v) {
+    if (!x.is_number_integer()) throw std::runtime_error(std::string("perception '") + key + "' has a non-integer");
+    out.push_back(x.get<int64_t>());
+  }
+  return out;
+}
+
 std::string text(const Json& j, const char* key) {
   const Json& v = need(j, key, "");
   if (!v.is_string()) throw std::runtime_error(std::string("key '") + key + "' is not a string");
   return v.get<std::string>();
 }
 
+PerceptionCounts parse_perception(const Json& p) {
+  if (!p.is_object()) throw std::runtime_error("key 'perception' is not an object");
+  auto whole = [&](const char* k) {
+    const Json& v = need(p, k, " in perception");
+    if (!v.is_number_integer()) throw std::runtime_error(std::string("perception '") + k + "' is not an integer");
+    return v.get<int64_t>();
+  };
+  PerceptionCounts c;
+  c.objects = whole("objects");
+  c.matches = whole("matches");
+  c.misses = whole("misses");
+  c.false_positives = whole("false_positives");
+  c.id_switches = whole("id_switches");
+  c.fragmentations = whole("fragmentations");
+  c.centre_error_sum_m = number_or_null(p, "motp_m").value_or(0.0) * static_cast<double>(c.matches);
+  c.track_s = number_or_null(p, "track_s").value_or(0.0);
+  c.predictions = whole("predictions");
+  c.ade_1s_m = number_or_null(p, "ade_1s_m");
+  c.fde_2_5s_m = number_or_null(p, "fde_2_5s_m");
+  c.walker_ade_1s_m = number_or_null(p, "walker_ade_1s_m");
+  c.walker_predictions = whole("walker_predictions");
+  c.step_dt_s = number_or_null(p, "step_dt_s").value_or(0.0);
+  c.coverage_inside = counts(p, "coverage_inside");
+  c.coverage_n = counts(p, "coverage_n");
+  if (c.coverage_inside.size() != c.coverage_n.size()) throw std::runtime_error("perception coverage lists differ in length");
+  return c;
+}
+
 }  // namespace
 
-std::string make_row(const EpisodeId& id, const std::string& metrics_json_text) {
+std::string make_row(const EpisodeId& id, const std::string& metrics_json_text,
+                     const std::string& perception_json_text) {
   Json m;
   try {
     m = Json::parse(metrics_json_text);
@@ -94,6 +152,7 @@ std::string make_row(const EpisodeId& id, const std::string& metrics_json_text) 
   }
   for (const char* k : kOptional)
     if (m.contains(k)) row[k] = m[k];
+  if (!perception_json_text.empty()) row["perception"] = perception_subset(perception_json_text);
   add_run_fields(row, id);
   return row.dump();
 }
@@ -142,6 +201,7 @@ Episode parse_row(const std::string& line) {
   e.planner_cycle_ms_p99 = number_or_null(j, "planner_cycle_ms_p99");
   e.reaction_time_s = number_or_null(j, "reaction_time_s");
   e.speed_var = number_or_null(j, "speed_var");
+  if (j.contains("perception")) e.perception = parse_perception(j["perception"]);
   return e;
 }
 

@@ -22,6 +22,18 @@ struct EpisodeId {
   std::string dir;    // where its files are kept, relative to the benchmark's DIR
 };
 
+// The counts of an episode's perception-metrics JSON that pool over
+// episodes (lib/metrics/perception_metrics.h).
+struct PerceptionCounts {
+  int64_t objects = 0, matches = 0, misses = 0, false_positives = 0, id_switches = 0, fragmentations = 0;
+  double centre_error_sum_m = 0, track_s = 0;
+  int64_t predictions = 0;        // with a 2.5 s horizon scored: ade/fde weights
+  std::optional<double> ade_1s_m, fde_2_5s_m, walker_ade_1s_m;
+  int64_t walker_predictions = 0;
+  double step_dt_s = 0;
+  std::vector<int64_t> coverage_inside, coverage_n;  // per horizon step
+};
+
 struct Episode {
   EpisodeId id;
   std::string error;  // non-empty: the episode produced no metrics (why)
@@ -37,12 +49,16 @@ struct Episode {
   std::optional<double> planner_cycle_ms_p99;
   std::optional<double> reaction_time_s;
   std::optional<double> speed_var;
+  std::optional<PerceptionCounts> perception;  // when the row has "perception"
 };
 
 // The row (one line of JSON, no newline) for an episode whose run wrote
 // metrics.json with this text. Throws std::runtime_error naming the key when
 // a key of the metrics contract is missing or has the wrong type.
-std::string make_row(const EpisodeId& id, const std::string& metrics_json_text);
+// With `perception_json_text` (perception-metrics output) the row gets a
+// "perception" object with its poolable counts.
+std::string make_row(const EpisodeId& id, const std::string& metrics_json_text,
+                     const std::string& perception_json_text = "");
 // The row for an episode that wrote no usable metrics.
 std::string make_error_row(const EpisodeId& id, const std::string& error);
 

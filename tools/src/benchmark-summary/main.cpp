@@ -31,12 +31,20 @@ void write_file(const std::string& path, const std::string& text) {
 }
 
 // Prints the row; 0 for a row with metrics, 1 for an error row.
-int run_row(const bm::EpisodeId& id, const std::string& metrics_path, const std::string& error) {
+// With `perception_path`, an unreadable file is an error row too.
+int run_row(const bm::EpisodeId& id, const std::string& metrics_path, const std::string& perception_path,
+            const std::string& error) {
   std::string why = error;
   if (why.empty()) {
     if (auto text = slurp(metrics_path)) {
       try {
-        std::puts(bm::make_row(id, *text).c_str());
+        std::string perception;
+        if (!perception_path.empty()) {
+          auto p = slurp(perception_path);
+          if (!p) throw std::runtime_error("cannot read " + perception_path);
+          perception = *p;
+        }
+        std::puts(bm::make_row(id, *text, perception).c_str());
         return 0;
       } catch (const std::exception& e) {
         why = e.what();
@@ -57,7 +65,11 @@ int run_summarize(const std::string& results, const std::string& json, const std
   auto groups = bm::summarize(rows);
   if (!json.empty()) write_file(json, bm::summary_json(groups));
   if (!png.empty()) bm::plot_summary(groups, png);
-  if (markdown) std::fputs(bm::markdown_table(groups).c_str(), stdout);
+  if (markdown) {
+    std::fputs(bm::markdown_table(groups).c_str(), stdout);
+    const std::string perception = bm::perception_markdown_table(groups);
+    if (!perception.empty()) std::printf("\nPerception (perception-metrics, pooled):\n\n%s", perception.c_str());
+  }
   int errors = 0, at_fault = 0;
   for (const auto& e : rows) {
     errors += !e.error.empty();
@@ -75,12 +87,13 @@ int main(int argc, char** argv) {
   CLI::App app{"Benchmark rows and their statistics (docs/benchmark.md)"};
   app.require_subcommand(1);
   bm::EpisodeId id;
-  std::string metrics, error;
+  std::string metrics, perception, error;
   auto* row = app.add_subcommand("row", "print one results.jsonl row for an episode (exit 1: an error row)");
   row->add_option("--family", id.family, "scenario family")->required();
   row->add_option("--seed", id.seed, "seed")->required();
   row->add_option("--mode", id.mode, "planner mode")->required();
   row->add_option("--metrics", metrics, "the episode's metrics.json");
+  row->add_option("--perception", perception, "the episode's perception-metrics JSON (adds \"perception\")");
   row->add_option("--error", error, "the episode failed before metrics: why");
   row->add_option("--host", id.host, "where it ran");
   row->add_option("--scenario-sha256", id.scenario_sha256, "hash of the scenario file");
@@ -101,7 +114,7 @@ int main(int argc, char** argv) {
   try {
     if (row->parsed()) {
       if (metrics.empty() && error.empty()) throw std::runtime_error("row needs --metrics or --error");
-      return run_row(id, metrics, error);
+      return run_row(id, metrics, perception, error);
     }
     return run_summarize(results, json, png, markdown, fail_on_at_fault);
   } catch (const std::exception& e) {
