@@ -126,6 +126,42 @@ TEST(Row, MissingOrMistypedMetricsKeyIsNamed) {
   EXPECT_THROW(parse_row(R"({"family": "f", "mode": "m"})"), std::runtime_error);  // no seed
 }
 
+// A perception-metrics JSON with the given counts (two horizon steps of 1.25 s).
+std::string perception(int objects, int misses, int fp, int switches, double track_s, double ade, int predictions,
+                       int inside1, int n1) {
+  char b[1024];
+  std::snprintf(b, sizeof b,
+                R"({"objects": %d, "matches": %d, "misses": %d, "false_positives": %d, "id_switches": %d,
+                    "fragmentations": 1, "mota": 0.5, "motp_m": 0.2, "track_s": %.1f, "predictions": %d,
+                    "ade_1s_m": %.2f, "fde_2_5s_m": 1.0, "walker_ade_1s_m": null, "walker_predictions": 0,
+                    "step_dt_s": 1.25, "coverage_inside": [%d, %d, 0], "coverage_n": [%d, %d, 0]})",
+                objects, objects - misses, misses, fp, switches, track_s, predictions, ade, n1, inside1, n1, n1);
+  return b;
+}
+
+TEST(Row, PerceptionCountsArePooledPerGroup) {
+  const std::string m = metrics(true, false, 0, false, 0.5);
+  Episode a = parse_row(make_row(id("crowd", 1, "evade"), m, perception(100, 10, 5, 1, 50.0, 0.2, 30, 9, 10)));
+  Episode b = parse_row(make_row(id("crowd", 2, "evade"), m, perception(300, 0, 5, 3, 150.0, 0.4, 10, 5, 10)));
+  Episode c = parse_row(make_row(id("crowd", 3, "evade"), m));  // without perception
+  ASSERT_TRUE(a.perception && b.perception);
+  EXPECT_FALSE(c.perception);
+  EXPECT_EQ(a.perception->objects, 100);
+  EXPECT_DOUBLE_EQ(a.perception->centre_error_sum_m, 0.2 * 90);
+  auto pool = pool_perception({&a, &b, &c});
+  ASSERT_TRUE(pool);
+  EXPECT_EQ(pool->episodes, 2);
+  EXPECT_DOUBLE_EQ(pool->mota(), 1.0 - (10.0 + 10.0 + 4.0) / 400.0);
+  EXPECT_DOUBLE_EQ(*pool->id_switches_per_100_track_s(), 100.0 * 4.0 / 200.0);
+  EXPECT_DOUBLE_EQ(*pool->sum.ade_1s_m, (0.2 * 30 + 0.4 * 10) / 40.0);  // weighted by predictions
+  EXPECT_DOUBLE_EQ(*pool->coverage_min(2.5), 14.0 / 20.0);                // step 1 (1.25 s); step 2 has none
+  const std::string md = perception_markdown_table(summarize({a, b, c}));
+  EXPECT_NE(md.find("| crowd | evade | 2 | 0.940 |"), std::string::npos) << md;
+  EXPECT_TRUE(perception_markdown_table(summarize({c})).empty());
+  // A perception JSON without a key is named.
+  EXPECT_THROW(make_row(id("crowd", 4, "evade"), m, R"({"objects": 1})"), std::runtime_error);
+}
+
 TEST(Row, ErrorRowsCountAsErrorsNotEpisodes) {
   std::vector<Episode> rows{parse_row(make_row(id("f", 1, "m"), metrics(true, false, 0, false, 0.5))),
                             parse_row(make_error_row(id("f", 2, "m"), "run_scenario exit 2"))};
