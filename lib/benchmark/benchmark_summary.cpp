@@ -175,6 +175,8 @@ std::string summary_json(const std::vector<GroupSummary>& groups) {
       q["objects"] = p.sum.objects;
       q["mota"] = p.mota();
       q["motp_m"] = opt(p.motp_m());
+      q["false_positives"] = p.sum.false_positives;
+      q["splits"] = p.sum.splits;
       q["id_switches"] = p.sum.id_switches;
       q["id_switches_per_100_track_s"] = opt(p.id_switches_per_100_track_s());
       q["fragmentations"] = p.sum.fragmentations;
@@ -197,10 +199,11 @@ std::string perception_markdown_table(const std::vector<GroupSummary>& groups) {
     if (!g.perception) continue;
     const PerceptionPool& p = *g.perception;
     if (s.empty())
-      s = "| family | mode | episodes | MOTA | MOTP (m) | id switches /100 track-s | ADE 1 s (m) | FDE 2.5 s (m) | "
-          "walker ADE 1 s (m) | coverage, worst step to 2.5 s |\n|---|---|---|---|---|---|---|---|---|---|\n";
+      s = "| family | mode | episodes | MOTA | MOTP (m) | id switches /100 track-s | splits /100 objects | ADE 1 s (m) | "
+          "FDE 2.5 s (m) | walker ADE 1 s (m) | coverage, worst step to 2.5 s |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     s += "| " + g.family + " | " + g.mode + " | " + std::to_string(p.episodes) + " | " + fmt(p.mota(), "%.3f") + " | " +
          fmt(p.motp_m(), "%.3f") + " | " + fmt(p.id_switches_per_100_track_s(), "%.2f") + " | " +
+         fmt(p.sum.objects ? std::optional<double>(100.0 * p.sum.splits / p.sum.objects) : std::nullopt, "%.2f") + " | " +
          fmt(p.sum.ade_1s_m, "%.3f") + " | " + fmt(p.sum.fde_2_5s_m, "%.3f") + " | " + fmt(p.sum.walker_ade_1s_m, "%.3f") +
          " | " + fmt(p.coverage_min(2.5), "%.3f") + " |\n";
   }
@@ -323,6 +326,7 @@ std::optional<PerceptionPool> pool_perception(const std::vector<const Episode*>&
     p.sum.matches += c.matches;
     p.sum.misses += c.misses;
     p.sum.false_positives += c.false_positives;
+    p.sum.splits += c.splits;
     p.sum.id_switches += c.id_switches;
     p.sum.fragmentations += c.fragmentations;
     p.sum.centre_error_sum_m += c.centre_error_sum_m;

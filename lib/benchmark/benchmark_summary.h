@@ -77,7 +77,7 @@ std::string summary_json(const std::vector<GroupSummary>& groups);
 // family | mode | episodes | success (95 % CI) | at-fault | not-at-fault |
 // timeouts | min dist p5/p50 | mean time
 std::string markdown_table(const std::vector<GroupSummary>& groups);
-// family | mode | episodes | MOTA | MOTP | id switches /100 track-s |
+// family | mode | episodes | MOTA | MOTP | id switches /100 track-s | splits /100 objects |
 // ADE 1 s | FDE 2.5 s | walker ADE 1 s | coverage (worst step to 2.5 s);
 // empty when no group has perception.
 std::string perception_markdown_table(const std::vector<GroupSummary>& groups);

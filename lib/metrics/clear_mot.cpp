@@ -89,7 +89,12 @@ void ClearMot::count(double t_s, double dt_s, const std::vector<TrueObject>& obj
     const bool near_unscored = std::any_of(objects.begin(), objects.end(), [&](const TrueObject& o) {
       return !o.scored && o.distance_to(hyp.centre) <= gate_m_;
     });
-    if (!near_unscored) ++totals_.false_positives;
+    if (near_unscored) continue;
+    ++totals_.false_positives;
+    const bool on_matched = std::any_of(objects.begin(), objects.end(), [&](const TrueObject& o) {
+      return o.scored && matches.count(o.id) && o.distance_to(hyp.centre) <= gate_m_;
+    });
+    totals_.splits += on_matched;
   }
   ++totals_.frames;
 }

@@ -47,13 +47,15 @@ TEST(ClearMot, MissesFalsePositivesSwitchesAndFragmentations) {
   mot.add_frame(0.1, 0.1, {disc(0, 0, 0)}, {});                   // miss
   mot.add_frame(0.2, 0.1, {disc(0, 0, 0)}, {{2, {0, 0}}});        // tracked again by another id: switch + fragmentation
   mot.add_frame(0.3, 0.1, {disc(0, 0, 0)}, {{2, {0, 0}}, {3, {3, 3}}});  // a false positive
+  mot.add_frame(0.4, 0.1, {disc(0, 0, 0)}, {{2, {0, 0}}, {5, {0.3, 0}}});  // a split: two tracks on one object
   MotTotals t = mot.totals();
-  EXPECT_EQ(t.objects, 4);
+  EXPECT_EQ(t.objects, 5);
   EXPECT_EQ(t.misses, 1);
   EXPECT_EQ(t.id_switches, 1);
   EXPECT_EQ(t.fragmentations, 1);
-  EXPECT_EQ(t.false_positives, 1);
-  EXPECT_DOUBLE_EQ(t.mota(), 1.0 - 3.0 / 4.0);
+  EXPECT_EQ(t.false_positives, 2);
+  EXPECT_EQ(t.splits, 1);
+  EXPECT_DOUBLE_EQ(t.mota(), 1.0 - 4.0 / 5.0);
 }
 
 TEST(ClearMot, ATrackKeepsItsObjectWhileWithinTheGateEvenIfAnotherIsNearer) {
