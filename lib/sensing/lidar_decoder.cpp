@@ -51,7 +51,7 @@ int32_t clamp_int32(double v) {
 const char* model_name(LidarModel m) { return m == LidarModel::kVlp16 ? "vlp16" : "rs_helios"; }
 
 LidarDecoder::LidarDecoder(const LidarDecoderParams& params, CountFn count)
-    : params_(params), model_(params.model), count_(std::move(count)) {
+    : params_(params), model_(params.model), count_(std::move(count)), self_filter_(params.self_filter, params.mount) {
   if (!count_) count_ = [](const std::string&, int64_t) {};
   returns_.reserve(static_cast<size_t>(vlp16::kBlocksPerPacket * vlp16::kReturnsPerBlock));
   start_revolution();
@@ -210,6 +210,7 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
   double packet_rel_us = 0.0;
   bool rel_valid = false;
   float last_firing_az = -1.0f;
+  int64_t self_filtered = 0;
   for (const LidarReturn& r : returns_) {
     if (r.firing_azimuth_deg != last_firing_az) {  // a new firing: may cut
       last_firing_az = r.firing_azimuth_deg;
@@ -246,6 +247,10 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
       packet_rel_us = static_cast<double>(d);
       rel_valid = true;
     }
+    if (self_filter_.enabled() && self_filter_.inside(r.x, r.y, r.z)) {
+      ++self_filtered;
+      continue;
+    }
     evade::pointcloud_t& c = rev_.cloud;
     c.x.push_back(r.x);
     c.y.push_back(r.y);
@@ -254,6 +259,7 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
     c.ring.push_back(static_cast<int8_t>(r.ring));
     rel_us_.push_back(packet_rel_us + r.time_offset_us);
   }
+  if (self_filtered > 0) count_("self_filtered_points", self_filtered);
 }
 
 void LidarDecoder::emit(std::vector<Revolution>* out) {

@@ -20,6 +20,9 @@
 // cloud's utime is the time of its first point; time_offset[i] is relative
 // to it.
 //
+// Returns over the robot's own footprint (self_filter.h) are dropped after
+// the cut and time logic, so they change nothing but the points.
+//
 // The raw packets that made a revolution (every accepted packet, including
 // RS-Helios DIFOPs; the packet in which the cut falls belongs to the
 // revolution it completes) come back with it as a lidar_scan_t, and
@@ -37,6 +40,7 @@
 #include "evade/pointcloud_t.hpp"
 #include "sensing/lidar_return.h"
 #include "sensing/rs_helios.h"
+#include "sensing/self_filter.h"
 
 namespace evade::sensing {
 
@@ -54,6 +58,7 @@ struct LidarDecoderParams {
   TimeSource time_source = TimeSource::kReceive;
   int max_packets_per_revolution = 1000;  // raw packets held for one revolution / LIDAR_SCAN
   evade::pose3d_t mount{};
+  SelfFilterParams self_filter;  // returns over the robot's footprint are dropped (counted)
 };
 
 struct Revolution {
@@ -102,6 +107,7 @@ class LidarDecoder {
   LidarDecoderParams params_;
   LidarModel model_;
   CountFn count_;
+  SelfFilter self_filter_;
   std::vector<LidarReturn> returns_;  // scratch, one packet
 
   // RS-Helios calibration from the last DIFOP

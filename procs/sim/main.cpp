@@ -6,7 +6,8 @@
 // The core (lib/sim/sim_core.h) holds the world and is socket-free; this
 // main owns the I/O: a pseudo-terminal pair whose slave is linked at the
 // configured device path (the emulated Scout base; base_driver opens it),
-// a UDP socket that sends the VLP-16 packets to lidar_driver, and LCM for
+// UDP sockets that send the LiDAR packets to lidar_driver (VLP-16 data, or
+// RS-Helios MSOP and DIFOP, by the scenario's lidar.model), and LCM for
 // SIM_TRUTH and HEALTH.
 //
 // Time: the sim clock is the host clock (bus::bus_utime), so every
@@ -158,14 +159,15 @@ bool parse_dest(const std::string& s, std::string* host, int* port) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"evade sim: the simulated world (VLP-16 UDP packets, Scout UART on a pty, SIM_TRUTH)"};
+  CLI::App app{"evade sim: the simulated world (VLP-16 or RS-Helios UDP packets, Scout UART on a pty, SIM_TRUTH)"};
   std::string scenario_path, config_path, lcm_url, device, lidar_dest;
   double speed = 1.0;
   app.add_option("--scenario", scenario_path, "scenario YAML (SPEC.md format)")->required();
   app.add_option("--config", config_path, "robot configuration (default config/robot.yaml)");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   app.add_option("--device", device, "link the emulated Scout's pty here (default: sim.device_path)");
-  app.add_option("--lidar-dest", lidar_dest, "HOST:PORT for the VLP-16 packets (default: sim.lidar_dest_*)");
+  app.add_option("--lidar-dest", lidar_dest,
+                 "HOST:PORT for the LiDAR's data packets (VLP-16 data, RS-Helios MSOP; default: sim.*dest*)");
   app.add_option("--speed", speed, "world time / wall time (1 = real time; see the limits in the source)")
       ->check(CLI::Range(0.01, 100.0));
   try {
@@ -186,8 +188,13 @@ int main(int argc, char** argv) {
     die(e.what(), 2);
   }
   if (!device.empty()) params.device_path = device;
-  if (!lidar_dest.empty() && !parse_dest(lidar_dest, &params.lidar_dest_host, &params.lidar_dest_port))
+  const bool vlp16 = scenario.lidar.model == "vlp16";
+  if (!lidar_dest.empty() &&
+      !parse_dest(lidar_dest, &params.lidar_dest_host, vlp16 ? &params.lidar_dest_port : &params.rs_helios_msop_dest_port))
     die("--lidar-dest '" + lidar_dest + "': expected HOST:PORT", 2);
+  if (root.section("lidar").has("model") && root.section("lidar").get<std::string>("model") != scenario.lidar.model)
+    std::fprintf(stderr, "sim: warning: scenario lidar model %s differs from lidar.model %s in the config\n",
+                 scenario.lidar.model.c_str(), root.section("lidar").get<std::string>("model").c_str());
   if (root.section("lidar").section("mount").has("z_m")) {
     double z = root.section("lidar").section("mount").get<double>("z_m");
     if (std::abs(z - scenario.lidar.height) > 1e-6)
@@ -197,7 +204,11 @@ int main(int argc, char** argv) {
 
   try {
     PseudoTerminal pty(params.device_path);
-    UdpSender udp(params.lidar_dest_host, params.lidar_dest_port);
+    using evade::sim::LidarPort;
+    const int data_port = params.dest_port(scenario.lidar.model, LidarPort::kData);
+    const int difop_port = params.dest_port(scenario.lidar.model, LidarPort::kDifop);
+    UdpSender udp(params.lidar_dest_host, data_port);
+    UdpSender udp_difop(params.lidar_dest_host, difop_port);
     const std::string url = lcm_url.empty() ? evade::bus::default_lcm_url() : lcm_url;
     SimCore core(scenario, params);
     evade::bus::guard_bus("sim", url, root, {&core});
@@ -205,7 +216,8 @@ int main(int argc, char** argv) {
 
     core.attach(&bus);  // publishes through LCM; the sim clock below drives it
     core.set_packet_sink([&](const evade::sim::Packet& p) {
-      if (!udp.send(p.data(), p.size())) core.count_io("lidar_send_errors");
+      UdpSender& to = p.port == LidarPort::kDifop ? udp_difop : udp;
+      if (!to.send(p.data(), p.size())) core.count_io("lidar_send_errors");
     });
     core.set_serial_sink([&](const uint8_t* data, size_t size) {
       if (pty.unread() > params.pty_backlog_bytes) {
@@ -231,9 +243,10 @@ int main(int argc, char** argv) {
       }
     });
 
-    std::fprintf(stderr, "sim: scenario %s (%zu obstacles, %.0f s); Scout on %s -> %s; VLP-16 to %s:%d; speed %.2f\n",
+    std::fprintf(stderr, "sim: scenario %s (%zu obstacles, %.0f s); Scout on %s -> %s; %s to %s:%d%s; speed %.2f\n",
                  scenario.name.c_str(), scenario.obstacles.size(), scenario.duration_s, params.device_path.c_str(),
-                 pty.slave_path().c_str(), params.lidar_dest_host.c_str(), params.lidar_dest_port, speed);
+                 pty.slave_path().c_str(), scenario.lidar.model.c_str(), params.lidar_dest_host.c_str(), data_port,
+                 vlp16 ? "" : (" (DIFOP :" + std::to_string(difop_port) + ")").c_str(), speed);
     const std::atomic<bool>& stop = evade::bus::stop_on_signals();
     core.advance_to(sim_now(evade::bus::bus_utime()));
     while (!stop.load() && !core.finished()) {
