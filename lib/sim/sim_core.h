@@ -1,11 +1,12 @@
-// The simulator's process core: the world (robot + obstacles), the VLP-16
-// and the emulated Scout base, driven only by bus time. It never touches a
+// The simulator's process core: the world (robot + obstacles), the LiDAR
+// of the scenario's lidar.model (VLP-16 or RS-Helios) and the emulated
+// Scout base, driven only by bus time. It never touches a
 // socket or a clock: the main (procs/sim) hands it the bytes read from the
 // pseudo-terminal (on_serial_bytes, inside Core::input) and gives it two
 // sinks, one for the LiDAR packets it produces (sent over UDP) and one for
 // the Scout status bytes (written to the pty). Tests run it on a MemoryBus.
 //
-// Timers: LiDAR packets are produced as soon as their last firing is past
+// Timers: LiDAR packets (each with the port it goes to) are produced as soon as their last firing is past
 // (checked every lidar_period_us); Scout system + motion status every
 // status_period_us; SIM_TRUTH every truth_period_us; HEALTH every second.
 #pragma once
