@@ -11,6 +11,7 @@
 #include "evade/health_t.hpp"
 #include "sensing/lidar_decoder.h"
 #include "sensing/lidar_driver_core.h"
+#include "sensing/rs_helios.h"
 #include "synthetic.h"
 
 namespace evade::sensing {
