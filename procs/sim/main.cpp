@@ -258,6 +258,8 @@ int main(int argc, char** argv) {
     if (core.finished()) std::fprintf(stderr, "sim: scenario duration %.0f s reached\n", scenario.duration_s);
   } catch (const evade::config::ConfigError& e) {  // the bus: section
     die(e.what(), 2);
+  } catch (const std::invalid_argument& e) {  // a LiDAR the sim cannot simulate with this configuration
+    die(e.what(), 2);
   } catch (const std::exception& e) {
     die(e.what());
   }
