@@ -158,6 +158,51 @@ bool parse_dest(const std::string& s, std::string* host, int* port) {
 
 }  // namespace
 
+namespace {
+
+// The LiDAR's UDP destinations: data (VLP-16 data, RS-Helios MSOP) and,
+// for the RS-Helios, DIFOP, on the host of sim.lidar_dest_host.
+class LidarSenders {
+ public:
+  LidarSenders(const evade::sim::SimParams& p, const std::string& model)
+      : host_(p.lidar_dest_host),
+        model_(model),
+        data_port_(p.dest_port(model, evade::sim::LidarPort::kData)),
+        difop_port_(p.dest_port(model, evade::sim::LidarPort::kDifop)),
+        data_(host_, data_port_),
+        difop_(host_, difop_port_) {}
+  bool send(const evade::sim::Packet& p) {
+    return (p.port == evade::sim::LidarPort::kDifop ? difop_ : data_).send(p.data(), p.size());
+  }
+  std::string describe() const {
+    std::string s = model_ + " to " + host_ + ":" + std::to_string(data_port_);
+    if (model_ != "vlp16") s += " (DIFOP :" + std::to_string(difop_port_) + ")";
+    return s;
+  }
+
+ private:
+  std::string host_, model_;
+  int data_port_, difop_port_;
+  UdpSender data_, difop_;
+};
+
+// The drivers decode what the configuration says; warn when it is not what
+// the scenario simulates.
+void warn_on_lidar_mismatch(const evade::config::Node& root, const evade::sim::Scenario& scenario) {
+  const evade::config::Node lidar = root.section("lidar");
+  if (lidar.has("model") && lidar.get<std::string>("model") != scenario.lidar.model)
+    std::fprintf(stderr, "sim: warning: scenario lidar model %s differs from lidar.model %s in the config\n",
+                 scenario.lidar.model.c_str(), lidar.get<std::string>("model").c_str());
+  if (lidar.section("mount").has("z_m")) {
+    double z = lidar.section("mount").get<double>("z_m");
+    if (std::abs(z - scenario.lidar.height) > 1e-6)
+      std::fprintf(stderr, "sim: warning: scenario lidar height %.3f m differs from lidar.mount.z_m %.3f m in the config\n",
+                   scenario.lidar.height, z);
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"evade sim: the simulated world (VLP-16 or RS-Helios UDP packets, Scout UART on a pty, SIM_TRUTH)"};
   std::string scenario_path, config_path, lcm_url, device, lidar_dest;
@@ -192,23 +237,11 @@ int main(int argc, char** argv) {
   if (!lidar_dest.empty() &&
       !parse_dest(lidar_dest, &params.lidar_dest_host, vlp16 ? &params.lidar_dest_port : &params.rs_helios_msop_dest_port))
     die("--lidar-dest '" + lidar_dest + "': expected HOST:PORT", 2);
-  if (root.section("lidar").has("model") && root.section("lidar").get<std::string>("model") != scenario.lidar.model)
-    std::fprintf(stderr, "sim: warning: scenario lidar model %s differs from lidar.model %s in the config\n",
-                 scenario.lidar.model.c_str(), root.section("lidar").get<std::string>("model").c_str());
-  if (root.section("lidar").section("mount").has("z_m")) {
-    double z = root.section("lidar").section("mount").get<double>("z_m");
-    if (std::abs(z - scenario.lidar.height) > 1e-6)
-      std::fprintf(stderr, "sim: warning: scenario lidar height %.3f m differs from lidar.mount.z_m %.3f m in the config\n",
-                   scenario.lidar.height, z);
-  }
+  warn_on_lidar_mismatch(root, scenario);
 
   try {
     PseudoTerminal pty(params.device_path);
-    using evade::sim::LidarPort;
-    const int data_port = params.dest_port(scenario.lidar.model, LidarPort::kData);
-    const int difop_port = params.dest_port(scenario.lidar.model, LidarPort::kDifop);
-    UdpSender udp(params.lidar_dest_host, data_port);
-    UdpSender udp_difop(params.lidar_dest_host, difop_port);
+    LidarSenders lidar(params, scenario.lidar.model);
     const std::string url = lcm_url.empty() ? evade::bus::default_lcm_url() : lcm_url;
     SimCore core(scenario, params);
     evade::bus::guard_bus("sim", url, root, {&core});
@@ -216,8 +249,7 @@ int main(int argc, char** argv) {
 
     core.attach(&bus);  // publishes through LCM; the sim clock below drives it
     core.set_packet_sink([&](const evade::sim::Packet& p) {
-      UdpSender& to = p.port == LidarPort::kDifop ? udp_difop : udp;
-      if (!to.send(p.data(), p.size())) core.count_io("lidar_send_errors");
+      if (!lidar.send(p)) core.count_io("lidar_send_errors");
     });
     core.set_serial_sink([&](const uint8_t* data, size_t size) {
       if (pty.unread() > params.pty_backlog_bytes) {
@@ -243,10 +275,9 @@ int main(int argc, char** argv) {
       }
     });
 
-    std::fprintf(stderr, "sim: scenario %s (%zu obstacles, %.0f s); Scout on %s -> %s; %s to %s:%d%s; speed %.2f\n",
+    std::fprintf(stderr, "sim: scenario %s (%zu obstacles, %.0f s); Scout on %s -> %s; %s; speed %.2f\n",
                  scenario.name.c_str(), scenario.obstacles.size(), scenario.duration_s, params.device_path.c_str(),
-                 pty.slave_path().c_str(), scenario.lidar.model.c_str(), params.lidar_dest_host.c_str(), data_port,
-                 vlp16 ? "" : (" (DIFOP :" + std::to_string(difop_port) + ")").c_str(), speed);
+                 pty.slave_path().c_str(), lidar.describe().c_str(), speed);
     const std::atomic<bool>& stop = evade::bus::stop_on_signals();
     core.advance_to(sim_now(evade::bus::bus_utime()));
     while (!stop.load() && !core.finished()) {
