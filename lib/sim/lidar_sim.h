@@ -18,6 +18,7 @@
 // and the configured range noise.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -26,8 +27,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include <algorithm>
 
 #include "sensing/vlp16.h"
 #include "sim/raycast.h"
