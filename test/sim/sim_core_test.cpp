@@ -365,20 +365,23 @@ namespace {
 // SIM_TRUTH's lidar_returns: -1 until the first revolution is complete, then
 // the returns of each obstacle in the last one; a walker hidden behind a
 // wall gives none, the wall and a walker in the open give many.
-TEST(SimCoreReturns, EachObstacleReturnsOfTheLastRevolution) {
-  const char* text = R"(name: returns
+class SimCoreReturns : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SimCoreReturns, EachObstacleReturnsOfTheLastRevolution) {
+  std::string text = R"(name: returns
 duration_s: 30
 robot:
   start: {x: 0.0, y: 0.0, yaw: 0.0}
   goal: {x: 9.0, y: 0.0, tolerance: 0.3}
   footprint: {length: 0.42, width: 0.31}
-lidar: {model: vlp16, rate_hz: 10, height: 0.5, range_noise_std: 0.0}
+lidar: {model: MODEL, rate_hz: 10, height: 0.5, range_noise_std: 0.0}
 obstacles:
   - {shape: cylinder, radius: 0.25, height: 1.7, x: 3.0, y: 0.0}
   - {shape: box, size: [0.3, 4.0, 2.0], x: 0.0, y: 4.0, yaw: 1.5707963}
   - {shape: cylinder, radius: 0.25, height: 1.7, x: 0.0, y: 6.0}
   - {shape: cylinder, radius: 0.25, height: 1.7, x: 150.0, y: 0.0}
 )";
+  text.replace(text.find("MODEL"), 5, GetParam());
   SimCore core(parse_scenario(text, "returns.yaml"), test_params());
   bus::MemoryBus bus;
   bus.add(core);
@@ -398,6 +401,8 @@ obstacles:
   ASSERT_EQ(earlier.lidar_returns.size(), 4u);
   for (size_t i = 0; i < 4; ++i) EXPECT_NEAR(earlier.lidar_returns[i], last.lidar_returns[i], 0.05 * last.lidar_returns[i] + 1) << i;
 }
+
+INSTANTIATE_TEST_SUITE_P(EveryModel, SimCoreReturns, ::testing::Values("vlp16", "rs_helios"));
 
 }  // namespace
 }  // namespace evade::sim
