@@ -61,10 +61,12 @@ int64_t RsHeliosSimulator::next_packet_ready_us() const {
 }
 
 void RsHeliosSimulator::skip_packet() {
-  if (difop_next())
+  if (difop_next()) {
     ++difop_made_;
-  else
+  } else {
+    returns_.reach(revolution_at(msop_offset_us(msop_made_)));
     ++msop_made_;
+  }
 }
 
 Packet RsHeliosSimulator::make_packet(const WorldAt& world) {
@@ -105,14 +107,14 @@ Ray RsHeliosSimulator::channel_ray(const Pose2& robot, double c, double s, int c
   return r;
 }
 
-double RsHeliosSimulator::cast_distance(const Ray& ray, const WorldSnapshot& snap, bool* ground) {
+double RsHeliosSimulator::cast_distance(const Ray& ray, const WorldSnapshot& snap, int* hit) {
   double range = hit_ground(ray);
-  *ground = true;
-  for (const Solid& solid : snap.solids) {
-    double t = hit_solid(ray, solid);
+  *hit = -1;
+  for (size_t i = 0; i < snap.solids.size(); ++i) {
+    double t = hit_solid(ray, snap.solids[i]);
     if (t < range) {
       range = t;
-      *ground = false;
+      *hit = static_cast<int>(i);
     }
   }
   if (!(range <= p_.max_range_m)) return 0.0;  // no return
@@ -136,13 +138,17 @@ Packet RsHeliosSimulator::make_msop(const WorldAt& world) {
     auto& block = enc.blocks[static_cast<size_t>(b)];
     block.azimuth_deg = count[b] * h::kAzimuthUnitDeg;
     // One snapshot per block (55.56 us): the robot moves a few hundredths of a millimetre in it.
-    world(start_us_ + std::llround(t0 + h::firing_offset_us(b, 0)), &snap);
+    const double block_us = t0 + h::firing_offset_us(b, 0);
+    world(start_us_ + std::llround(block_us), &snap);
+    const int64_t revolution = revolution_at(block_us);
+    returns_.reach(revolution);
     const double cos_yaw = std::cos(snap.robot.yaw), sin_yaw = std::sin(snap.robot.yaw);
     for (int c = 0; c < kChannels; ++c) {
       const double az0 = block.azimuth_deg + gap_deg[b] * (c * h::kChannelIntervalUs) / h::kBlockPeriodUs;
-      bool ground = true;
-      block.distance_m[c] = cast_distance(channel_ray(snap.robot, cos_yaw, sin_yaw, c, az0), snap, &ground);
-      block.intensity[c] = ground ? p_.ground_reflectivity : p_.obstacle_reflectivity;
+      int hit = -1;
+      block.distance_m[c] = cast_distance(channel_ray(snap.robot, cos_yaw, sin_yaw, c, az0), snap, &hit);
+      block.intensity[c] = hit < 0 ? p_.ground_reflectivity : p_.obstacle_reflectivity;
+      if (hit >= 0 && block.distance_m[c] > 0.0) returns_.add(revolution, static_cast<size_t>(hit));
     }
   }
   ++msop_made_;

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <random>
 
@@ -48,6 +49,7 @@ class RsHeliosSimulator : public LidarSimulator {
   Packet make_packet(const WorldAt& world) override;
   void skip_packet() override;
   int64_t packets_made() const override { return msop_made_ + difop_made_; }
+  std::vector<int32_t> returns_last_revolution(size_t solids) const override { return returns_.last_complete(solids); }
 
   int64_t msop_made() const { return msop_made_; }
   int64_t difop_made() const { return difop_made_; }
@@ -63,7 +65,11 @@ class RsHeliosSimulator : public LidarSimulator {
   int64_t difop_due_us() const { return start_us_ + difop_made_ * kDifopPeriodUs; }
   Packet make_msop(const WorldAt& world);
   Packet make_difop() const;
-  double cast_distance(const Ray& ray, const WorldSnapshot& snap, bool* ground);
+  // The distance of the first hit (0: no return); *hit is the nearest solid's index, -1 the ground.
+  double cast_distance(const Ray& ray, const WorldSnapshot& snap, int* hit);
+  int64_t revolution_at(double offset_us) const {
+    return static_cast<int64_t>(std::floor(p_.rate_hz * offset_us * 1e-6));
+  }
 
   LidarSimParams p_;
   int64_t start_us_;
@@ -72,6 +78,7 @@ class RsHeliosSimulator : public LidarSimulator {
   std::normal_distribution<double> noise_{0.0, 1.0};
   double mount_rot_[3][3];
   std::array<double, kChannels> cos_el_{}, sin_el_{};
+  ReturnCounter returns_;
 };
 
 }  // namespace evade::sim
