@@ -177,6 +177,7 @@ std::string summary_json(const std::vector<GroupSummary>& groups) {
       q["motp_m"] = opt(p.motp_m());
       q["false_positives"] = p.sum.false_positives;
       q["splits"] = p.sum.splits;
+      q["merges"] = p.sum.merges;
       q["id_switches"] = p.sum.id_switches;
       q["id_switches_per_100_track_s"] = opt(p.id_switches_per_100_track_s());
       q["fragmentations"] = p.sum.fragmentations;
@@ -327,6 +328,7 @@ std::optional<PerceptionPool> pool_perception(const std::vector<const Episode*>&
     p.sum.misses += c.misses;
     p.sum.false_positives += c.false_positives;
     p.sum.splits += c.splits;
+    p.sum.merges += c.merges;
     p.sum.id_switches += c.id_switches;
     p.sum.fragmentations += c.fragmentations;
     p.sum.centre_error_sum_m += c.centre_error_sum_m;

@@ -60,7 +60,7 @@ int integer(const Json& j, const char* key) {
 }
 
 // Keys of perception-metrics' JSON that a row carries (they pool).
-const char* const kPerceptionKeys[] = {"objects", "matches", "misses", "false_positives", "splits", "id_switches",
+const char* const kPerceptionKeys[] = {"objects", "matches", "misses", "false_positives", "splits", "merges", "id_switches",
                                        "fragmentations", "motp_m", "track_s", "predictions", "ade_1s_m",
                                        "fde_2_5s_m", "walker_ade_1s_m", "walker_predictions", "step_dt_s",
                                        "coverage_inside", "coverage_n"};
@@ -107,6 +107,7 @@ PerceptionCounts parse_perception(const Json& p) {
   c.misses = whole("misses");
   c.false_positives = whole("false_positives");
   c.splits = whole("splits");
+  c.merges = whole("merges");
   c.id_switches = whole("id_switches");
   c.fragmentations = whole("fragmentations");
   c.centre_error_sum_m = number_or_null(p, "motp_m").value_or(0.0) * static_cast<double>(c.matches);

@@ -67,6 +67,9 @@ void ClearMot::count(double t_s, double dt_s, const std::vector<TrueObject>& obj
       if (!h.first_scored_s) h.first_scored_s = t_s;
       if (m == matches.end()) {
         ++totals_.misses;
+        totals_.merges += std::any_of(hyps.begin(), hyps.end(), [&](const Hypothesis& x) {
+          return matched_hyps.count(x.id) && o.distance_to(x.centre) <= gate_m_;
+        });
         if (h.was_tracked) h.gap_after_track = true;
       } else {
         const Hypothesis& hyp = *std::find_if(hyps.begin(), hyps.end(), [&](const Hypothesis& x) { return x.id == m->second; });

@@ -19,7 +19,9 @@
 // object that is not scored (a coasting track behind an occluder, a piece
 // of a wall), which is neither; a false positive within the gate of a
 // scored object that another hypothesis matched is also a split (one
-// object seen as several: the clustering's fragmentation). Fragmentation: a scored object tracked,
+// object seen as several: the clustering's fragmentation); a miss with a
+// hypothesis within the gate that matched another object is also a merge
+// (two objects seen as one). Fragmentation: a scored object tracked,
 // then missed, then tracked again. Mostly tracked / lost: matched in at
 // least 80 % / at most 20 % of the frames in which it was scored.
 #pragma once
@@ -51,6 +53,7 @@ struct Hypothesis {
 struct MotTotals {
   int64_t frames = 0, objects = 0, matches = 0, misses = 0, false_positives = 0, id_switches = 0;
   int64_t splits = 0;  // false positives on a matched scored object
+  int64_t merges = 0;  // misses with another object's hypothesis within the gate
   int64_t fragmentations = 0, mostly_tracked = 0, partially_tracked = 0, mostly_lost = 0;
   double centre_error_sum_m = 0.0;
   double track_s = 0.0;  // sum over scored matches of the frame's duration

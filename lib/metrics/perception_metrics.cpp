@@ -309,7 +309,7 @@ std::string perception_json(const PerceptionMetrics& m, const PerceptionParams& 
   std::ostringstream o;
   o << "{\n  \"frames\": " << t.frames << ",\n  \"objects\": " << t.objects << ",\n  \"matches\": " << t.matches
     << ",\n  \"misses\": " << t.misses << ",\n  \"false_positives\": " << t.false_positives
-    << ",\n  \"splits\": " << t.splits << ",\n  \"id_switches\": " << t.id_switches << ",\n  \"fragmentations\": " << t.fragmentations
+    << ",\n  \"splits\": " << t.splits << ",\n  \"merges\": " << t.merges << ",\n  \"id_switches\": " << t.id_switches << ",\n  \"fragmentations\": " << t.fragmentations
     << ",\n  \"mota\": " << num(t.mota()) << ",\n  \"motp_m\": " << num(t.motp_m())
     << ",\n  \"track_s\": " << num(t.track_s)
     << ",\n  \"id_switches_per_100_track_s\": " << num(t.track_s > 0 ? std::optional<double>(100.0 * t.id_switches / t.track_s) : std::nullopt)
@@ -352,7 +352,8 @@ const char* perception_rules() {
   matched to another track than its previous one; a fragmentation: tracked, missed,
   tracked again; a track unmatched near an unscored object is no false positive;
   splits: false positives within the gate of a scored object another track matched
-  (one object seen as several clusters).
+  (one object seen as several clusters); merges: misses with a track within the gate
+  that matched another object (two objects seen as one).
   mostly_tracked / mostly_lost: matched in >= 80 % / <= 20 % of its scored frames;
   time_to_track_s: first scored frame to first match. track_s: scored matches times
   the frame period; id_switches_per_100_track_s = 100 * id_switches / track_s.

@@ -131,7 +131,7 @@ std::string perception(int objects, int misses, int fp, int switches, double tra
                        int inside1, int n1) {
   char b[1024];
   std::snprintf(b, sizeof b,
-                R"({"objects": %d, "matches": %d, "misses": %d, "false_positives": %d, "splits": 1, "id_switches": %d,
+                R"({"objects": %d, "matches": %d, "misses": %d, "false_positives": %d, "splits": 1, "merges": 2, "id_switches": %d,
                     "fragmentations": 1, "mota": 0.5, "motp_m": 0.2, "track_s": %.1f, "predictions": %d,
                     "ade_1s_m": %.2f, "fde_2_5s_m": 1.0, "walker_ade_1s_m": null, "walker_predictions": 0,
                     "step_dt_s": 1.25, "coverage_inside": [%d, %d, 0], "coverage_n": [%d, %d, 0]})",
@@ -153,6 +153,7 @@ TEST(Row, PerceptionCountsArePooledPerGroup) {
   EXPECT_EQ(pool->episodes, 2);
   EXPECT_DOUBLE_EQ(pool->mota(), 1.0 - (10.0 + 10.0 + 4.0) / 400.0);
   EXPECT_EQ(pool->sum.splits, 2);
+  EXPECT_EQ(pool->sum.merges, 4);
   EXPECT_DOUBLE_EQ(*pool->id_switches_per_100_track_s(), 100.0 * 4.0 / 200.0);
   EXPECT_DOUBLE_EQ(*pool->sum.ade_1s_m, (0.2 * 30 + 0.4 * 10) / 40.0);  // weighted by predictions
   EXPECT_DOUBLE_EQ(*pool->coverage_min(2.5), 14.0 / 20.0);                // step 1 (1.25 s); step 2 has none

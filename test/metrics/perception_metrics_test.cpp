@@ -66,6 +66,17 @@ TEST(ClearMot, ATrackKeepsItsObjectWhileWithinTheGateEvenIfAnotherIsNearer) {
   EXPECT_EQ(mot.totals().id_switches, 0);
 }
 
+TEST(ClearMot, TwoObjectsUnderOneTrackAreAMissAndAMerge) {
+  ClearMot mot(1.0);
+  mot.add_frame(0.0, 0.1, {disc(0, 0, 0), disc(1, 0.6, 0)}, {{9, {0.3, 0}}});
+  MotTotals t = mot.totals();
+  EXPECT_EQ(t.matches, 1);
+  EXPECT_EQ(t.misses, 1);
+  EXPECT_EQ(t.merges, 1);
+  mot.add_frame(0.1, 0.1, {disc(0, 0, 0), disc(1, 5.0, 0)}, {{9, {0.0, 0}}});  // apart, the second unseen
+  EXPECT_EQ(mot.totals().merges, 1);
+}
+
 TEST(ClearMot, UnscoredObjectsAreNeitherMissedNorFalsePositives) {
   ClearMot mot(1.0);
   // Object 0 hidden (not scored) with a coasting track on it; object 1 out of range, no track.
