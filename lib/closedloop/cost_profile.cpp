@@ -27,9 +27,15 @@ CostFit fit_cost(const std::vector<CpuSample>& samples) {
 }
 
 namespace {
-std::string line(const char* fmt, const std::string& name, double a, double b, size_t n) {
+double total_s(const std::vector<CpuSample>& samples) {
+  double t = 0;
+  for (const auto& s : samples) t += s.cpu_s;
+  return t;
+}
+
+std::string line(const char* fmt, const std::string& name, double a, double b, size_t n, double total) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, name.c_str(), a, b, n);
+  std::snprintf(buf, sizeof buf, fmt, name.c_str(), a, b, n, total);
   return buf;
 }
 }  // namespace
@@ -39,17 +45,17 @@ std::string suggested_costs(const LockstepResult& profiled) {
   for (const auto& [name, p] : profiled.processes) {
     if (p.samples.empty()) continue;
     const CostFit f = fit_cost(p.samples);
-    const char* fmt = name == "sim" ? "    %s: {callback_s: %.6f, packet_s: %.6f}  # %zu callbacks\n"
-                                    : "    %s: {callback_s: %.6f, publish_s: %.6f}  # %zu callbacks\n";
-    out += line(fmt, name, f.base_s, f.per_k_s, f.n);
+    const char* fmt = name == "sim" ? "    %s: {callback_s: %.7f, packet_s: %.7f}  # %zu callbacks, %.3f s CPU\n"
+                                    : "    %s: {callback_s: %.7f, publish_s: %.7f}  # %zu callbacks, %.3f s CPU\n";
+    out += line(fmt, name, f.base_s, f.per_k_s, f.n, total_s(p.samples) + total_s(p.plan_samples));
   }
   auto it = profiled.processes.find("planner");
   if (it != profiled.processes.end() && !it->second.plan_samples.empty()) {
     const CostFit plan = fit_cost(it->second.plan_samples);
     const double callback = fit_cost(it->second.samples).base_s;
     char buf[256];
-    std::snprintf(buf, sizeof buf, "  planner_base_s: %.6f\n  planner_per_iteration_s: %.7f  # %zu PLAN cycles\n",
-                  std::max(0.0, plan.base_s - callback), plan.per_k_s, plan.n);
+    std::snprintf(buf, sizeof buf, "  planner_base_s: %.7f\n  planner_per_iteration_s: %.8f  # %zu PLAN cycles, %.3f s CPU\n",
+                  std::max(0.0, plan.base_s - callback), plan.per_k_s, plan.n, total_s(it->second.plan_samples));
     out += buf;
   }
   return out;
