@@ -205,3 +205,35 @@ TEST(Lockstep, ProfilingFillsSamplesAndLeavesTheLogAsItIs) {
 
 }  // namespace
 }  // namespace evade::closedloop
+
+#include "closedloop/lockstep_params.h"
+
+namespace evade::closedloop {
+namespace {
+
+// robot.yaml with one line replaced; the error LockstepParams gives (empty: none).
+std::string lockstep_error(const std::string& from, const std::string& to) {
+  std::string text = bytes_of(kSource + "/config/robot.yaml");
+  const size_t at = text.find(from);
+  if (at == std::string::npos) return "premise: '" + from + "' not in robot.yaml";
+  text.replace(at, from.size(), to);
+  try {
+    LockstepParams::from_config(config::load_string(text, "robot.yaml"));
+  } catch (const config::ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Lockstep, TheSharedCoresAndTheSimulatorsCostsAreReadStrictly) {
+  EXPECT_EQ(lockstep_error("  cpu_cores: 2 ", "  cpu_cores: 2 "), "");
+  EXPECT_NE(lockstep_error("  cpu_cores: 2 ", "  cpu_cores: -1 ").find("key 'lockstep.cpu_cores'"), std::string::npos);
+  EXPECT_NE(lockstep_error("  background_load_cores: 0.0 ", "  background_load_cores: -0.5 ")
+                .find("key 'lockstep.background_load_cores'"),
+            std::string::npos);
+  EXPECT_NE(lockstep_error("packet_s: 0.0000473}", "packet_s: 0.0000473, publish_s: 0.001}").find("publish_s"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace evade::closedloop
