@@ -3,8 +3,8 @@
 // computed) are runnable beside a background load of b always-runnable
 // threads, each job gets min(1, cores / (n + b)) of a core, so a job of w
 // microseconds of CPU time takes w / that rate of simulated time. This is
-// the fluid limit of Linux's CFS for threads of equal weight (why, and its
-// limits: lib/closedloop/README.md). Deterministic: completions come from
+// the fluid model Linux's fair schedulers (CFS, EEVDF) approximate for
+// threads of equal weight (why, and its limits: lib/closedloop/README.md). Deterministic: completions come from
 // the event queue in time order, jobs that finish together in the order
 // they started.
 #pragma once
