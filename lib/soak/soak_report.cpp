@@ -31,6 +31,8 @@ EpisodeLine from_json(const json& j) {
   r.seed = j.at("seed").get<uint64_t>();
   e.wall_s = j.at("wall_s").get<double>();
   e.rss_kib = j.at("rss_kib").get<double>();
+  e.pid = j.at("pid").get<int64_t>();
+  e.t_s = j.at("t_s").get<double>();
   if (j.contains("error")) {
     e.error = j.at("error").get<std::string>();
     return e;
@@ -75,14 +77,14 @@ void judge(SoakReport& r) {
   if (!r.at_fault_seeds.empty())
     r.failures.push_back("collision at fault in " + std::to_string(r.at_fault_seeds.size()) +
                          " episode(s): seeds " + seed_list(r.at_fault_seeds));
-  for (const auto& t : r.rss) {
+  for (const auto& t : r.settled) {
     if (!t.growth_mib_per_h)
       r.failures.push_back("pid " + std::to_string(t.pid) + ": too few memory samples after the warm-up to fit");
     else if (*t.growth_mib_per_h > r.limits.max_growth_mib_per_h)
       r.failures.push_back("pid " + std::to_string(t.pid) + ": memory grows " + fmt("%.2f", *t.growth_mib_per_h) +
                            " MiB/h, above the bound " + fmt("%.2f", r.limits.max_growth_mib_per_h));
   }
-  if (r.rss.empty()) r.failures.push_back("no memory samples");
+  if (r.settled.empty()) r.failures.push_back("no memory samples");
   if (r.episodes == 0) r.failures.push_back("no episode finished");
 }
 
@@ -90,7 +92,8 @@ void judge(SoakReport& r) {
 
 std::string episode_line_json(const EpisodeLine& e) {
   const EpisodeResult& r = e.result;
-  json j = {{"family", r.family}, {"seed", r.seed}, {"wall_s", e.wall_s}, {"rss_kib", e.rss_kib}};
+  json j = {{"family", r.family}, {"seed", r.seed}, {"wall_s", e.wall_s}, {"pid", e.pid}, {"t_s", e.t_s},
+            {"rss_kib", e.rss_kib}};
   if (!e.error.empty()) {
     j["error"] = e.error;
     return j.dump();
@@ -145,6 +148,9 @@ SoakReport make_report(const std::vector<EpisodeLine>& episodes, const std::vect
   r.crashes = crashes;
   for (const auto& e : episodes) count_episode(r, e);
   r.rss = rss_trends(rss, limits.warmup_s);
+  std::vector<RssSample> after;
+  for (const auto& e : episodes) after.push_back({e.t_s, e.pid, e.rss_kib, 0.0});
+  r.settled = rss_trends(after, limits.warmup_s);
   if (!rss.empty()) {
     double sum = 0, mx = 0;
     for (const auto& s : rss) sum += s.load1, mx = std::max(mx, s.load1);
@@ -156,11 +162,14 @@ SoakReport make_report(const std::vector<EpisodeLine>& episodes, const std::vect
 }
 
 std::string report_json(const SoakReport& r) {
-  json rss = json::array();
-  for (const auto& t : r.rss)
-    rss.push_back({{"pid", t.pid}, {"samples", t.samples}, {"span_s", t.span_s}, {"start_mib", t.start_mib},
-                   {"max_mib", t.max_mib}, {"end_mib", t.end_mib}, {"fitted_samples", t.fitted},
-                   {"growth_mib_per_h", t.growth_mib_per_h ? json(*t.growth_mib_per_h) : json(nullptr)}});
+  const auto trends = [](const std::vector<RssTrend>& ts) {
+    json out = json::array();
+    for (const auto& t : ts)
+      out.push_back({{"pid", t.pid}, {"samples", t.samples}, {"span_s", t.span_s}, {"start_mib", t.start_mib},
+                     {"max_mib", t.max_mib}, {"end_mib", t.end_mib}, {"fitted_samples", t.fitted},
+                     {"growth_mib_per_h", t.growth_mib_per_h ? json(*t.growth_mib_per_h) : json(nullptr)}});
+    return out;
+  };
   json crashes = json::array();
   for (const auto& c : r.crashes) crashes.push_back({{"t_s", c.t_s}, {"seed", c.seed}, {"exit_status", c.status}});
   json errors = json::array();
@@ -169,7 +178,8 @@ std::string report_json(const SoakReport& r) {
             {"last_seed", r.last_seed}, {"goal", r.goal}, {"duration", r.duration}, {"cap", r.cap},
             {"success", r.success}, {"sim_s", r.sim_s}, {"episode_wall_s", r.episode_wall_s},
             {"crashes", crashes}, {"episode_errors", errors}, {"at_fault_seeds", r.at_fault_seeds},
-            {"episodes_with_contact_not_at_fault", r.collisions_not_at_fault_episodes}, {"rss", rss},
+            {"episodes_with_contact_not_at_fault", r.collisions_not_at_fault_episodes}, {"rss_sampled", trends(r.rss)},
+            {"rss_after_episodes", trends(r.settled)},
             {"load1_mean", r.load1_mean ? json(*r.load1_mean) : json(nullptr)},
             {"load1_max", r.load1_max ? json(*r.load1_max) : json(nullptr)},
             {"max_growth_mib_per_h", r.limits.max_growth_mib_per_h}, {"warmup_s", r.limits.warmup_s},
@@ -187,11 +197,17 @@ std::string report_text(const SoakReport& r) {
   o << "  collisions at fault: " << r.at_fault_seeds.size() << " episode(s)"
     << (r.at_fault_seeds.empty() ? "" : " (seeds " + seed_list(r.at_fault_seeds) + ")")
     << "; contacts not at fault in " << r.collisions_not_at_fault_episodes << "\n";
+  const auto growth = [](const RssTrend& t) {
+    return t.growth_mib_per_h ? fmt("%+.2f", *t.growth_mib_per_h) : std::string("-");
+  };
   for (const auto& t : r.rss)
-    o << "  RSS pid " << t.pid << ": start " << fmt("%.1f", t.start_mib) << " MiB, max " << fmt("%.1f", t.max_mib)
-      << ", end " << fmt("%.1f", t.end_mib) << " over " << fmt("%.0f", t.span_s) << " s; growth "
-      << (t.growth_mib_per_h ? fmt("%+.2f", *t.growth_mib_per_h) : std::string("-")) << " MiB/h (fit of "
-      << t.fitted << " samples after " << fmt("%.0f", r.limits.warmup_s) << " s; bound "
+    o << "  RSS sampled, pid " << t.pid << ": start " << fmt("%.1f", t.start_mib) << " MiB, max "
+      << fmt("%.1f", t.max_mib) << ", end " << fmt("%.1f", t.end_mib) << " over " << fmt("%.0f", t.span_s)
+      << " s (" << t.samples << " samples; fit " << growth(t) << " MiB/h)\n";
+  for (const auto& t : r.settled)
+    o << "  RSS after each episode, pid " << t.pid << ": first " << fmt("%.1f", t.start_mib) << " MiB, max "
+      << fmt("%.1f", t.max_mib) << ", last " << fmt("%.1f", t.end_mib) << "; growth " << growth(t)
+      << " MiB/h (fit of " << t.fitted << " episodes after " << fmt("%.0f", r.limits.warmup_s) << " s; bound "
       << fmt("%.2f", r.limits.max_growth_mib_per_h) << ")\n";
   if (r.load1_mean)
     o << "  host load (1-min average): mean " << fmt("%.2f", *r.load1_mean) << ", max " << fmt("%.2f", *r.load1_max)

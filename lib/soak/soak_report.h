@@ -19,7 +19,9 @@ struct EpisodeLine {
   EpisodeResult result;
   std::string error;       // empty: a result
   double wall_s = 0.0;     // the episode's wall time
-  double rss_kib = 0.0;    // the process's VmRSS after it
+  int64_t pid = 0;         // the soak process that ran it
+  double t_s = 0.0;        // when it ended, seconds since that process started
+  double rss_kib = 0.0;    // the process's VmRSS after it, freed memory returned (malloc_trim)
 };
 std::string episode_line_json(const EpisodeLine& e);
 // Throws std::runtime_error naming the line when a line is not an episode.
@@ -48,7 +50,8 @@ struct SoakReport {
   std::vector<EpisodeLine> errors;            // episodes that threw
   std::vector<uint64_t> at_fault_seeds;       // episodes with a collision at fault
   int collisions_not_at_fault_episodes = 0;
-  std::vector<RssTrend> rss;                  // one per soak process
+  std::vector<RssTrend> rss;                  // one per soak process: the sampler's /proc readings
+  std::vector<RssTrend> settled;              // one per soak process: the RSS after each episode (judged)
   std::optional<double> load1_mean, load1_max;
   SoakLimits limits;
   std::vector<std::string> failures;          // why the soak fails; empty: it passes

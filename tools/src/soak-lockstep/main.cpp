@@ -6,7 +6,8 @@
 // process (lib/soak/soak_episode.h), until T seconds of wall time have
 // passed (checked before each episode). Before each episode it writes the
 // seed to DIR/current_seed; after it, a line to DIR/episodes.jsonl with the
-// episode's wall time and this process's VmRSS. An episode with a
+// episode's wall time and this process's VmRSS once freed memory is handed
+// back (malloc_trim). An episode with a
 // collision at fault leaves DIR/at_fault/F-K.yaml (its scenario) and
 // F-K.lcmlog (its log). Exit 0 when the time is up, 2 on a usage or
 // configuration error; anything else is a crash (tools/soak).
@@ -15,6 +16,9 @@
 // DIR/rss.tsv (the sampler's) and DIR/crashes.tsv (if any): prints it,
 // writes DIR/report.json. Exit 0 pass, 1 fail, 2 unreadable files.
 #include <CLI/CLI.hpp>
+
+#include <malloc.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -29,6 +33,8 @@
 namespace fs = std::filesystem;
 
 namespace {
+
+const std::chrono::steady_clock::time_point g_process_start = std::chrono::steady_clock::now();
 
 struct RunArgs {
   std::string out, family = "mixed", config, families, mode;
@@ -86,7 +92,12 @@ void soak_one(const evade::soak::EpisodeInputs& in, const RunArgs& a, uint64_t s
     line.error = e.what();
   }
   line.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  // Freed memory back to the system first, so that the reading is what is
+  // still in use (and fragmentation), not the allocator's high-water mark.
+  malloc_trim(0);
   line.rss_kib = self_rss_kib();
+  line.pid = getpid();
+  line.t_s = std::chrono::duration<double>(Clock::now() - g_process_start).count();
   if (line.error.empty() && line.result.collisions_at_fault > 0) {
     const std::string name = a.family + "-" + std::to_string(seed);
     fs::create_directories(dir / "at_fault");
