@@ -207,7 +207,9 @@ TEST(BenchmarkTool, FixedScenarioRunsTheSameFileForEverySeed) {
 TEST(BenchmarkTool, TwoHostsOverSsh) {
   fs::path out = fresh_dir("hosts");
   fs::path hosts = fresh_dir("hosts_root");
-  std::string env = "FAKE_SSH_ROOT=" + hosts.string() + " ";
+  // Without SHELL (as under some CI runners), which GNU parallel would
+  // otherwise use to run the remote jobs.
+  std::string env = "env -u SHELL FAKE_SSH_ROOT=" + hosts.string() + " ";
   ASSERT_EQ(run(env + benchmark(out, "--families crossing,headon --episodes 3 --modes evade,mpc --seed-base 5 "
                                      "--hosts 1/hostA,1/hostB --ssh " +
                                          kRoot + "/test/benchmark/fake_ssh")),
