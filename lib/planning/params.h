@@ -22,7 +22,7 @@ enum class PaperFallback {
 struct PlannerParams {
   Mode mode = Mode::kEvade;  // modes.h
   PaperFallback paper_fallback = PaperFallback::kBrake;
-  double rate_hz = 10;
+  double rate_hz = 8;  // least rate: cycles run on each new obstacle list, on ODOMETRY after 1/rate_hz without
   int horizon_steps = 25;
   double dt_s = 0.1;
   double gamma = 0.15;       // the paper's D-CBF decay (its Section IV), modes with GammaKey::kPaper

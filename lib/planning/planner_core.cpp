@@ -73,12 +73,14 @@ PlannerCore::PlannerCore(PlannerParams params)
       seen[t.id] = it == first_seen_.end() ? m.utime : it->second;
     }
     first_seen_.swap(seen);
+    if (mode_.source == ObstacleSource::kPredicted) on_new_obstacle_input();
   });
   subscribe<evade::obstacle_list_t>("OBSTACLES", [this](const evade::obstacle_list_t& m) {
     if (!accept_observed(m)) return;
     observed_ = m;
     observed_rx_ = now();
     history_.add(m);  // cbf_curvefit's observed centres
+    if (mode_.source == ObstacleSource::kObserved) on_new_obstacle_input();
   });
   every(period_us_, [this] { watchdog(); });
 }
@@ -148,11 +150,19 @@ void PlannerCore::on_odometry(const evade::odometry_t& odom) {
   // not at the next plan cycle: the stop must not wait up to one period.
   const bool just_stale = input_stale() &&
                           !(last_plan_ && last_plan_->status == evade::plan_t::STATUS_STALE_INPUT);
-  // rate limit on message time: deterministic in replay
-  if (!just_stale && next_plan_utime_ >= 0 && odom.utime < next_plan_utime_) return;
-  next_plan_utime_ = next_plan_utime_ < 0 ? odom.utime + period_us_ : next_plan_utime_ + period_us_;
-  if (next_plan_utime_ <= odom.utime) next_plan_utime_ = odom.utime + period_us_;
+  // The obstacle input runs the cycles (on_new_obstacle_input); odometry
+  // runs one only when that is late: no cycle for a period of bus time
+  // (the arrival times: deterministic in replay).
+  if (!just_stale && last_cycle_now_ >= 0 && now() - last_cycle_now_ < period_us_) return;
+  count("cycle_on_odometry");
   plan_cycle(odom);
+}
+
+void PlannerCore::on_new_obstacle_input() {
+  // No odometry yet, or none within its max age: the watchdog brakes.
+  if (!last_odometry_ || now() - odometry_rx_ > std::llround(p_.odometry_max_age_s * 1e6)) return;
+  count("cycle_on_obstacles");
+  plan_cycle(*last_odometry_);
 }
 
 bool PlannerCore::predictions_stale() const {
@@ -274,6 +284,7 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
 }
 
 void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
+  last_cycle_now_ = now();
   const int N = p_.horizon_steps;
   const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
   const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
@@ -615,6 +626,7 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
     plan.obstacle_slack.push_back(std::isfinite(slack) ? slack : kNoObstacleBarrier);
   }
   plan.num_obstacles = static_cast<int32_t>(plan.obstacle_id.size());
+  plan.predictions_utime = mode_.source == ObstacleSource::kPredicted && predictions_ ? predictions_->utime : -1;
   if (!std::isfinite(plan.cost)) plan.cost = 0;
   if (!std::isfinite(plan.min_barrier)) plan.min_barrier = kNoObstacleBarrier;
   if (!std::isfinite(plan.max_violation)) plan.max_violation = 0;

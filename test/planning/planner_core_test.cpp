@@ -470,6 +470,7 @@ TEST(PlannerCore, LogReplayIsDeterministic) {
   const std::string in = ::testing::TempDir() + "planner_replay_in.lcmlog";
   bus::write_log(in, events);
   std::vector<std::vector<evade::plan_t>> runs;
+  std::vector<int64_t> plan_times;  // bus time of each PLAN of the first replay
   for (int run_i = 0; run_i < 2; ++run_i) {
     PlannerCore core(default_params());
     const std::string out = ::testing::TempDir() + "planner_replay_out" + std::to_string(run_i) + ".lcmlog";
@@ -477,7 +478,10 @@ TEST(PlannerCore, LogReplayIsDeterministic) {
     std::vector<evade::plan_t> plans;
     for (const auto& e : bus::read_log(out)) {
       evade::plan_t p{};
-      if (e.channel == "PLAN" && bus::decode(e.data.data(), e.data.size(), &p)) plans.push_back(p);
+      if (e.channel == "PLAN" && bus::decode(e.data.data(), e.data.size(), &p)) {
+        plans.push_back(p);
+        if (run_i == 0) plan_times.push_back(e.timestamp);
+      }
     }
     runs.push_back(plans);
   }
@@ -489,9 +493,74 @@ TEST(PlannerCore, LogReplayIsDeterministic) {
     EXPECT_EQ(runs[0][i].v, runs[1][i].v);
     EXPECT_EQ(runs[0][i].omega, runs[1][i].omega);
     EXPECT_EQ(runs[0][i].iterations, runs[1][i].iterations);
+    EXPECT_EQ(runs[0][i].predictions_utime, runs[1][i].predictions_utime);
   }
-  // planned at 10 Hz on message time
-  EXPECT_EQ(runs[0][1].utime - runs[0][0].utime, 100'000);
+  // The first list came before any odometry: the first odometry planned.
+  // Then each list runs a cycle the moment it arrives, from the newest
+  // odometry (the one 20 ms before it, logged after it at the same time),
+  // and the plan names it.
+  EXPECT_EQ(plan_times[0], t0);
+  EXPECT_EQ(runs[0][0].predictions_utime, t0);
+  ASSERT_EQ(runs[0].size(), 20u);
+  for (size_t i = 1; i < runs[0].size(); ++i) {
+    const int64_t list_utime = t0 + 100'000 * static_cast<int64_t>(i);
+    EXPECT_EQ(plan_times[i], list_utime) << i;
+    EXPECT_EQ(runs[0][i].predictions_utime, list_utime) << i;
+    EXPECT_EQ(runs[0][i].utime, list_utime - 20'000) << i;
+  }
+}
+
+// Predictions late (every 0.3 s, within their max age of 0.25 s from
+// arrival only at first): each list still runs a cycle at once, and between
+// them odometry keeps the plans at least rate_hz (one odometry period of
+// slack). A mode reading OBSTACLES is run by OBSTACLES and names no
+// prediction list.
+TEST(PlannerCore, LatePredictionsLeaveTheCycleToOdometryAtRateHz) {
+  for (const Mode mode : {Mode::kEvade, Mode::kMpc}) {
+    PlannerParams p = default_params();
+    p.mode = mode;
+    p.predictions_max_age_s = p.obstacles_max_age_s = 0.35;  // late, not stale
+    bus::MemoryBus bus;
+    PlannerCore core(p);
+    bus.add(core);
+    const int64_t t0 = 1'000'000, list_period = 300'000;
+    const int64_t period = std::llround(1e6 / p.rate_hz);
+    bus.inject("ROUTE", straight_route(0, 10), t0);
+    const std::vector<SimObstacle> obs = {{6.0, 1.5, 0.0, 0.0, 0.3}};
+    // the PLANs published since the last call
+    auto plans_out = [&bus] {
+      std::vector<evade::plan_t> out;
+      for (const auto& e : bus.take_published()) {
+        evade::plan_t pl;
+        if (e.channel == "PLAN" && bus::decode(e.data.data(), e.data.size(), &pl)) out.push_back(pl);
+      }
+      return out;
+    };
+    std::vector<int64_t> plan_times, list_times;
+    for (int64_t now = t0; now < t0 + 3'000'000; now += 20'000) {
+      evade::odometry_t o{};
+      o.utime = now;
+      o.v = 0.3;
+      o.x = 0.3 * (now - t0) * 1e-6;
+      bus.inject("ODOMETRY", o, now);
+      if (!plans_out().empty()) plan_times.push_back(now);
+      if (now == t0 || (now - t0) % list_period != 0) continue;
+      const int64_t at = now + 10'000;  // between two odometry messages
+      list_times.push_back(at);
+      bus.inject("OBSTACLE_PREDICTIONS", predictions(obs, at, 0.0), at);
+      bus.inject("OBSTACLES", observed(obs, at, 0.0), at);
+      const std::vector<evade::plan_t> out = plans_out();
+      ASSERT_EQ(out.size(), 1u) << "a list runs one cycle at once, mode " << mode_name(mode);
+      EXPECT_EQ(out[0].utime, now);  // from the newest odometry
+      EXPECT_EQ(out[0].predictions_utime, mode == Mode::kMpc ? -1 : at);
+      plan_times.push_back(at);
+    }
+    ASSERT_GE(list_times.size(), 9u);
+    for (size_t i = 1; i < plan_times.size(); ++i)
+      EXPECT_LE(plan_times[i] - plan_times[i - 1], period + 20'000) << i << ", mode " << mode_name(mode);
+    EXPECT_GT(core.counter("cycle_on_odometry"), 0);
+    EXPECT_EQ(core.counter("cycle_on_obstacles"), static_cast<int64_t>(list_times.size()));
+  }
 }
 
 // ---- modes (modes.h; the paper's Table I and evade) ----
@@ -750,12 +819,13 @@ TEST(Modes, PaperFallbackLastPlanReplaysTheLastSolvedPlan) {
   std::vector<evade::plan_t> plans;
   for (int i = 0; i < 30; ++i) {
     const int64_t now = t0 + i * period;
-    bus.inject("OBSTACLE_PREDICTIONS", predictions(i == 0 ? none : around, now, 0.0), now);
     evade::odometry_t o{};
     o.utime = now;
     o.x = plans.empty() ? 0.0 : plans.back().x[1];  // the robot follows its plans
     o.v = plans.empty() ? 0.5 : plans.back().v[0];
     bus.inject("ODOMETRY", o, now);
+    // the predictions run the cycle, from this odometry
+    bus.inject("OBSTACLE_PREDICTIONS", predictions(i == 0 ? none : around, now, 0.0), now);
     plans.push_back(bus.decoded<evade::plan_t>("PLAN").back());
   }
   ASSERT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_OK});
