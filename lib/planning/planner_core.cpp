@@ -24,8 +24,8 @@ double barrier_shortfall(const Problem& pb, const std::vector<double>& states) {
   double worst = 0.0;
   for (const ObstacleTrack& o : pb.obstacles)
     for (int k = 0; k < pb.N; ++k) {
-      const double h0 = barrier_at(o, k, states[3 * k], states[3 * k + 1], pb.d_safe).h;
-      const double h1 = barrier_at(o, k + 1, states[3 * (k + 1)], states[3 * (k + 1) + 1], pb.d_safe).h;
+      const double h0 = barrier_at(pb, o, k, &states[3 * k]).h;
+      const double h1 = barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h;
       worst = std::max(worst, o.decay * h0 - h1);
     }
   return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
@@ -49,7 +49,7 @@ PlannerCore::PlannerCore(PlannerParams params)
     : Core("planner"),
       p_(params),
       mode_(mode_spec(params.mode)),
-      detour_(params.detour, params.d_safe_m),
+      detour_(params.detour, params.d_safe_m + params.footprint.radius),
       settled_(params.detour.memory_s),
       history_(params.curvefit_degree, params.curvefit_window_s),
       period_us_(std::llround(1e6 / params.rate_hz)) {
@@ -110,8 +110,9 @@ bool PlannerCore::escape_turn(const Problem& pb, double v0, double omega0, std::
   // or at its edge, where the D-CBF lets h fall by only gamma h per step
   const BarrierValue* deepest = nullptr;
   std::vector<BarrierValue> h0(pb.obstacles.size());
+  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
-    h0[i] = barrier_at(pb.obstacles[i], 0, pb.x0, pb.y0, pb.d_safe);
+    h0[i] = barrier_at(pb, pb.obstacles[i], 0, start);
     if (h0[i].h < p_.escape_near_m && (!deepest || h0[i].h < deepest->h)) deepest = &h0[i];
   }
   if (!deepest) return false;
@@ -322,6 +323,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   pb.w = p_.weights;
   pb.lim = p_.limits;
   pb.d_safe = p_.d_safe_m;
+  pb.footprint = p_.footprint;
   make_reference(odom, &pb);
   {
     int invalid = 0;
@@ -616,8 +618,8 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
   for (const ObstacleTrack& o : pb->obstacles) {
     double slack = std::numeric_limits<double>::infinity();
     for (int k = 0; k < N; ++k) {
-      const double h0 = barrier_at(o, k, states[3 * k], states[3 * k + 1], pb->d_safe).h;
-      const double h1 = barrier_at(o, k + 1, states[3 * (k + 1)], states[3 * (k + 1) + 1], pb->d_safe).h;
+      const double h0 = barrier_at(*pb, o, k, &states[3 * k]).h;
+      const double h1 = barrier_at(*pb, o, k + 1, &states[3 * (k + 1)]).h;
       slack = std::min(slack, h1 - o.decay * h0);
     }
     plan.obstacle_id.push_back(o.id);
