@@ -151,6 +151,12 @@ void PlannerCore::on_odometry(const evade::odometry_t& odom) {
   // not at the next plan cycle: the stop must not wait up to one period.
   const bool just_stale = input_stale() &&
                           !(last_plan_ && last_plan_->status == evade::plan_t::STATUS_STALE_INPUT);
+  // A list that came while the last cycle ran waited for this odometry.
+  if (cycle_pending_) {
+    count("cycle_on_obstacles");
+    plan_cycle(odom);
+    return;
+  }
   // The obstacle input runs the cycles (on_new_obstacle_input); odometry
   // runs one only when that is late: no cycle for a period of bus time
   // (the arrival times: deterministic in replay).
@@ -162,6 +168,14 @@ void PlannerCore::on_odometry(const evade::odometry_t& odom) {
 void PlannerCore::on_new_obstacle_input() {
   // No odometry yet, or none within its max age: the watchdog brakes.
   if (!last_odometry_ || now() - odometry_rx_ > std::llround(p_.odometry_max_age_s * 1e6)) return;
+  // No odometry newer than the last cycle's: that cycle kept the planner
+  // busy and the odometry that came meanwhile is still waiting behind this
+  // list; the cycle waits for it rather than plan from where the robot was
+  // a cycle ago.
+  if (last_odometry_->utime == last_cycle_odometry_) {
+    cycle_pending_ = true;
+    return;
+  }
   count("cycle_on_obstacles");
   plan_cycle(*last_odometry_);
 }
@@ -286,6 +300,8 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
 
 void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   last_cycle_now_ = now();
+  last_cycle_odometry_ = odom.utime;
+  cycle_pending_ = false;
   const int N = p_.horizon_steps;
   const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
   const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);

@@ -55,7 +55,8 @@ class PlannerCore : public bus::Core {
  private:
   void on_odometry(const evade::odometry_t& odom);
   // A new list of the mode's obstacle input has been accepted: a cycle from
-  // the newest odometry, unless there is none fresh enough (the watchdog's).
+  // the newest odometry, unless there is none fresh enough (the watchdog's)
+  // or none newer than the last cycle's (then at the next one).
   void on_new_obstacle_input();
   void plan_cycle(const evade::odometry_t& odom);
   // The reference of this cycle: along the route, or round the settled
@@ -112,6 +113,8 @@ class PlannerCore : public bus::Core {
   int64_t odometry_rx_ = -1;           // bus time of the last odometry
   std::optional<evade::odometry_t> last_odometry_;
   int64_t last_cycle_now_ = -1;  // bus time of the last planning cycle (the odometry fallback's clock)
+  int64_t last_cycle_odometry_ = -1;  // utime of the odometry the last cycle planned from
+  bool cycle_pending_ = false;        // a list came with no newer odometry than that: the next one plans
   int64_t period_us_;
   // warm start: previous solution (any status) and previous feasible plan
   std::vector<double> prev_u_;

@@ -554,6 +554,37 @@ TEST(PlannerCore, LatePredictionsLeaveTheCycleToOdometryAtRateHz) {
   }
 }
 
+// A list that comes with no odometry newer than the last cycle's (that
+// cycle kept the planner busy, and the odometry of meanwhile waits behind
+// the list) runs its cycle at the next odometry, from it.
+TEST(PlannerCore, AListWithNoOdometrySinceTheLastCycleWaitsForTheNext) {
+  bus::MemoryBus bus;
+  PlannerCore core(default_params());
+  bus.add(core);
+  const int64_t t0 = 1'000'000;
+  bus.inject("ROUTE", straight_route(0, 10), t0);
+  const std::vector<SimObstacle> obs = {{6.0, 1.5, 0.0, 0.0, 0.3}};
+  evade::odometry_t o{};
+  o.utime = t0;
+  bus.inject("ODOMETRY", o, t0);  // the first odometry plans
+  o.utime = t0 + 20'000;
+  bus.inject("ODOMETRY", o, t0 + 20'000);  // within the period: no cycle
+  bus.inject("OBSTACLE_PREDICTIONS", predictions(obs, t0 + 30'000, 0.0), t0 + 30'000);  // at once
+  ASSERT_EQ(bus.decoded<evade::plan_t>("PLAN").size(), 2u);
+  EXPECT_EQ(bus.decoded<evade::plan_t>("PLAN")[1].utime, t0 + 20'000);
+  bus.clear();
+  bus.inject("OBSTACLE_PREDICTIONS", predictions(obs, t0 + 110'000, 0.0), t0 + 110'000);
+  EXPECT_TRUE(bus.decoded<evade::plan_t>("PLAN").empty()) << "planned from the odometry of a cycle ago";
+  o.utime = t0 + 100'000;
+  o.x = 0.05;
+  bus.inject("ODOMETRY", o, t0 + 112'000);
+  const auto plans = bus.decoded<evade::plan_t>("PLAN");
+  ASSERT_EQ(plans.size(), 1u);
+  EXPECT_EQ(plans[0].utime, t0 + 100'000);
+  EXPECT_EQ(plans[0].predictions_utime, t0 + 110'000);
+  EXPECT_EQ(core.counter("cycle_on_obstacles"), 2);
+}
+
 // ---- modes (modes.h; the paper's Table I and evade) ----
 
 TEST(Modes, EvadeIsTheDefault) {
@@ -810,13 +841,13 @@ TEST(Modes, PaperFallbackLastPlanReplaysTheLastSolvedPlan) {
   std::vector<evade::plan_t> plans;
   for (int i = 0; i < 30; ++i) {
     const int64_t now = t0 + i * period;
+    // the list waits for this odometry (none newer than the last cycle's)
+    bus.inject("OBSTACLE_PREDICTIONS", predictions(i == 0 ? none : around, now, 0.0), now);
     evade::odometry_t o{};
     o.utime = now;
     o.x = plans.empty() ? 0.0 : plans.back().x[1];  // the robot follows its plans
     o.v = plans.empty() ? 0.5 : plans.back().v[0];
     bus.inject("ODOMETRY", o, now);
-    // the predictions run the cycle, from this odometry
-    bus.inject("OBSTACLE_PREDICTIONS", predictions(i == 0 ? none : around, now, 0.0), now);
     plans.push_back(bus.decoded<evade::plan_t>("PLAN").back());
   }
   ASSERT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_OK});
