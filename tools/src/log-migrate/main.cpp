@@ -7,20 +7,26 @@
 // `int64_t epoch` (fingerprint, utime, x, y, yaw, v, omega: 56 bytes) is
 // re-encoded with the current type and epoch 0 (one frame throughout, as
 // the recording was).
+// plan-predictions-utime (issue 18): PLAN encoded before plan_t gained
+// `int64_t predictions_utime` (its old fingerprint 0x9306470e7bded3f4) gets
+// the current fingerprint and predictions_utime -1 (not recorded).
 // sim-truth-returns (issue 23): SIM_TRUTH encoded before sim_truth_t gained
 // `int32_t lidar_returns[num_obstacles]` gets the current fingerprint and
-// -1 (unknown) for every obstacle.
-// Every other event is copied as it is. OUT may be IN only with --force
-// (it is written to a temporary file first).
+// -1 (not recorded) for every obstacle.
+// Every other event is copied as it is. OUT may be IN only with --force (it
+// is written to a temporary file first).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <map>
 
 #include "bus/core.h"
 #include "bus/log.h"
 #include "evade/odometry_t.hpp"
+#include "evade/plan_t.hpp"
 #include "evade/sim_truth_t.hpp"
 
 namespace {
@@ -36,26 +42,23 @@ double be_double(const uint8_t* p) {
   std::memcpy(&d, &bits, sizeof d);
   return d;
 }
+void put_be64(int64_t v, uint8_t* p) {
+  for (int i = 7; i >= 0; --i, v = static_cast<int64_t>(static_cast<uint64_t>(v) >> 8)) p[i] = v & 0xff;
+}
 
-int32_t be32(const uint8_t* p) { return static_cast<int32_t>((uint32_t(p[0]) << 24) | (p[1] << 16) | (p[2] << 8) | p[3]); }
-
-enum class Outcome { kMigrated, kCurrent, kForeign };
-
-// One migration: the channel it applies to and how one event is carried over.
+// One migration: the channel it rewrites and, for a message that is not of
+// the current type, the rewrite (false: neither the old nor the current type).
 struct Migration {
-  const char* name;
-  const char* channel;
-  Outcome (*apply)(std::vector<uint8_t>* data);
+  std::string channel;
+  std::function<bool(std::vector<uint8_t>*)> rewrite;
 };
 
 constexpr size_t kOldOdometrySize = 8 + 8 + 5 * 8;
 
-Outcome odometry_epoch(std::vector<uint8_t>* data) {
-  evade::odometry_t m;
-  if (evade::bus::decode(data->data(), data->size(), &m)) return Outcome::kCurrent;
-  if (data->size() != kOldOdometrySize) return Outcome::kForeign;
+bool odometry_epoch(std::vector<uint8_t>* data) {
+  if (data->size() != kOldOdometrySize) return false;
   const uint8_t* p = data->data() + 8;
-  m = evade::odometry_t{};
+  evade::odometry_t m{};
   m.utime = be64(p);
   m.x = be_double(p + 8);
   m.y = be_double(p + 16);
@@ -64,7 +67,25 @@ Outcome odometry_epoch(std::vector<uint8_t>* data) {
   m.omega = be_double(p + 40);
   m.epoch = 0;
   *data = evade::bus::encode(m);
-  return Outcome::kMigrated;
+  return true;
+}
+
+constexpr int64_t kOldPlanHash = static_cast<int64_t>(0x9306470e7bded3f4ULL);
+
+bool plan_predictions_utime(std::vector<uint8_t>* data) {
+  if (data->size() < 8 || be64(data->data()) != kOldPlanHash) return false;
+  std::vector<uint8_t> out = *data;
+  put_be64(evade::plan_t::getHash(), out.data());
+  out.resize(out.size() + 8);
+  put_be64(-1, out.data() + out.size() - 8);  // predictions_utime: not recorded
+  evade::plan_t check;
+  if (!evade::bus::decode(out.data(), out.size(), &check)) return false;
+  *data = std::move(out);
+  return true;
+}
+
+int32_t be32(const uint8_t* p) {
+  return static_cast<int32_t>((uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | p[3]);
 }
 
 // Walks a length-prefixed LCM string; false when it runs past `end`.
@@ -96,21 +117,40 @@ int32_t old_sim_truth_obstacles(const std::vector<uint8_t>& data) {
   return p == end && n >= 0 ? n : -1;
 }
 
-Outcome sim_truth_returns(std::vector<uint8_t>* data) {
-  evade::sim_truth_t m;
-  if (evade::bus::decode(data->data(), data->size(), &m)) return Outcome::kCurrent;
+bool sim_truth_returns(std::vector<uint8_t>* data) {
   const int32_t n = old_sim_truth_obstacles(*data);
-  if (n < 0) return Outcome::kForeign;
-  const std::vector<uint8_t> fingerprint = evade::bus::encode(evade::sim_truth_t{});
-  std::copy(fingerprint.begin(), fingerprint.begin() + 8, data->begin());
-  for (int32_t i = 0; i < n; ++i) data->insert(data->end(), {0xff, 0xff, 0xff, 0xff});  // -1
-  return evade::bus::decode(data->data(), data->size(), &m) ? Outcome::kMigrated : Outcome::kForeign;
+  if (n < 0) return false;
+  std::vector<uint8_t> out = *data;
+  put_be64(evade::sim_truth_t::getHash(), out.data());
+  for (int32_t i = 0; i < n; ++i) out.insert(out.end(), {0xff, 0xff, 0xff, 0xff});  // -1: not recorded
+  evade::sim_truth_t check;
+  if (!evade::bus::decode(out.data(), out.size(), &check)) return false;
+  *data = std::move(out);
+  return true;
 }
 
-const Migration kMigrations[] = {
-    {"odometry-epoch", "ODOMETRY", odometry_epoch},
-    {"sim-truth-returns", "SIM_TRUTH", sim_truth_returns},
-};
+const std::map<std::string, Migration>& migrations() {
+  static const std::map<std::string, Migration> m = {
+      {"odometry-epoch", Migration{"ODOMETRY", odometry_epoch}},
+      {"plan-predictions-utime", Migration{"PLAN", plan_predictions_utime}},
+      {"sim-truth-returns", Migration{"SIM_TRUTH", sim_truth_returns}},
+  };
+  return m;
+}
+
+// True when the bytes already decode as the channel's current type.
+bool current(const std::string& channel, const std::vector<uint8_t>& data) {
+  if (channel == "ODOMETRY") {
+    evade::odometry_t m;
+    return evade::bus::decode(data.data(), data.size(), &m);
+  }
+  if (channel == "SIM_TRUTH") {
+    evade::sim_truth_t m;
+    return evade::bus::decode(data.data(), data.size(), &m);
+  }
+  evade::plan_t m;
+  return evade::bus::decode(data.data(), data.size(), &m);
+}
 
 }  // namespace
 
@@ -121,8 +161,8 @@ int main(int argc, char** argv) {
   std::string name, in, out;
   bool force = false;
   std::vector<std::string> names;
-  for (const Migration& m : kMigrations) names.push_back(m.name);
-  app.add_option("migration", name, "one of: odometry-epoch, sim-truth-returns")->required()->check(CLI::IsMember(names));
+  for (const auto& [n, m] : migrations()) names.push_back(n);
+  app.add_option("migration", name, "odometry-epoch | plan-predictions-utime | sim-truth-returns")->required()->check(CLI::IsMember(names));
   app.add_option("in", in, "input log")->required()->check(CLI::ExistingFile);
   app.add_option("out", out, "output log")->required();
   app.add_flag("--force", force, "replace OUT if it exists (also IN itself)");
@@ -131,26 +171,26 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "log-migrate: %s exists; refusing to overwrite it without --force\n", out.c_str());
     return 2;
   }
-  const Migration* migration = nullptr;
-  for (const Migration& m : kMigrations)
-    if (name == m.name) migration = &m;
+  const Migration& mig = migrations().at(name);
   std::vector<bus::LogEvent> events = bus::read_log(in);
-  size_t migrated = 0, current = 0;
+  size_t migrated = 0, already = 0;
   for (auto& e : events) {
-    if (e.channel != migration->channel) continue;
-    switch (migration->apply(&e.data)) {
-      case Outcome::kMigrated: ++migrated; break;
-      case Outcome::kCurrent: ++current; break;
-      case Outcome::kForeign:
-        std::fprintf(stderr, "log-migrate: a %s of %zu bytes is neither the old nor the current type; %s left alone\n",
-                     migration->channel, e.data.size(), in.c_str());
-        return 1;
+    if (e.channel != mig.channel) continue;
+    if (current(e.channel, e.data)) {
+      ++already;
+      continue;
     }
+    if (!mig.rewrite(&e.data)) {
+      std::fprintf(stderr, "log-migrate: a %s of %zu bytes is neither the old nor the current type\n",
+                   e.channel.c_str(), e.data.size());
+      return 1;
+    }
+    ++migrated;
   }
   const std::string tmp = out + ".migrating";
   bus::write_log(tmp, events);
   fs::rename(tmp, out);
   std::printf("log-migrate: %s -> %s: %zu %s migrated, %zu already current, %zu events\n", in.c_str(), out.c_str(),
-              migrated, migration->channel, current, events.size());
+              migrated, mig.channel.c_str(), already, events.size());
   return 0;
 }
