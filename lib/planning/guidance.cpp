@@ -47,14 +47,14 @@ void add_labels(const Problem& pb, const RouteFrame& f, int k_first, const doubl
 
 // Adds to labels[i] the crossing of the path's continuation from (x, y)
 // at step N along the route's axis, obstacle i held where it is at N: on
-// its side when it is ahead and the continuation clears its ellipse grown
-// by d_safe (its larger semi-axis), none when it runs into it.
+// its side when it is ahead and the continuation clears its ellipse (its
+// larger semi-axis), none when it runs into it.
 void add_end_labels(const Problem& pb, const RouteFrame& f, double x, double y, std::vector<int>* labels) {
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
     double ds, rho;
     relative(f, o, pb.N, x, y, &ds, &rho);
-    const double half_width = std::max(o.a[pb.N], o.b[pb.N]) + pb.d_safe;
+    const double half_width = std::max(o.a[pb.N], o.b[pb.N]);
     if (ds < 0.0 && std::fabs(rho) > half_width) (*labels)[i] += rho > 0.0 ? 1 : -1;
   }
 }
@@ -383,6 +383,21 @@ std::vector<GuidancePath> find_guidance(const Problem& pb, const GuidanceParams&
   if (g.max_classes <= 0 || pb.N < 1 || static_cast<int>(pb.ref_x.size()) != pb.N + 1) return {};
   Lattice lattice(pb, g);
   return lattice.classes(g.max_classes);
+}
+
+Problem along_guidance(const Problem& pb, const GuidancePath& path) {
+  Problem out = pb;
+  out.ref_x = path.x;
+  out.ref_y = path.y;
+  double yaw = pb.ref_yaw[0];
+  out.ref_yaw[0] = yaw;
+  for (int k = 1; k <= pb.N; ++k) {
+    const double dx = path.x[k] - path.x[k - 1], dy = path.y[k] - path.y[k - 1];
+    constexpr double kMinStepM = 1e-3;  // standing still: the heading stays
+    if (std::hypot(dx, dy) > kMinStepM) yaw += wrap_angle(std::atan2(dy, dx) - yaw);
+    out.ref_yaw[k] = yaw;
+  }
+  return out;
 }
 
 std::vector<double> controls_along(const Problem& pb, const GuidancePath& path) {

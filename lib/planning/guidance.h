@@ -15,7 +15,7 @@
 // homotopic round it (the H-signature of the world line with ds = 0 as its
 // cut). The path is continued from its end along e, the obstacle held
 // where it is at the horizon's end: an obstacle still ahead then adds the
-// side the continuation passes it on, nothing when it runs into the grown
+// side the continuation passes it on, nothing when it runs into the
 // ellipse. A label 0 means the robot does not get past the obstacle (it
 // waits or follows behind it, or gets level and falls back). Two paths are the same class when every obstacle has the
 // same label in both (same_class): waiting short of an obstacle is a way of
@@ -93,6 +93,10 @@ struct GuidancePath {
 // Up to g.max_classes paths of distinct classes, cheapest first; none when
 // every lattice node next to the start is blocked.
 std::vector<GuidancePath> find_guidance(const Problem& pb, const GuidanceParams& g);
+
+// pb with the guidance path as its reference (positions, and headings
+// along the path): a local solve of this problem stays in the path's class.
+Problem along_guidance(const Problem& pb, const GuidancePath& path);
 
 // Controls (2N) that follow a guidance path with the unicycle within the
 // limits of pb (a warm start for the local solve).

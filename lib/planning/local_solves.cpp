@@ -17,9 +17,22 @@ std::vector<SolveResult> solve_side_by_side(const Problem& pb, const std::vector
   const int n = static_cast<int>(starts.size());
   std::vector<SolveResult> out(n);
   const CeresMpcSolver solver(opts);
+  SolverOptions half = opts;
+  half.max_total_iterations = std::max(1, opts.max_total_iterations / 2);
+  const CeresMpcSolver stage(half);
   auto run = [&](int t, int stride) {
-    for (int i = t; i < n; i += stride)
-      out[i] = solver.solve(pb, starts[i].u, starts[i].multipliers, starts[i].penalty);
+    for (int i = t; i < n; i += stride) {
+      const SolveStart& s = starts[i];
+      if (!s.guide) {
+        out[i] = solver.solve(pb, s.u, s.multipliers, s.penalty);
+        continue;
+      }
+      const SolveResult guided = stage.solve(*s.guide, s.u, s.multipliers, s.penalty);
+      SolverOptions rest = opts;
+      rest.max_total_iterations = std::max(1, opts.max_total_iterations - guided.iterations);
+      out[i] = CeresMpcSolver(rest).solve(pb, guided.finite ? guided.u : s.u);
+      out[i].iterations += guided.iterations;
+    }
   };
   const int used = std::max(1, std::min(threads, n));
   if (used == 1) {

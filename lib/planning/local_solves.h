@@ -17,6 +17,9 @@ struct SolveStart {
   std::vector<double> u;                           // 2N controls
   const std::vector<double>* multipliers = nullptr;  // optional warm multipliers (num_constraints)
   double penalty = 0.0;                            // their penalty
+  // A guide problem (null: none): the start is first solved on it with
+  // half the budget, then the shared problem from that plan with the rest.
+  const Problem* guide = nullptr;
 };
 
 // How many of `wanted` solves a cycle budget runs: one iteration each at
@@ -26,8 +29,10 @@ int solves_within(int cycle_budget, int wanted);
 // budget, at most one solve's (max_total), at least 1.
 int per_solve_budget(int cycle_budget, int max_total, int solves);
 
-// Solves pb from every start with opts (max_total_iterations already the
-// per-solve budget) on min(threads, starts) threads; results in start order.
+// Solves pb from every start (through its guide problem, if any) with opts
+// (max_total_iterations already the per-solve budget) on
+// min(threads, starts) threads; results in start order, iterations those
+// of both stages.
 std::vector<SolveResult> solve_side_by_side(const Problem& pb, const std::vector<SolveStart>& starts,
                                             const SolverOptions& opts, int threads);
 

@@ -17,7 +17,10 @@ TopologyOutcome TopologyPlanner::plan(const Problem& pb, const SolveStart& previ
   const std::vector<GuidancePath> ways = find_guidance(pb, g_);
   out.classes = static_cast<int>(ways.size());
   std::vector<SolveStart> starts{previous};
-  for (const GuidancePath& w : ways) starts.push_back({controls_along(pb, w), nullptr, 0.0});
+  std::vector<Problem> guided;  // each way's problem: its path as the reference brings the solve into its class
+  guided.reserve(ways.size());
+  for (const GuidancePath& w : ways) guided.push_back(along_guidance(pb, w));
+  for (size_t i = 0; i < ways.size(); ++i) starts.push_back({controls_along(pb, ways[i]), nullptr, 0.0, &guided[i]});
   starts.resize(solves_within(budget_, static_cast<int>(starts.size())));  // the costliest ways go first
   out.solves = static_cast<int>(starts.size());
   SolverOptions opts = s_;

@@ -1,8 +1,10 @@
 // evade's topology-aware planning cycle (mode evade, planner.guidance; in
 // the manner of T-MPC++, de Groot et al., T-RO 2024): guidance finds up to
 // max_classes distinct ways through the predicted obstacles (guidance.h);
-// one local Ceres MPC-D-CBF solve starts from each, plus one from the
-// previous plan shifted without guidance, side by side within the cycle's
+// one local Ceres MPC-D-CBF solve starts from each, first with the way as
+// its reference (half its budget: it brings the plan into the way's class),
+// then with the route's, plus one from the previous plan shifted without
+// guidance, side by side within the cycle's
 // iteration budget (local_solves.h); the plan is chosen by cost with a
 // switching penalty, else the least violating plan or braking
 // (selection.h). Holds the class chosen last cycle.

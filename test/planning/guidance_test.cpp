@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <set>
+#include <string>
 
 #include "evade/plan_t.hpp"
 #include "planning/guidance.h"
@@ -140,9 +141,9 @@ TEST(Guidance, ASolveFromEachWayEndsInItsClass) {
     rollout(pb, u.data(), states.data());
     // it heads the path's way (turning at the limits it lags behind it)
     if (std::fabs(w.y[pb.N]) > 0.2) EXPECT_GT(states[3 * pb.N + 1] * w.y[pb.N], 0.0);
-    // and the local solve from it ends in the path's class
+    // and the local solve from it, the path as its reference, ends in the path's class
     SolverOptions o;
-    const SolveResult r = CeresMpcSolver(o).solve(pb, u);
+    const SolveResult r = CeresMpcSolver(o).solve(along_guidance(pb, w), u);
     ASSERT_TRUE(r.feasible);
     EXPECT_TRUE(same_class(states_signature(pb, route_frame(pb), r.states), w.signature));
   }
@@ -250,6 +251,52 @@ TEST(TopologyPlanner, NothingFeasibleFallsBackToTheLeastViolatingPlan) {
   std::vector<double> b = brake;
   project_controls(pb, &b);
   EXPECT_LE(max_violation(pb, o.u.data()), max_violation(pb, b.data()) + 1e-12);
+}
+
+}  // namespace
+}  // namespace evade::planning
+
+namespace evade::planning {
+namespace {
+
+// The side (+1 left, -1 right, 0 neither) each of 8 cycles chooses round a
+// walker coming head-on along the route whose predicted lateral position
+// jitters by +-3 cm from cycle to cycle (as a tracker's estimate does):
+// each cycle the other side is the cheaper one.
+std::vector<int> head_on_sides(double switch_cost_factor) {
+  GuidanceParams g = params();
+  g.switch_cost_factor = switch_cost_factor;
+  TopologyPlanner planner(g, SolverOptions{}, 600);
+  std::vector<int> sides;
+  std::vector<double> previous;  // the last plan: the start without guidance, as the planner has it
+  for (int c = 0; c < 8; ++c) {
+    Problem pb = straight_problem(0, 0, 0, 0.8, 0.8);
+    const double jitter = c % 2 == 0 ? 0.03 : -0.03;
+    pb.obstacles.push_back(moving_obstacle(1, 3.0, jitter, -0.5, 0, 0.3, 0.3, 0, kDecay, pb.N, pb.dt));
+    if (previous.empty()) {
+      previous.assign(2 * pb.N, 0.0);
+      for (int k = 0; k < pb.N; ++k) previous[2 * k] = 0.8;  // straight on
+    }
+    const TopologyOutcome o = planner.plan(pb, {previous}, std::vector<double>(2 * pb.N, 0.0));
+    previous = o.u;
+    std::vector<double> states(3 * (pb.N + 1));
+    rollout(pb, o.u.data(), states.data());
+    const double y = states[3 * pb.N + 1];
+    sides.push_back(y > 0.05 ? 1 : y < -0.05 ? -1 : 0);
+  }
+  return sides;
+}
+
+TEST(TopologyPlanner, ASymmetricHeadOnKeepsItsSide) {
+  const std::vector<int> free = head_on_sides(1.0);
+  int changes = 0;
+  for (size_t i = 1; i < free.size(); ++i) changes += free[i] != free[i - 1] ? 1 : 0;
+  std::string seq;
+  for (int s : free) seq += std::to_string(s) + " ";
+  ASSERT_GE(changes, 4) << "the premise: without a switching penalty the cheaper side alternates: " << seq;
+  const std::vector<int> kept = head_on_sides(params().switch_cost_factor);
+  EXPECT_NE(kept[0], 0);
+  for (int s : kept) EXPECT_EQ(s, kept[0]) << "the robot alternated sides";
 }
 
 }  // namespace
