@@ -30,10 +30,12 @@ void PlannerCore::plan_with_guidance(const Problem& pb, const std::vector<double
   }
   const double measured_us =
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-  // the compute time follows the busiest thread's iterations, then the recovery's
+  // PLAN.iterations and the compute time follow the busiest thread's
+  // iterations, then the recovery's; HEALTH counts every solve's
   const int charged = o.critical_iterations + (iterations - o.iterations);
+  count("solver_iterations", iterations);
   const double solve_us = solve_time_model_ ? solve_time_model_(charged, measured_us) : measured_us;
-  finish_cycle(odom, status, pb, u, res, solve_us, iterations);
+  finish_cycle(odom, status, pb, u, res, solve_us, charged);
 }
 
 }  // namespace evade::planning
