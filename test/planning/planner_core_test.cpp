@@ -262,7 +262,9 @@ TEST(PlannerCore, HeadOnMoverIsAvoided) {
 // keeps the side once taken until the walker is passed.
 TEST(PlannerCore, ASymmetricHeadOnIsPassedOnOneSideWithoutAlternating) {
   const SimObstacle walker{8.0, 0.0, -0.5, 0.0, 0.3};
-  RunResult r = run(default_params(), {walker}, 12.0);
+  PlannerParams p = default_params();
+  p.guidance.enabled = true;
+  RunResult r = run(p, {walker}, 12.0);
   EXPECT_EQ(r.nan, 0);
   EXPECT_GE(r.min_h, -0.05);
   EXPECT_GT(r.final_x, 8.0);
@@ -287,6 +289,7 @@ TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
   const std::vector<SimObstacle> scene{{3.5, 1.1, 0.0, 0.0, 0.3, 0.25}, {9.0, 0.05, -1.0, 0.0, 0.3}};
   PlannerParams one_solve = p;
   one_solve.guidance.enabled = false;  // the recovery chain alone, as the fallback runs it
+  p.guidance.enabled = true;
   RunResult r = run(one_solve, scene, 14.0);
   EXPECT_GT(r.restarts_skipped, 0);  // the situation this test is about did arise
   EXPECT_EQ(r.nan, 0);
