@@ -66,17 +66,22 @@ Signature make_signature(const Problem& pb, const std::vector<int>& labels) {
   return s;
 }
 
-// An obstacle's ellipses as the lattice tests them: grown by d_safe, or
-// bare when the robot starts inside the grown one (else no way out exists).
+// An obstacle's ellipses as the lattice tests them: grown by the
+// footprint's reach and d_safe, or by the reach alone when the robot
+// starts within d_safe of it (else no way out exists).
 struct Blocker {
   std::vector<double> cx, cy, c, s, ia2, ib2, r2;  // per step: centre, orientation, 1/A^2, 1/B^2, bound^2
 };
 
 std::vector<Blocker> make_blockers(const Problem& pb) {
+  // the footprint as the disc round its discs (the lattice has no heading)
+  double reach = 0.0;
+  for (double off : pb.footprint.offsets) reach = std::max(reach, std::fabs(off) + pb.footprint.radius);
+  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
   std::vector<Blocker> out;
   for (const ObstacleTrack& o : pb.obstacles) {
-    const bool start_inside = barrier_at(o, 0, pb.x0, pb.y0, pb.d_safe).h < 0.0;
-    const double grow = start_inside ? 0.0 : pb.d_safe;
+    const bool start_inside = barrier_at(pb, o, 0, start).h < 0.0;
+    const double grow = reach + (start_inside ? 0.0 : pb.d_safe);
     Blocker b;
     for (int k = 0; k <= pb.N; ++k) {
       const double A = o.a[k] + grow, B = o.b[k] + grow;

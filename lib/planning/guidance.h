@@ -26,9 +26,9 @@
 // Search: a lattice in the route frame, one layer every `layer_steps` MPC
 // steps, nodes every `longitudinal_step_m` along e and `lateral_step_m`
 // across it (within +-lateral_max_m), edges no longer than v_max times the
-// layer's time (plus half a cell's diagonal), a node or edge step inside an obstacle's ellipse grown by
-// d_safe blocked (checked at every MPC step, the obstacle as the solver
-// sees it). An edge costs the MPC's stage cost (q_xy, terminal p_xy) of
+// layer's time (plus half a cell's diagonal), a node or edge step inside
+// an obstacle's ellipse grown by the footprint's reach and d_safe blocked
+// (checked at every MPC step, the obstacle as the solver sees it). An edge costs the MPC's stage cost (q_xy, terminal p_xy) of
 // its steps against the reference. Forward and backward dynamic
 // programming give, for every node, the cheapest path through it; those
 // paths in order of cost are kept when their class is new, up to
