@@ -1,8 +1,10 @@
 #include "closedloop/closed_loop.h"
 
+
 #include <stdexcept>
 
 #include "base/base_driver_core.h"
+#include "bus/auth.h"
 #include "closedloop/event_queue.h"
 #include "closedloop/lockstep_params.h"
 #include "closedloop/process_node.h"
@@ -71,6 +73,7 @@ struct ClosedLoop::Impl {
   std::unique_ptr<planning::PlannerCore> planner;
   std::vector<std::unique_ptr<bus::Core>> others;  // elevation_map, tracker, predictor, route
   std::unique_ptr<RunMonitor> monitor;
+  std::vector<std::unique_ptr<bus::HmacAuth>> auths;  // one per robot process, as live
   std::vector<std::unique_ptr<ProcessNode>> nodes;
   std::map<std::string, std::vector<ProcessNode*>> subscribers;
   std::unique_ptr<SerialLine> to_base, to_sim;
@@ -151,6 +154,16 @@ void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
   mp.margin_s = params.goal_margin_s;
   mp.quiet = run.quiet;
   monitor = std::make_unique<RunMonitor>(mp);
+
+  // The robot's processes sign and check the authenticated channels with
+  // the configured key, as they do live, so a lockstep log replays with it.
+  const bus::AuthSetup keys = bus::load_auth(root);
+  std::vector<bus::Core*> robot = {base.get(), planner.get()};
+  for (auto& c : others) robot.push_back(c.get());
+  for (bus::Core* c : robot) {
+    auths.push_back(keys.make(c->name()));
+    c->set_authenticator(auths.back().get());
+  }
 
   sim_node = add(*sim, nullptr);
   lidar_node = add(*lidar, fixed_cost(params.costs.at("lidar_driver")));

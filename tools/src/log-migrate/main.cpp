@@ -2,21 +2,35 @@
 // appended fields, so that golden logs need not be recorded again.
 //
 //   log-migrate odometry-epoch IN.lcmlog OUT.lcmlog [--force]
+//   log-migrate auth-sign IN.lcmlog OUT.lcmlog [--config F] [--force]
 //
 // odometry-epoch (issue 20): ODOMETRY encoded before odometry_t gained
 // `int64_t epoch` (fingerprint, utime, x, y, yaw, v, omega: 56 bytes) is
 // re-encoded with the current type and epoch 0 (one frame throughout, as
 // the recording was). Every other event is copied as it is. OUT may be IN
 // only with --force (it is written to a temporary file first).
+//
+// auth-sign (issue 20): CMD_VEL, ODOMETRY, OBSTACLE_PREDICTIONS and ROUTE
+// encoded before their types gained the authentication fields (lib/bus/
+// auth.h) get the current fingerprint, the fields, and a signature made
+// with the configured key ($EVADE_BUS_KEY, else bus.auth.key_file) at the
+// event's timestamp, as their publisher (planner, base_driver, predictor,
+// route) would have signed them live. Messages already current are left
+// as they are.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 
+#include "bus/auth.h"
 #include "bus/core.h"
 #include "bus/log.h"
+#include "config/config.h"
+#include "evade/cmd_vel_t.hpp"
 #include "evade/odometry_t.hpp"
+#include "evade/path_t.hpp"
+#include "evade/prediction_list_t.hpp"
 
 namespace {
 
@@ -34,26 +48,11 @@ double be_double(const uint8_t* p) {
 
 constexpr size_t kOldOdometrySize = 8 + 8 + 5 * 8;
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// Returns 0 or the process exit status.
+int migrate_odometry_epoch(std::vector<evade::bus::LogEvent>* events) {
   namespace bus = evade::bus;
-  namespace fs = std::filesystem;
-  CLI::App app{"evade log-migrate: carry a log across an appended-field lcmtypes change"};
-  std::string migration, in, out;
-  bool force = false;
-  app.add_option("migration", migration, "odometry-epoch")->required()->check(CLI::IsMember({"odometry-epoch"}));
-  app.add_option("in", in, "input log")->required()->check(CLI::ExistingFile);
-  app.add_option("out", out, "output log")->required();
-  app.add_flag("--force", force, "replace OUT if it exists (also IN itself)");
-  CLI11_PARSE(app, argc, argv);
-  if (fs::exists(out) && !force) {
-    std::fprintf(stderr, "log-migrate: %s exists; refusing to overwrite it without --force\n", out.c_str());
-    return 2;
-  }
-  std::vector<bus::LogEvent> events = bus::read_log(in);
   size_t migrated = 0, current = 0;
-  for (auto& e : events) {
+  for (auto& e : *events) {
     if (e.channel != "ODOMETRY") continue;
     evade::odometry_t m;
     if (bus::decode(e.data.data(), e.data.size(), &m)) {
@@ -77,10 +76,103 @@ int main(int argc, char** argv) {
     e.data = bus::encode(m);
     ++migrated;
   }
+  std::printf("log-migrate: %zu ODOMETRY migrated, %zu already current\n", migrated, current);
+  return 0;
+}
+
+template <class Msg>
+struct AuthType {
+  // The message with the authentication fields appended empty; false when
+  // the bytes are neither the old type nor the current one. *was_current:
+  // it is current and signed already.
+  static bool upgrade(std::vector<uint8_t>* data, bool* was_current) {
+    Msg m;
+    if (evade::bus::decode(data->data(), data->size(), &m)) {
+      *was_current = !m.auth_sender.empty();  // current but never signed: sign it
+      return true;
+    }
+    const std::vector<uint8_t> fresh = evade::bus::encode(Msg{});
+    std::vector<uint8_t> out(fresh.begin(), fresh.begin() + 8);     // the current fingerprint
+    out.insert(out.end(), data->begin() + 8, data->end());          // the old fields
+    out.insert(out.end(), fresh.end() - (4 + 1 + 8 + 32), fresh.end());  // empty auth fields
+    if (data->size() < 8 || !evade::bus::decode(out.data(), out.size(), &m)) return false;
+    *data = std::move(out);
+    *was_current = false;
+    return true;
+  }
+};
+
+int migrate_auth_sign(std::vector<evade::bus::LogEvent>* events, const std::string& config_path) {
+  namespace bus = evade::bus;
+  const bus::AuthSetup keys = bus::load_auth(evade::config::load_robot_config(config_path));
+  struct Kind {
+    std::string channel, sender;
+    bool (*upgrade)(std::vector<uint8_t>*, bool*);
+    std::unique_ptr<bus::HmacAuth> auth;
+    size_t migrated = 0, current = 0;
+  };
+  std::vector<Kind> kinds;
+  kinds.push_back({"CMD_VEL", "planner", &AuthType<evade::cmd_vel_t>::upgrade, nullptr});
+  kinds.push_back({"ODOMETRY", "base_driver", &AuthType<evade::odometry_t>::upgrade, nullptr});
+  kinds.push_back({"OBSTACLE_PREDICTIONS", "predictor", &AuthType<evade::prediction_list_t>::upgrade, nullptr});
+  kinds.push_back({"ROUTE", "route", &AuthType<evade::path_t>::upgrade, nullptr});
+  for (auto& k : kinds) k.auth = keys.make(k.sender);
+  for (auto& e : *events) {
+    for (auto& k : kinds) {
+      if (e.channel != k.channel) continue;
+      bool current = false;
+      if (!k.upgrade(&e.data, &current)) {
+        std::fprintf(stderr, "log-migrate: a %s of %zu bytes is neither the old nor the current type\n",
+                     e.channel.c_str(), e.data.size());
+        return 1;
+      }
+      if (current) {
+        ++k.current;
+        continue;
+      }
+      k.auth->sign(e.channel, e.timestamp, &e.data);
+      ++k.migrated;
+    }
+  }
+  for (const auto& k : kinds)
+    std::printf("log-migrate: %s: %zu signed as %s, %zu already current\n", k.channel.c_str(), k.migrated,
+                k.sender.c_str(), k.current);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace bus = evade::bus;
+  namespace fs = std::filesystem;
+  CLI::App app{"evade log-migrate: carry a log across an appended-field lcmtypes change"};
+  std::string migration, in, out;
+  bool force = false;
+  std::string config_path = evade::config::default_config_path();
+  app.add_option("migration", migration, "odometry-epoch | auth-sign")
+      ->required()
+      ->check(CLI::IsMember({"odometry-epoch", "auth-sign"}));
+  app.add_option("--config", config_path, "auth-sign: the configuration naming the key (bus.auth)");
+  app.add_option("in", in, "input log")->required()->check(CLI::ExistingFile);
+  app.add_option("out", out, "output log")->required();
+  app.add_flag("--force", force, "replace OUT if it exists (also IN itself)");
+  CLI11_PARSE(app, argc, argv);
+  if (fs::exists(out) && !force) {
+    std::fprintf(stderr, "log-migrate: %s exists; refusing to overwrite it without --force\n", out.c_str());
+    return 2;
+  }
+  std::vector<bus::LogEvent> events = bus::read_log(in);
+  try {
+    const int status = migration == "odometry-epoch" ? migrate_odometry_epoch(&events)
+                                                     : migrate_auth_sign(&events, config_path);
+    if (status != 0) return status;
+  } catch (const std::exception& e) {  // a bad configuration or key
+    std::fprintf(stderr, "log-migrate: %s\n", e.what());
+    return 2;
+  }
   const std::string tmp = out + ".migrating";
   bus::write_log(tmp, events);
   fs::rename(tmp, out);
-  std::printf("log-migrate: %s -> %s: %zu ODOMETRY migrated, %zu already current, %zu events\n", in.c_str(),
-              out.c_str(), migrated, current, events.size());
+  std::printf("log-migrate: %s -> %s: %zu events\n", in.c_str(), out.c_str(), events.size());
   return 0;
 }
