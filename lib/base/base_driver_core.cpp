@@ -264,7 +264,7 @@ void BaseDriverCore::on_motion_status(const MotionStatus& status) {
 }
 
 void BaseDriverCore::publish_odometry(int64_t utime, double v, double omega) {
-  evade::odometry_t m;
+  evade::odometry_t m{};
   m.utime = utime;
   m.epoch = params_.epoch;
   m.x = pose_.x;

@@ -30,7 +30,7 @@ class RoutePublisher : public bus::Core {
   const evade::path_t& path() const { return path_; }
 
  private:
-  evade::path_t path_;
+  evade::path_t path_{};
 };
 
 }  // namespace evade::route

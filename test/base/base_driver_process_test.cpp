@@ -24,6 +24,7 @@
 #include "evade/health_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "pty_peer.h"
+#include "../bus/test_signer.h"
 
 namespace evade::base {
 namespace {
@@ -96,7 +97,8 @@ class BaseDriverProcess : public ::testing::Test {
                         std::chrono::system_clock::now().time_since_epoch())
                         .count();  // base_driver ignores late commands
           c.v = cmd_v;
-          lcm_.publish("CMD_VEL", &c);
+          const auto data = bus::testing::signed_bytes(planner_, "CMD_VEL", c, c.utime);  // unsigned: ignored
+          lcm_.publish("CMD_VEL", data.data(), static_cast<unsigned>(data.size()));
         }
         if (base && status_mm_s != INT16_MIN) base->write(encode(MotionStatus{status_mm_s, 0}, 0));
       }
@@ -117,6 +119,7 @@ class BaseDriverProcess : public ::testing::Test {
   Listener listener_;
   StreamParser parser_;
   std::vector<MotionCommand> commands_;
+  bus::HmacAuth planner_ = bus::testing::test_signer("planner");
 };
 
 TEST_F(BaseDriverProcess, SurvivesHangUpAndReconnects) {
@@ -246,7 +249,7 @@ TEST_F(BaseDriverProcess, ReplayOfCmdVelIsDeterministic) {
     evade::cmd_vel_t c{};
     c.utime = t0 + i * 20'000;
     c.v = 0.4;
-    in.push_back(bus::LogEvent{c.utime, "CMD_VEL", bus::encode(c)});
+    in.push_back(bus::LogEvent{c.utime, "CMD_VEL", bus::testing::signed_bytes(planner_, "CMD_VEL", c, c.utime)});
   }
   // Other traffic keeps the log's clock going (the core does not read it).
   for (int i = 1; i <= 40; ++i) in.push_back(bus::LogEvent{t0 + 200'000 + i * 20'000, "OTHER", {1, 2, 3}});
