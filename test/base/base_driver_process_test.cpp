@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <chrono>
@@ -15,6 +16,7 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "base/scout_protocol.h"
 #include "bus/core.h"
@@ -237,6 +239,66 @@ TEST_F(BaseDriverProcess, BadConfigExitsWithStatus2) {
   cmd = std::string(EVADE_BIN_DIR) + "/base_driver --initial-pose 1,2 2>/dev/null";
   rc = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(rc), 2);
+}
+
+// Issue 20: tools/estop's signed stop wins over a planner still sending
+// CMD_VEL at 50 Hz, until estop --release.
+TEST_F(BaseDriverProcess, EstopToolStopsTheBaseWhileCommandsKeepComing) {
+  start();
+  auto base = std::make_unique<PtyPeer>(path_);
+  for (int i = 0; i < 100 && commands_.size() < 5; ++i) pump(base.get(), 50);
+  pump(base.get(), 800, 0.6, 600);
+  ASSERT_GT(commands_.back().linear_percent, 0) << log();
+  auto tool = [&](const std::string& args) {
+    const std::string config = std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml";
+    return std::string(EVADE_BIN_DIR) + "/estop --config " + config + " " + args + " 2>>" + dir_ + "/estop.log";
+  };
+  pid_t estop = ::fork();
+  ASSERT_GE(estop, 0);
+  if (estop == 0) {
+    ::execl("/bin/sh", "sh", "-c", tool("--reason test").c_str(), static_cast<char*>(nullptr));
+    std::_Exit(127);
+  }
+  pump(base.get(), 1000, 0.6, 600);  // the planner goes on meanwhile
+  int status = 0;
+  ASSERT_EQ(::waitpid(estop, &status, 0), estop);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  commands_.clear();
+  pump(base.get(), 500, 0.6, 0);
+  ASSERT_GE(commands_.size(), 10u);
+  for (const auto& c : commands_) EXPECT_EQ(c.linear_percent, 0);
+  ASSERT_FALSE(listener_.status.empty());
+  EXPECT_TRUE(listener_.status.back().estop_engaged);
+  // Released: the planner's commands drive again.
+  ASSERT_EQ(std::system(tool("--release").c_str()), 0);
+  commands_.clear();
+  pump(base.get(), 800, 0.6, 600);
+  ASSERT_FALSE(commands_.empty());
+  EXPECT_GT(commands_.back().linear_percent, 0) << log();
+  EXPECT_FALSE(listener_.status.back().estop_engaged);
+  for (int i = 0; i < 30 && listener_.counters["cmd_vel_during_estop"] < 1; ++i) pump(base.get(), 100, 0.6, 600);
+  EXPECT_GT(listener_.counters["cmd_vel_during_estop"], 10);
+}
+
+// Issue 20: the key must exist and be the owner's alone.
+TEST_F(BaseDriverProcess, AMissingOrExposedKeyExitsWithStatus2AndSaysWhy) {
+  auto run_with_key = [&](const std::string& key) {
+    const std::string cmd = "EVADE_BUS_KEY=" + key + " " + std::string(EVADE_BIN_DIR) + "/base_driver --device " +
+                            path_ + " 2>" + dir_ + "/key.err";
+    const int rc = std::system(cmd.c_str());
+    std::ifstream in(dir_ + "/key.err");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return std::make_pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str());
+  };
+  auto [rc, err] = run_with_key(dir_ + "/missing.key");
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(err.find("base_driver: bus key: no key file " + dir_ + "/missing.key"), std::string::npos) << err;
+  std::ofstream(dir_ + "/open.key") << std::string(64, 'c') << "\n";
+  ASSERT_EQ(::chmod((dir_ + "/open.key").c_str(), 0644), 0);
+  std::tie(rc, err) = run_with_key(dir_ + "/open.key");
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(err.find("accessible to group or others (mode 644)"), std::string::npos) << err;
 }
 
 TEST_F(BaseDriverProcess, ReplayOfCmdVelIsDeterministic) {
