@@ -5,10 +5,12 @@
 // hosts), the rows, the kept and pruned files and the summary.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -24,16 +26,22 @@ const std::string kRoot = EVADE_SOURCE_DIR;
 const std::string kFakes = " --run-scenario " + kRoot + "/test/benchmark/fake_run_scenario --scenario-gen " + kRoot +
                            "/test/benchmark/fake_scenario_gen";
 
-int run(const std::string& cmd) {
-  int status = std::system((cmd + " > /dev/null 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 std::string slurp(const fs::path& p) {
   std::ifstream f(p);
   std::stringstream s;
   s << f.rdbuf();
   return s.str();
+}
+
+// Runs cmd; its output goes to a file that is printed when the exit code is
+// not 0 or 2 (the codes the tests expect), so a failure explains itself.
+int run(const std::string& cmd) {
+  fs::path log = fs::path(::testing::TempDir()) / ("benchmark_tool_output_" + std::to_string(::getpid()));
+  int status = std::system((cmd + " > " + log.string() + " 2>&1").c_str());
+  int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (code != 0 && code != 2) std::cerr << "exit " << code << " from: " << cmd << "\n" << slurp(log);
+  fs::remove(log);
+  return code;
 }
 
 fs::path fresh_dir(const std::string& name) {
@@ -199,7 +207,9 @@ TEST(BenchmarkTool, FixedScenarioRunsTheSameFileForEverySeed) {
 TEST(BenchmarkTool, TwoHostsOverSsh) {
   fs::path out = fresh_dir("hosts");
   fs::path hosts = fresh_dir("hosts_root");
-  std::string env = "FAKE_SSH_ROOT=" + hosts.string() + " ";
+  // Without SHELL (as under some CI runners), which GNU parallel would
+  // otherwise use to run the remote jobs.
+  std::string env = "env -u SHELL FAKE_SSH_ROOT=" + hosts.string() + " ";
   ASSERT_EQ(run(env + benchmark(out, "--families crossing,headon --episodes 3 --modes evade,mpc --seed-base 5 "
                                      "--hosts 1/hostA,1/hostB --ssh " +
                                          kRoot + "/test/benchmark/fake_ssh")),
