@@ -76,12 +76,12 @@ std::string key_path(const AuthParams& params) {
   return params.key_file;
 }
 
-std::vector<uint8_t> load_key(const std::string& path) {
+std::vector<uint8_t> load_key(const std::string& path, bool owner_only) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
     throw KeyError("bus key: no key file " + path + " (create one with: bash tools/setup key)");
   if (!S_ISREG(st.st_mode)) throw KeyError("bus key: " + path + " is not a regular file");
-  if (st.st_mode & (S_IRWXG | S_IRWXO)) {
+  if (owner_only && (st.st_mode & (S_IRWXG | S_IRWXO))) {
     std::ostringstream os;
     os << "bus key: " << path << " is accessible to group or others (mode " << std::oct << (st.st_mode & 07777)
        << "); only its owner may read it: chmod 600 " << path;

@@ -61,8 +61,9 @@ class KeyError : public std::runtime_error {
 std::string key_path(const AuthParams& params);
 // Reads a key file: hexadecimal text (whitespace ignored), at least
 // kMinKeyBytes bytes. Throws KeyError unless it is a regular file with no
-// permission bits for group or others.
-std::vector<uint8_t> load_key(const std::string& path);
+// permission bits for group or others (`owner_only` false skips that check:
+// only for the public test key, see process-replay).
+std::vector<uint8_t> load_key(const std::string& path, bool owner_only = true);
 
 // What the parser finds at the end of an encoded message.
 struct AuthTail {
