@@ -107,7 +107,8 @@ void ClosedLoop::Impl::route(const std::string& channel, int64_t t_leave, const 
   for (ProcessNode* n : it->second) q.at(t, [n, channel, data] { n->deliver(channel, data); });
 }
 
-// The simulator's two devices: VLP-16 packets over UDP to the driver, and
+// The simulator's two devices: LiDAR packets over UDP to the driver (every
+// port, as in a capture: the decoder tells data from DIFOP by content), and
 // the Scout's UART both ways.
 void ClosedLoop::Impl::wire_devices(int baud_rate) {
   const int64_t udp = us(params.udp_latency_s);

@@ -1,7 +1,7 @@
 // The whole evade stack and its simulator in one process, in simulated
 // time ("lockstep"). The same cores as the live stack, built from the same
-// configuration: sim (VLP-16 packets, the Scout's UART), lidar_driver,
-// elevation_map, tracker, predictor, route, planner, base_driver, plus the
+// configuration: sim (VLP-16 or RS-Helios packets, the Scout's UART),
+// lidar_driver, elevation_map, tracker, predictor, route, planner, base_driver, plus the
 // run monitor that ends a run as tools/run-monitor does live.
 //
 // What each core sees is what it would see live, in order, at the times it

@@ -14,32 +14,9 @@ namespace {
 // revolution is a clock jump (sync, reset), not rotation: the receive
 // times place that packet instead.
 constexpr int64_t kMaxSensorStepUs = 1'000'000;
-constexpr int64_t kHourUs = vlp16::kMicrosPerHour;
 // Receive times (us since the epoch) beyond year 2286 come from a corrupt
 // LIDAR_SCAN, not a clock: refused, so time arithmetic cannot overflow.
 constexpr int64_t kMaxReceiveUtime = 9'999'999'999'000'000LL;
-// VLP-16 position packets (GPS/PPS status) are 512-byte payloads on port 8308.
-constexpr size_t kVlp16PositionPacketSize = 512;
-
-// Last firing of a packet after its first, us: a packet leaves the sensor
-// after its last firing, so this is how far its receive time lags the
-// first firing (network latency aside).
-double packet_span_us(LidarModel model, bool dual) {
-  if (model == LidarModel::kVlp16) {
-    const int last_column = (vlp16::kBlocksPerPacket / (dual ? 2 : 1)) - 1;
-    return vlp16::firing_offset_us(last_column, 1, vlp16::kLasers - 1);
-  }
-  const int last_column = (rs_helios::kBlocksPerPacket / (dual ? 2 : 1)) - 1;
-  return rs_helios::firing_offset_us(last_column, rs_helios::kChannels - 1);
-}
-
-int64_t resolve_past_hour(int64_t us_past_hour, int64_t receive_utime) {
-  int64_t hour_start = (receive_utime / kHourUs) * kHourUs;
-  int64_t t = hour_start + (us_past_hour % kHourUs);
-  if (t - receive_utime > kHourUs / 2) t -= kHourUs;
-  if (receive_utime - t > kHourUs / 2) t += kHourUs;
-  return t;
-}
 
 int32_t clamp_int32(double v) {
   if (!(v > std::numeric_limits<int32_t>::min())) return std::numeric_limits<int32_t>::min();
@@ -48,11 +25,12 @@ int32_t clamp_int32(double v) {
 }
 }  // namespace
 
-const char* model_name(LidarModel m) { return m == LidarModel::kVlp16 ? "vlp16" : "rs_helios"; }
-
 LidarDecoder::LidarDecoder(const LidarDecoderParams& params, CountFn count)
-    : params_(params), model_(params.model), count_(std::move(count)) {
+    : params_(params), count_(std::move(count)), self_filter_(params.self_filter, params.mount) {
   if (!count_) count_ = [](const std::string&, int64_t) {};
+  sensor_ = make_sensor_model(params.model,
+                              RangeBand{params.min_range_m, params.max_range_m, params.vertical_offset_correction},
+                              count_);
   returns_.reserve(static_cast<size_t>(vlp16::kBlocksPerPacket * vlp16::kReturnsPerBlock));
   start_revolution();
 }
@@ -70,16 +48,6 @@ void LidarDecoder::start_revolution() {
   rel_us_.clear();
   rel_us_.reserve(expected);
   anchored_ = false;
-}
-
-int64_t LidarDecoder::sensor_delta_us(int64_t from, int64_t to) const {
-  if (model_ == LidarModel::kVlp16) {
-    int64_t d = (to - from) % kHourUs;
-    if (d > kHourUs / 2) d -= kHourUs;
-    if (d <= -kHourUs / 2) d += kHourUs;
-    return d;
-  }
-  return to - from;
 }
 
 void LidarDecoder::record_packet(const uint8_t* data, size_t size, int64_t receive_utime) {
@@ -104,7 +72,7 @@ void LidarDecoder::bound_pending(std::vector<Revolution>* out) {
   evade::lidar_packet_t last_difop;
   bool have_difop = false;
   for (auto& p : pending)
-    if (rs_helios::classify(p.data.data(), p.data.size()) == rs_helios::PacketKind::kDifop) {
+    if (sensor_->is_calibration(p.data.data(), p.data.size())) {
       last_difop = std::move(p);
       have_difop = true;
     }
@@ -120,81 +88,15 @@ void LidarDecoder::feed(const uint8_t* data, size_t size, int64_t receive_utime,
     return;
   }
   PacketTimes times{};
-  if (model_ == LidarModel::kVlp16) {
-    if (size == kVlp16PositionPacketSize) {
-      count_("position_packets", 1);
+  switch (sensor_->decode(data, size, receive_utime, &returns_, &times)) {
+    case PacketUse::kIgnored:
       return;
-    }
-    vlp16::DecodeOptions opt;
-    opt.min_range_m = params_.min_range_m;
-    opt.max_range_m = params_.max_range_m;
-    opt.vertical_offset_correction = params_.vertical_offset_correction;
-    vlp16::PacketInfo info;
-    vlp16::PacketStatus st = vlp16::decode_packet(data, size, opt, &returns_, &info);
-    if (st != vlp16::PacketStatus::kOk) {
-      count_(std::string("malformed_") + vlp16::to_string(st), 1);
+    case PacketUse::kCalibration:
+      bound_pending(out);
+      record_packet(data, size, receive_utime);
       return;
-    }
-    count_("data_packets", 1);
-    if (info.factory != vlp16::kFactoryVlp16) {
-      // Reported, not trusted: the configured model decides the decoding.
-      char name[32];
-      std::snprintf(name, sizeof(name), "factory_byte_0x%02x", info.factory);
-      count_(name, 1);
-    }
-    if (info.dual_duplicates) count_("dual_duplicates", info.dual_duplicates);
-    if (info.out_of_range) count_("out_of_range", info.out_of_range);
-    if (info.timestamp_us_past_hour >= vlp16::kMicrosPerHour) count_("timestamp_invalid", 1);
-    times.sensor_us = info.timestamp_us_past_hour % kHourUs;
-    times.receive_us = receive_utime - std::llround(packet_span_us(model_, info.return_mode == vlp16::kDual));
-    times.absolute_us = resolve_past_hour(times.sensor_us, receive_utime);
-  } else {
-    switch (rs_helios::classify(data, size)) {
-      case rs_helios::PacketKind::kDifop: {
-        rs_helios::Calibration cal;
-        rs_helios::PacketStatus st = rs_helios::parse_difop(data, size, &cal);
-        if (st != rs_helios::PacketStatus::kOk) {
-          count_(std::string("malformed_difop_") + rs_helios::to_string(st), 1);
-          return;
-        }
-        count_("difop_packets", 1);
-        calibration_ = cal;
-        have_calibration_ = true;
-        bound_pending(out);
-        record_packet(data, size, receive_utime);
-        return;
-      }
-      case rs_helios::PacketKind::kMsop: {
-        if (!have_calibration_) {
-          count_("msop_before_difop", 1);
-          return;
-        }
-        rs_helios::DecodeOptions opt;
-        opt.min_range_m = params_.min_range_m;
-        opt.max_range_m = params_.max_range_m;
-        rs_helios::PacketInfo info;
-        rs_helios::PacketStatus st = rs_helios::decode_msop(data, size, calibration_, opt, &returns_, &info);
-        if (st != rs_helios::PacketStatus::kOk) {
-          count_(std::string("malformed_") + rs_helios::to_string(st), 1);
-          return;
-        }
-        count_("data_packets", 1);
-        if (info.dual_duplicates) count_("dual_duplicates", info.dual_duplicates);
-        if (info.out_of_range) count_("out_of_range", info.out_of_range);
-        times.receive_us =
-            receive_utime - std::llround(packet_span_us(model_, calibration_.return_mode == rs_helios::kDual));
-        if (info.utc_us < 0) {
-          count_("timestamp_invalid", 1);  // placed by its receive time instead
-          times.sensor_us = times.absolute_us = times.receive_us;
-        } else {
-          times.sensor_us = times.absolute_us = info.utc_us;
-        }
-        break;
-      }
-      case rs_helios::PacketKind::kUnknown:
-        count_(size != rs_helios::kPacketSize ? "malformed_wrong_size" : "malformed_bad_header", 1);
-        return;
-    }
+    case PacketUse::kPoints:
+      break;
   }
   add_packet_returns(times, data, size, receive_utime, out);
 }
@@ -210,6 +112,7 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
   double packet_rel_us = 0.0;
   bool rel_valid = false;
   float last_firing_az = -1.0f;
+  int64_t self_filtered = 0;
   for (const LidarReturn& r : returns_) {
     if (r.firing_azimuth_deg != last_firing_az) {  // a new firing: may cut
       last_firing_az = r.firing_azimuth_deg;
@@ -237,7 +140,7 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
       packet_counted = true;
     }
     if (!rel_valid) {
-      int64_t d = sensor_delta_us(anchor_.sensor_us, times.sensor_us);
+      int64_t d = sensor_->sensor_delta_us(anchor_.sensor_us, times.sensor_us);
       if (d > kMaxSensorStepUs || d < -kMaxSensorStepUs) {
         count_("sensor_time_jumps", 1);
         d = params_.time_source == TimeSource::kSensor ? times.absolute_us - anchor_.absolute_us
@@ -245,6 +148,10 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
       }
       packet_rel_us = static_cast<double>(d);
       rel_valid = true;
+    }
+    if (self_filter_.enabled() && self_filter_.inside(r.x, r.y, r.z)) {
+      ++self_filtered;
+      continue;
     }
     evade::pointcloud_t& c = rev_.cloud;
     c.x.push_back(r.x);
@@ -254,6 +161,7 @@ void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* d
     c.ring.push_back(static_cast<int8_t>(r.ring));
     rel_us_.push_back(packet_rel_us + r.time_offset_us);
   }
+  if (self_filtered > 0) count_("self_filtered_points", self_filtered);
 }
 
 void LidarDecoder::emit(std::vector<Revolution>* out) {
@@ -263,7 +171,7 @@ void LidarDecoder::emit(std::vector<Revolution>* out) {
   c.utime = anchor_time_us_ + std::llround(first);
   c.time_offset.resize(rel_us_.size());
   for (size_t i = 0; i < rel_us_.size(); ++i) c.time_offset[i] = clamp_int32(rel_us_[i] - first);
-  c.sensor_model = model_name(model_);
+  c.sensor_model = model_name(sensor_->model());
   c.mount = params_.mount;
   rev_.scan.utime = c.utime;
   rev_.scan.sensor_model = c.sensor_model;

@@ -1,5 +1,6 @@
 // From raw UDP payloads to one point cloud per revolution, for either
-// sensor model. Stateful (calibration, the revolution being assembled) but
+// sensor model (sensor_model.h decodes the packets; this file assembles
+// them). Stateful (calibration, the revolution being assembled) but
 // clock-free: every time comes from the packets and their receive times,
 // so feeding the same packets with the same receive times gives the same
 // clouds, live or in a log replay.
@@ -20,6 +21,9 @@
 // cloud's utime is the time of its first point; time_offset[i] is relative
 // to it.
 //
+// Returns over the robot's own footprint (self_filter.h) are dropped after
+// the cut and time logic, so they change nothing but the points.
+//
 // The raw packets that made a revolution (every accepted packet, including
 // RS-Helios DIFOPs; the packet in which the cut falls belongs to the
 // revolution it completes) come back with it as a lidar_scan_t, and
@@ -30,20 +34,19 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "evade/lidar_scan_t.hpp"
 #include "evade/pointcloud_t.hpp"
 #include "sensing/lidar_return.h"
-#include "sensing/rs_helios.h"
+#include "sensing/self_filter.h"
+#include "sensing/sensor_model.h"
 
 namespace evade::sensing {
 
-enum class LidarModel { kVlp16, kRsHelios };
 enum class TimeSource { kReceive, kSensor };
-
-const char* model_name(LidarModel m);  // "vlp16", "rs_helios" (as in config and messages)
 
 struct LidarDecoderParams {
   LidarModel model = LidarModel::kVlp16;
@@ -54,6 +57,7 @@ struct LidarDecoderParams {
   TimeSource time_source = TimeSource::kReceive;
   int max_packets_per_revolution = 1000;  // raw packets held for one revolution / LIDAR_SCAN
   evade::pose3d_t mount{};
+  SelfFilterParams self_filter;  // returns over the robot's footprint are dropped (counted)
 };
 
 struct Revolution {
@@ -65,7 +69,7 @@ class LidarDecoder {
  public:
   // count(name, n): every packet and problem is counted by name
   // ("data_packets", "malformed_wrong_size", ...) for HEALTH.
-  using CountFn = std::function<void(const std::string& name, int64_t n)>;
+  using CountFn = sensing::CountFn;
 
   LidarDecoder(const LidarDecoderParams& params, CountFn count);
 
@@ -81,14 +85,9 @@ class LidarDecoder {
   void discard_revolution();
 
   const LidarDecoderParams& params() const { return params_; }
-  bool calibrated() const { return model_ == LidarModel::kVlp16 || have_calibration_; }
+  bool calibrated() const { return sensor_->calibrated(); }
 
  private:
-  struct PacketTimes {
-    int64_t sensor_us;     // sensor clock (VLP-16: us past the hour; RS-Helios: UTC us)
-    int64_t receive_us;    // receive time minus the packet's span: first-firing estimate
-    int64_t absolute_us;   // sensor clock as an absolute time
-  };
   void add_packet_returns(const PacketTimes& times, const uint8_t* data, size_t size, int64_t receive_utime,
                           std::vector<Revolution>* out);
   void emit(std::vector<Revolution>* out);
@@ -97,16 +96,12 @@ class LidarDecoder {
   void bound_pending(std::vector<Revolution>* out);
   void start_revolution();
   void record_packet(const uint8_t* data, size_t size, int64_t receive_utime);
-  int64_t sensor_delta_us(int64_t from, int64_t to) const;
 
   LidarDecoderParams params_;
-  LidarModel model_;
   CountFn count_;
+  std::unique_ptr<SensorModel> sensor_;  // the model's packet decoding (sensor_model.h)
+  SelfFilter self_filter_;
   std::vector<LidarReturn> returns_;  // scratch, one packet
-
-  // RS-Helios calibration from the last DIFOP
-  bool have_calibration_ = false;
-  rs_helios::Calibration calibration_;
 
   // the revolution being assembled
   Revolution rev_;

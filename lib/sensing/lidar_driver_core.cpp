@@ -41,7 +41,12 @@ LidarDriverParams LidarDriverParams::from_config(const config::Node& root) {
       s.get_choice("time_source", {"receive", "sensor"}) == "receive" ? TimeSource::kReceive : TimeSource::kSensor;
   p.decoder.max_packets_per_revolution = s.get_int("max_packets_per_revolution", 1, 100000);
   p.publish_scan = s.get<bool>("publish_scan");
+  p.decoder.self_filter.enabled = s.get<bool>("self_filter");
+  p.decoder.self_filter.margin_m = s.get_double("self_filter_margin_m", 0.0, 1.0);
   s.close();
+  const config::Node robot = root.section("robot");
+  p.decoder.self_filter.footprint_length_m = robot.get_positive("footprint_length_m");
+  p.decoder.self_filter.footprint_width_m = robot.get_positive("footprint_width_m");
   return p;
 }
 

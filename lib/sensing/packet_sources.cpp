@@ -174,4 +174,69 @@ bool receive_datagram(int fd, std::vector<uint8_t>& buffer, UdpDatagram* out, in
   return true;
 }
 
+PcapUdpWriter::PcapUdpWriter(const std::string& path, const std::string& src_ip, const std::string& dst_ip) {
+  in_addr a{}, b{};
+  if (inet_pton(AF_INET, src_ip.c_str(), &a) != 1) throw std::runtime_error("not an IPv4 address: " + src_ip);
+  if (inet_pton(AF_INET, dst_ip.c_str(), &b) != 1) throw std::runtime_error("not an IPv4 address: " + dst_ip);
+  src_ip_ = a.s_addr;
+  dst_ip_ = b.s_addr;
+  pcap_ = pcap_open_dead_with_tstamp_precision(DLT_EN10MB, 65535, PCAP_TSTAMP_PRECISION_MICRO);
+  if (!pcap_) throw std::runtime_error("pcap_open_dead failed");
+  dumper_ = pcap_dump_open(pcap_, path.c_str());
+  if (!dumper_) {
+    std::string why = pcap_geterr(pcap_);
+    pcap_close(pcap_);
+    pcap_ = nullptr;
+    throw std::runtime_error("cannot write capture " + path + ": " + why);
+  }
+}
+
+PcapUdpWriter::~PcapUdpWriter() { close(); }
+
+void PcapUdpWriter::close() {
+  if (dumper_) pcap_dump_close(dumper_);
+  if (pcap_) pcap_close(pcap_);
+  dumper_ = nullptr;
+  pcap_ = nullptr;
+}
+
+void PcapUdpWriter::write(int64_t utime, int src_port, int dst_port, const uint8_t* payload, size_t size) {
+  if (!dumper_) throw std::runtime_error("capture already closed");
+  constexpr size_t kIpv4Header = 20;
+  if (size > 65535 - kIpv4Header - kUdpHeader) throw std::runtime_error("datagram too large for one IPv4 packet");
+  std::vector<uint8_t> f(kEthernetHeader + kIpv4Header + kUdpHeader + size, 0);
+  auto put16 = [&](size_t at, unsigned v) {
+    f[at] = static_cast<uint8_t>(v >> 8);
+    f[at + 1] = static_cast<uint8_t>(v & 0xFF);
+  };
+  // Ethernet: locally administered MACs, IPv4.
+  const uint8_t dst_mac[6] = {0x02, 0, 0, 0, 0, 0x02}, src_mac[6] = {0x02, 0, 0, 0, 0, 0x01};
+  std::memcpy(&f[0], dst_mac, 6);
+  std::memcpy(&f[6], src_mac, 6);
+  put16(12, kEtherTypeIpv4);
+  uint8_t* ip = &f[kEthernetHeader];
+  ip[0] = 0x45;
+  put16(kEthernetHeader + 2, static_cast<unsigned>(kIpv4Header + kUdpHeader + size));
+  put16(kEthernetHeader + 4, ip_id_++);
+  put16(kEthernetHeader + 6, 0x4000);  // don't fragment
+  ip[8] = 64;
+  ip[9] = kIpProtoUdp;
+  std::memcpy(ip + 12, &src_ip_, 4);
+  std::memcpy(ip + 16, &dst_ip_, 4);
+  uint32_t sum = 0;
+  for (size_t i = 0; i < kIpv4Header; i += 2) sum += static_cast<uint32_t>((ip[i] << 8) | ip[i + 1]);
+  while (sum >> 16) sum = (sum & 0xFFFF) + (sum >> 16);
+  put16(kEthernetHeader + 10, ~sum & 0xFFFF);
+  const size_t udp = kEthernetHeader + kIpv4Header;
+  put16(udp, static_cast<unsigned>(src_port));
+  put16(udp + 2, static_cast<unsigned>(dst_port));
+  put16(udp + 4, static_cast<unsigned>(kUdpHeader + size));  // checksum 0: not computed (allowed in IPv4)
+  std::memcpy(&f[udp + kUdpHeader], payload, size);
+  pcap_pkthdr hdr{};
+  hdr.ts.tv_sec = static_cast<time_t>(utime / 1'000'000);
+  hdr.ts.tv_usec = static_cast<suseconds_t>(utime % 1'000'000);
+  hdr.caplen = hdr.len = static_cast<bpf_u_int32>(f.size());
+  pcap_dump(reinterpret_cast<u_char*>(dumper_), &hdr, f.data());
+}
+
 }  // namespace evade::sensing

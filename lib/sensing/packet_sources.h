@@ -10,6 +10,7 @@
 #include <vector>
 
 typedef struct pcap pcap_t;
+typedef struct pcap_dumper pcap_dumper_t;
 
 namespace evade::sensing {
 
@@ -43,6 +44,27 @@ class PcapUdpReader {
   int link_type_ = 0;
   std::map<std::string, int64_t> skipped_;
   std::string error_;
+};
+
+// Writes UDP datagrams into a libpcap capture (Ethernet, IPv4, microsecond
+// time stamps), as a sensor's traffic would be recorded: for synthetic
+// captures (build/bin/sim-pcap) and tests. Throws std::runtime_error.
+class PcapUdpWriter {
+ public:
+  // Datagrams go from src (the sensor) to dst (the host); addresses in
+  // dotted IPv4.
+  PcapUdpWriter(const std::string& path, const std::string& src_ip, const std::string& dst_ip);
+  ~PcapUdpWriter();
+  PcapUdpWriter(const PcapUdpWriter&) = delete;
+  PcapUdpWriter& operator=(const PcapUdpWriter&) = delete;
+  void write(int64_t utime, int src_port, int dst_port, const uint8_t* payload, size_t size);
+  void close();  // flushes; the destructor closes too
+
+ private:
+  pcap_t* pcap_ = nullptr;
+  pcap_dumper_t* dumper_ = nullptr;
+  uint32_t src_ip_ = 0, dst_ip_ = 0;  // network order
+  uint16_t ip_id_ = 0;
 };
 
 // A non-blocking UDP socket bound to address:port with the kernel's

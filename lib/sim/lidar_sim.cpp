@@ -1,6 +1,9 @@
 #include "sim/lidar_sim.h"
 
 #include <cmath>
+#include <stdexcept>
+
+#include "sim/rs_helios_sim.h"
 
 namespace evade::sim {
 namespace v = sensing::vlp16;
@@ -17,17 +20,28 @@ int azimuth_gap(int a, int b) {
 }
 }  // namespace
 
-Vlp16Simulator::Vlp16Simulator(const LidarSimParams& params, int64_t start_us)
-    : p_(params), start_us_(start_us), rng_(params.noise_seed) {
-  double cr = std::cos(p_.mount_roll_rad), sr = std::sin(p_.mount_roll_rad);
-  double cp = std::cos(p_.mount_pitch_rad), sp = std::sin(p_.mount_pitch_rad);
-  double cy = std::cos(p_.mount_yaw_rad), sy = std::sin(p_.mount_yaw_rad);
+void mount_rotation(const LidarSimParams& p, double out[3][3]) {
+  double cr = std::cos(p.mount_roll_rad), sr = std::sin(p.mount_roll_rad);
+  double cp = std::cos(p.mount_pitch_rad), sp = std::sin(p.mount_pitch_rad);
+  double cy = std::cos(p.mount_yaw_rad), sy = std::sin(p.mount_yaw_rad);
   // R = Rz(yaw) Ry(pitch) Rx(roll)
   double r[3][3] = {{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
                     {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
                     {-sp, cp * sr, cp * cr}};
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) mount_rot_[i][j] = r[i][j];
+    for (int j = 0; j < 3; ++j) out[i][j] = r[i][j];
+}
+
+std::unique_ptr<LidarSimulator> make_lidar_simulator(const std::string& model, const LidarSimParams& params,
+                                                     int64_t start_us) {
+  if (model == "vlp16") return std::make_unique<Vlp16Simulator>(params, start_us);
+  if (model == "rs_helios") return std::make_unique<RsHeliosSimulator>(params, start_us);
+  throw std::invalid_argument("unknown LiDAR model '" + model + "' (vlp16 | rs_helios)");
+}
+
+Vlp16Simulator::Vlp16Simulator(const LidarSimParams& params, int64_t start_us)
+    : p_(params), start_us_(start_us), rng_(params.noise_seed) {
+  mount_rotation(p_, mount_rot_);
   for (int l = 0; l < v::kLasers; ++l) {
     const double el = v::kLaserTable[static_cast<size_t>(l)].elevation_deg * kDegToRad;
     cos_el_[static_cast<size_t>(l)] = std::cos(el);
@@ -120,7 +134,7 @@ Packet Vlp16Simulator::make_packet(const WorldAt& world) {
     }
   }
   ++next_packet_;
-  return enc.encode();
+  return Packet::of(enc.encode(), LidarPort::kData);
 }
 
 }  // namespace evade::sim

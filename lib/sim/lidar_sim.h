@@ -1,3 +1,8 @@
+// The simulated LiDARs. `LidarSimulator` is what the sim core drives: a
+// stream of packets, each complete at a known time, from a model picked by
+// the scenario's `lidar.model` (make_lidar_simulator). Vlp16Simulator is
+// below; RsHeliosSimulator in rs_helios_sim.h.
+//
 // The simulated Velodyne VLP-16: casts every firing of the real sensor
 // (16 lasers 2.304 us apart, a firing sequence every 55.296 us, 24
 // sequences per packet, so 753.5 packets/s) into the world as it is at that
@@ -13,11 +18,14 @@
 // and the configured range noise.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "sensing/vlp16.h"
@@ -46,9 +54,54 @@ struct WorldSnapshot {
 };
 using WorldAt = std::function<void(int64_t utime, WorldSnapshot* out)>;
 
-using Packet = std::array<uint8_t, sensing::vlp16::kPacketSize>;
+// One UDP payload and the sensor port it goes to: kData is the VLP-16's
+// data port or the RS-Helios MSOP port, kDifop the RS-Helios DIFOP port.
+enum class LidarPort { kData, kDifop };
+struct Packet {
+  static constexpr size_t kMaxSize = 1248;  // the larger of the two models' payloads
+  LidarPort port = LidarPort::kData;
+  size_t length = 0;
+  std::array<uint8_t, kMaxSize> bytes{};
+  const uint8_t* data() const { return bytes.data(); }
+  size_t size() const { return length; }
+  const uint8_t* begin() const { return bytes.data(); }
+  const uint8_t* end() const { return bytes.data() + length; }
+  template <size_t N>
+  static Packet of(const std::array<uint8_t, N>& b, LidarPort port) {
+    static_assert(N <= kMaxSize, "packet too large");
+    Packet p;
+    p.port = port;
+    p.length = N;
+    std::copy(b.begin(), b.end(), p.bytes.begin());
+    return p;
+  }
+  bool operator==(const Packet& o) const {
+    return port == o.port && length == o.length && std::equal(begin(), end(), o.begin());
+  }
+};
 
-class Vlp16Simulator {
+// A simulated sensor: the packets it sends, in order, each built when due.
+class LidarSimulator {
+ public:
+  virtual ~LidarSimulator() = default;
+  // The next packet is complete (data: its last firing done) at this time.
+  virtual int64_t next_packet_ready_us() const = 0;
+  // Builds the next packet, casting against world(t) at each firing's time.
+  virtual Packet make_packet(const WorldAt& world) = 0;
+  // Drops the next packet unbuilt (the sender fell behind).
+  virtual void skip_packet() = 0;
+  virtual int64_t packets_made() const = 0;
+};
+
+// The sensor base -> robot base rotation of a mount (R = Rz(yaw) Ry(pitch) Rx(roll)).
+void mount_rotation(const LidarSimParams& p, double r[3][3]);
+
+// "vlp16" or "rs_helios" (the scenario's lidar.model); throws
+// std::invalid_argument for any other.
+std::unique_ptr<LidarSimulator> make_lidar_simulator(const std::string& model, const LidarSimParams& params,
+                                                     int64_t start_us);
+
+class Vlp16Simulator : public LidarSimulator {
  public:
   static constexpr double kPacketPeriodUs =
       sensing::vlp16::kBlocksPerPacket * sensing::vlp16::kBlockPeriodUs;  // 1327.104 us
@@ -61,13 +114,13 @@ class Vlp16Simulator {
   static double packet_offset_us(int64_t k) { return k * kPacketPeriodUs; }
   int64_t packet_start_us(int64_t k) const { return start_us_ + std::llround(packet_offset_us(k)); }
   // The next packet is complete (its last firing done) at this time.
-  int64_t next_packet_ready_us() const;
-  int64_t packets_made() const { return next_packet_; }
+  int64_t next_packet_ready_us() const override;
+  int64_t packets_made() const override { return next_packet_; }
 
   // Builds the next packet: every firing cast against world(t) at its time.
-  Packet make_packet(const WorldAt& world);
+  Packet make_packet(const WorldAt& world) override;
   // Drops the next packet unbuilt (the sender fell behind).
-  void skip_packet() { ++next_packet_; }
+  void skip_packet() override { ++next_packet_; }
 
   // Sensor azimuth (deg, [0, 360)) `offset_us` after the start.
   double azimuth_at_offset(double offset_us) const;

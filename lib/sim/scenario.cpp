@@ -116,8 +116,10 @@ Scenario read_scenario(const config::Node& root) {
   }
 
   config::Node lidar = root.section("lidar");
-  sc.lidar.model = lidar.get_choice("model", {"vlp16"});
+  sc.lidar.model = lidar.get_choice("model", {"vlp16", "rs_helios"});
   sc.lidar.rate_hz = lidar.get_double("rate_hz", 5.0, 20.0);  // VLP-16 motor range (300-1200 rpm)
+  if (sc.lidar.model == "rs_helios" && sc.lidar.rate_hz != 10.0 && sc.lidar.rate_hz != 20.0)
+    lidar.fail("rate_hz", "the RS-Helios turns at 10 or 20 Hz (600 or 1200 rpm)");
   sc.lidar.height = lidar.get_double("height", 0.0, 10.0);
   sc.lidar.range_noise_std = lidar.get_double("range_noise_std", 0.0, 1.0);
   lidar.close();

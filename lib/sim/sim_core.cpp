@@ -1,6 +1,7 @@
 #include "sim/sim_core.h"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace evade::sim {
 namespace {
@@ -16,6 +17,11 @@ SimParams SimParams::from_config(const config::Node& root) {
   p.device_path = s.get<std::string>("device_path");
   p.lidar_dest_host = s.get<std::string>("lidar_dest_host");
   p.lidar_dest_port = s.get_int("lidar_dest_port", 1, 65535);
+  p.rs_helios_msop_dest_port = s.get_int("rs_helios_msop_dest_port", 1, 65535);
+  p.rs_helios_difop_dest_port = s.get_int("rs_helios_difop_dest_port", 1, 65535);
+  if (p.rs_helios_msop_dest_port == p.rs_helios_difop_dest_port)
+    s.fail("rs_helios_difop_dest_port", "must differ from rs_helios_msop_dest_port");
+  p.robot_body_height_m = s.get_double("robot_body_height_m", 0.0, 10.0);
   p.truth_period_us = period_us_from_hz(s, "truth_rate_hz");
   p.status_period_us = period_us_from_hz(s, "status_rate_hz");
   p.lidar_period_us = us_from_s(s.get_double("lidar_send_period_s", 1e-4, 0.01));
@@ -44,12 +50,20 @@ SimParams SimParams::from_config(const config::Node& root) {
   return p;
 }
 
+int SimParams::dest_port(const std::string& model, LidarPort port) const {
+  if (model == "vlp16") return lidar_dest_port;
+  return port == LidarPort::kDifop ? rs_helios_difop_dest_port : rs_helios_msop_dest_port;
+}
+
 SimCore::SimCore(const Scenario& scenario, const SimParams& params)
     : bus::Core("sim"), scenario_(scenario), params_(params) {
   params_.lidar.rate_hz = scenario_.lidar.rate_hz;
   params_.lidar.range_noise_std_m = scenario_.lidar.range_noise_std;
   params_.lidar.mount_height_m = scenario_.lidar.height;
   params_.lidar.noise_seed = scenario_.seed;
+  if (params_.robot_body_height_m >= params_.lidar.mount_height_m)
+    throw std::invalid_argument("sim.robot_body_height_m must be below the LiDAR (scenario lidar.height)");
+  make_lidar_simulator(scenario_.lidar.model, params_.lidar, 0);  // refuses what it cannot simulate, now
 
   every(params_.lidar_period_us, [this] {
     start(now());
@@ -69,7 +83,7 @@ void SimCore::start(int64_t now) {
   if (robot_) return;
   start_us_ = now;
   robot_ = std::make_unique<UnicycleRobot>(scenario_.start, params_.robot, now);
-  lidar_ = std::make_unique<Vlp16Simulator>(params_.lidar, now);
+  lidar_ = make_lidar_simulator(scenario_.lidar.model, params_.lidar, now);
 }
 
 bool SimCore::finished() const {
@@ -103,9 +117,23 @@ void SimCore::world_at(int64_t utime, WorldSnapshot* out) const {
   }
 }
 
+void SimCore::lidar_world_at(int64_t utime, WorldSnapshot* out) const {
+  world_at(utime, out);
+  if (params_.robot_body_height_m <= 0.0) return;
+  Solid body;
+  body.shape = Shape::kBox;
+  body.x = out->robot.x;
+  body.y = out->robot.y;
+  body.yaw = out->robot.yaw;
+  body.length = scenario_.footprint_length;
+  body.width = scenario_.footprint_width;
+  body.height = params_.robot_body_height_m;
+  out->solids.push_back(body);
+}
+
 void SimCore::send_due_packets() {
   robot_->advance_to(now());
-  WorldAt world = [this](int64_t t, WorldSnapshot* out) { world_at(t, out); };
+  WorldAt world = [this](int64_t t, WorldSnapshot* out) { lidar_world_at(t, out); };
   while (lidar_->next_packet_ready_us() <= now()) {
     if (now() - lidar_->next_packet_ready_us() > params_.lidar_max_lag_us) {
       lidar_->skip_packet();

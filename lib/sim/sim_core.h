@@ -1,11 +1,12 @@
-// The simulator's process core: the world (robot + obstacles), the VLP-16
-// and the emulated Scout base, driven only by bus time. It never touches a
+// The simulator's process core: the world (robot + obstacles), the LiDAR
+// of the scenario's lidar.model (VLP-16 or RS-Helios) and the emulated
+// Scout base, driven only by bus time. It never touches a
 // socket or a clock: the main (procs/sim) hands it the bytes read from the
 // pseudo-terminal (on_serial_bytes, inside Core::input) and gives it two
 // sinks, one for the LiDAR packets it produces (sent over UDP) and one for
 // the Scout status bytes (written to the pty). Tests run it on a MemoryBus.
 //
-// Timers: LiDAR packets are produced as soon as their last firing is past
+// Timers: LiDAR packets (each with the port it goes to) are produced as soon as their last firing is past
 // (checked every lidar_period_us); Scout system + motion status every
 // status_period_us; SIM_TRUTH every truth_period_us; HEALTH every second.
 #pragma once
@@ -31,7 +32,12 @@ struct SimParams {
   // Pseudo-terminal link and LiDAR destination (overridable by flags).
   std::string device_path = "/tmp/evade_scout";
   std::string lidar_dest_host = "127.0.0.1";
-  int lidar_dest_port = 2368;
+  int lidar_dest_port = 2368;            // VLP-16 data packets
+  int rs_helios_msop_dest_port = 6699;   // RS-Helios point packets
+  int rs_helios_difop_dest_port = 7788;  // RS-Helios device info packets
+  // The robot's own body as the LiDAR sees it: a box over the footprint
+  // from the ground to this height (0: no body). Below the sensor.
+  double robot_body_height_m = 0.0;
 
   int64_t truth_period_us = 20'000;
   int64_t status_period_us = 20'000;
@@ -51,6 +57,8 @@ struct SimParams {
   // Reads the `sim` section (closed), the accelerations of `robot` and
   // `lidar.mount` (those sections are shared: not closed here).
   static SimParams from_config(const config::Node& root);
+  // The UDP port a packet goes to.
+  int dest_port(const std::string& model, LidarPort port) const;
 };
 
 class SimCore : public bus::Core {
@@ -58,6 +66,8 @@ class SimCore : public bus::Core {
   using PacketSink = std::function<void(const Packet&)>;
   using SerialSink = std::function<void(const uint8_t* data, size_t size)>;
 
+  // Throws std::invalid_argument when the scenario's LiDAR cannot be
+  // simulated with these parameters (model rate, body above the sensor).
   SimCore(const Scenario& scenario, const SimParams& params);
 
   void set_packet_sink(PacketSink sink) { packet_sink_ = std::move(sink); }
@@ -77,6 +87,8 @@ class SimCore : public bus::Core {
   // The world at `utime` (robot pose from the robot's history, obstacles
   // from their motion models). Valid once started.
   void world_at(int64_t utime, WorldSnapshot* out) const;
+  // The same as the LiDAR sees it: plus the robot's own body, if modelled.
+  void lidar_world_at(int64_t utime, WorldSnapshot* out) const;
   evade::sim_truth_t truth_at(int64_t utime);
   const UnicycleRobot* robot() const { return robot_.get(); }
   const Scenario& scenario() const { return scenario_; }
@@ -93,7 +105,7 @@ class SimCore : public bus::Core {
   Scenario scenario_;
   SimParams params_;
   std::unique_ptr<UnicycleRobot> robot_;
-  std::unique_ptr<Vlp16Simulator> lidar_;
+  std::unique_ptr<LidarSimulator> lidar_;
   int64_t start_us_ = 0;
   base::StreamParser parser_;
   base::ParserStats reported_{};

@@ -6,7 +6,8 @@
 // The core (lib/sim/sim_core.h) holds the world and is socket-free; this
 // main owns the I/O: a pseudo-terminal pair whose slave is linked at the
 // configured device path (the emulated Scout base; base_driver opens it),
-// a UDP socket that sends the VLP-16 packets to lidar_driver, and LCM for
+// UDP sockets that send the LiDAR packets to lidar_driver (VLP-16 data, or
+// RS-Helios MSOP and DIFOP, by the scenario's lidar.model), and LCM for
 // SIM_TRUTH and HEALTH.
 //
 // Time: the sim clock is the host clock (bus::bus_utime), so every
@@ -157,15 +158,61 @@ bool parse_dest(const std::string& s, std::string* host, int* port) {
 
 }  // namespace
 
+namespace {
+
+// The LiDAR's UDP destinations: data (VLP-16 data, RS-Helios MSOP) and,
+// for the RS-Helios, DIFOP, on the host of sim.lidar_dest_host.
+class LidarSenders {
+ public:
+  LidarSenders(const evade::sim::SimParams& p, const std::string& model)
+      : host_(p.lidar_dest_host),
+        model_(model),
+        data_port_(p.dest_port(model, evade::sim::LidarPort::kData)),
+        difop_port_(p.dest_port(model, evade::sim::LidarPort::kDifop)),
+        data_(host_, data_port_),
+        difop_(host_, difop_port_) {}
+  bool send(const evade::sim::Packet& p) {
+    return (p.port == evade::sim::LidarPort::kDifop ? difop_ : data_).send(p.data(), p.size());
+  }
+  std::string describe() const {
+    std::string s = model_ + " to " + host_ + ":" + std::to_string(data_port_);
+    if (model_ != "vlp16") s += " (DIFOP :" + std::to_string(difop_port_) + ")";
+    return s;
+  }
+
+ private:
+  std::string host_, model_;
+  int data_port_, difop_port_;
+  UdpSender data_, difop_;
+};
+
+// The drivers decode what the configuration says; warn when it is not what
+// the scenario simulates.
+void warn_on_lidar_mismatch(const evade::config::Node& root, const evade::sim::Scenario& scenario) {
+  const evade::config::Node lidar = root.section("lidar");
+  if (lidar.has("model") && lidar.get<std::string>("model") != scenario.lidar.model)
+    std::fprintf(stderr, "sim: warning: scenario lidar model %s differs from lidar.model %s in the config\n",
+                 scenario.lidar.model.c_str(), lidar.get<std::string>("model").c_str());
+  if (lidar.section("mount").has("z_m")) {
+    double z = lidar.section("mount").get<double>("z_m");
+    if (std::abs(z - scenario.lidar.height) > 1e-6)
+      std::fprintf(stderr, "sim: warning: scenario lidar height %.3f m differs from lidar.mount.z_m %.3f m in the config\n",
+                   scenario.lidar.height, z);
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  CLI::App app{"evade sim: the simulated world (VLP-16 UDP packets, Scout UART on a pty, SIM_TRUTH)"};
+  CLI::App app{"evade sim: the simulated world (VLP-16 or RS-Helios UDP packets, Scout UART on a pty, SIM_TRUTH)"};
   std::string scenario_path, config_path, lcm_url, device, lidar_dest;
   double speed = 1.0;
   app.add_option("--scenario", scenario_path, "scenario YAML (SPEC.md format)")->required();
   app.add_option("--config", config_path, "robot configuration (default config/robot.yaml)");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   app.add_option("--device", device, "link the emulated Scout's pty here (default: sim.device_path)");
-  app.add_option("--lidar-dest", lidar_dest, "HOST:PORT for the VLP-16 packets (default: sim.lidar_dest_*)");
+  app.add_option("--lidar-dest", lidar_dest,
+                 "HOST:PORT for the LiDAR's data packets (VLP-16 data, RS-Helios MSOP; default: sim.*dest*)");
   app.add_option("--speed", speed, "world time / wall time (1 = real time; see the limits in the source)")
       ->check(CLI::Range(0.01, 100.0));
   try {
@@ -186,18 +233,15 @@ int main(int argc, char** argv) {
     die(e.what(), 2);
   }
   if (!device.empty()) params.device_path = device;
-  if (!lidar_dest.empty() && !parse_dest(lidar_dest, &params.lidar_dest_host, &params.lidar_dest_port))
+  const bool vlp16 = scenario.lidar.model == "vlp16";
+  if (!lidar_dest.empty() &&
+      !parse_dest(lidar_dest, &params.lidar_dest_host, vlp16 ? &params.lidar_dest_port : &params.rs_helios_msop_dest_port))
     die("--lidar-dest '" + lidar_dest + "': expected HOST:PORT", 2);
-  if (root.section("lidar").section("mount").has("z_m")) {
-    double z = root.section("lidar").section("mount").get<double>("z_m");
-    if (std::abs(z - scenario.lidar.height) > 1e-6)
-      std::fprintf(stderr, "sim: warning: scenario lidar height %.3f m differs from lidar.mount.z_m %.3f m in the config\n",
-                   scenario.lidar.height, z);
-  }
+  warn_on_lidar_mismatch(root, scenario);
 
   try {
     PseudoTerminal pty(params.device_path);
-    UdpSender udp(params.lidar_dest_host, params.lidar_dest_port);
+    LidarSenders lidar(params, scenario.lidar.model);
     const std::string url = lcm_url.empty() ? evade::bus::default_lcm_url() : lcm_url;
     SimCore core(scenario, params);
     evade::bus::guard_bus("sim", url, root, {&core});
@@ -205,7 +249,7 @@ int main(int argc, char** argv) {
 
     core.attach(&bus);  // publishes through LCM; the sim clock below drives it
     core.set_packet_sink([&](const evade::sim::Packet& p) {
-      if (!udp.send(p.data(), p.size())) core.count_io("lidar_send_errors");
+      if (!lidar.send(p)) core.count_io("lidar_send_errors");
     });
     core.set_serial_sink([&](const uint8_t* data, size_t size) {
       if (pty.unread() > params.pty_backlog_bytes) {
@@ -231,9 +275,9 @@ int main(int argc, char** argv) {
       }
     });
 
-    std::fprintf(stderr, "sim: scenario %s (%zu obstacles, %.0f s); Scout on %s -> %s; VLP-16 to %s:%d; speed %.2f\n",
+    std::fprintf(stderr, "sim: scenario %s (%zu obstacles, %.0f s); Scout on %s -> %s; %s; speed %.2f\n",
                  scenario.name.c_str(), scenario.obstacles.size(), scenario.duration_s, params.device_path.c_str(),
-                 pty.slave_path().c_str(), params.lidar_dest_host.c_str(), params.lidar_dest_port, speed);
+                 pty.slave_path().c_str(), lidar.describe().c_str(), speed);
     const std::atomic<bool>& stop = evade::bus::stop_on_signals();
     core.advance_to(sim_now(evade::bus::bus_utime()));
     while (!stop.load() && !core.finished()) {
@@ -244,6 +288,8 @@ int main(int argc, char** argv) {
     }
     if (core.finished()) std::fprintf(stderr, "sim: scenario duration %.0f s reached\n", scenario.duration_s);
   } catch (const evade::config::ConfigError& e) {  // the bus: section
+    die(e.what(), 2);
+  } catch (const std::invalid_argument& e) {  // a LiDAR the sim cannot simulate with this configuration
     die(e.what(), 2);
   } catch (const std::exception& e) {
     die(e.what());

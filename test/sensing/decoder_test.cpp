@@ -11,6 +11,7 @@
 #include "evade/health_t.hpp"
 #include "sensing/lidar_decoder.h"
 #include "sensing/lidar_driver_core.h"
+#include "sensing/rs_helios.h"
 #include "synthetic.h"
 
 namespace evade::sensing {
@@ -248,6 +249,95 @@ TEST(LidarDecoder, RandomBytesNeverCrash) {
   }
 }
 
+// ---------------------------------------------------------- self-filter
+
+// Sensor-frame coordinates of a base-frame point, for a mount pose (the
+// inverse of R = Rz(yaw) Ry(pitch) Rx(roll) plus the mount offset).
+void base_to_sensor(const evade::pose3d_t& m, double bx, double by, double bz, float* x, float* y, float* z) {
+  const double cr = std::cos(m.roll), sr = std::sin(m.roll), cp = std::cos(m.pitch), sp = std::sin(m.pitch);
+  const double cy = std::cos(m.yaw), sy = std::sin(m.yaw);
+  const double r[3][3] = {{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
+                          {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
+                          {-sp, cp * sr, cp * cr}};
+  const double d[3] = {bx - m.x, by - m.y, bz - m.z};
+  *x = static_cast<float>(r[0][0] * d[0] + r[1][0] * d[1] + r[2][0] * d[2]);
+  *y = static_cast<float>(r[0][1] * d[0] + r[1][1] * d[1] + r[2][1] * d[2]);
+  *z = static_cast<float>(r[0][2] * d[0] + r[1][2] * d[1] + r[2][2] * d[2]);
+}
+
+TEST(SelfFilter, DropsTheFootprintColumnGrownByTheMarginWhateverTheMount) {
+  evade::pose3d_t mount;
+  mount.x = 0.2;
+  mount.y = -0.1;
+  mount.z = 0.9;
+  mount.roll = 0.05;
+  mount.pitch = 0.3;  // tilted forward, looking down
+  mount.yaw = 0.4;
+  SelfFilterParams p{true, 0.93, 0.70, 0.05};  // Scout 2.0 sized: grown to 1.03 x 0.80
+  SelfFilter f(p, mount);
+  float x, y, z;
+  for (double bz : {0.0, 0.3, 0.9, 1.5}) {
+    for (double bx : {-0.5, 0.0, 0.3, 0.51}) {
+      base_to_sensor(mount, bx, 0.39, bz, &x, &y, &z);
+      EXPECT_TRUE(f.inside(x, y, z)) << bx << " " << bz;
+      base_to_sensor(mount, bx, 0.41, bz, &x, &y, &z);
+      EXPECT_FALSE(f.inside(x, y, z)) << bx << " " << bz;
+    }
+    base_to_sensor(mount, 0.53, 0.0, bz, &x, &y, &z);
+    EXPECT_FALSE(f.inside(x, y, z));
+    base_to_sensor(mount, -0.53, -0.2, bz, &x, &y, &z);
+    EXPECT_FALSE(f.inside(x, y, z));
+  }
+  SelfFilter off(SelfFilterParams{false, 0.93, 0.70, 0.05}, mount);
+  EXPECT_FALSE(off.enabled());
+}
+
+// An RS-Helios mounted 0.9 m up on a Scout-sized robot: its -55 deg
+// channel at 0.6 m lands on the robot (0.34 m out), its -22 deg channel at
+// 2.4 m on the ground beyond; only the second is kept, and the first is counted.
+TEST(SelfFilter, TheDecoderDropsReturnsOnTheRobotsBody) {
+  rs_helios::DifopEncoder difop;
+  for (int c = 0; c < rs_helios::kChannels; ++c) difop.vertical_deg[c] = 15.0 - 70.0 * c / 31.0;
+  difop.vertical_deg[31] = -55.0;
+  difop.vertical_deg[20] = -22.0;
+  auto difop_bytes = difop.encode();
+  auto run_once = [&](bool enabled, std::map<std::string, int64_t>* counts) {
+    LidarDecoderParams p;
+    p.model = LidarModel::kRsHelios;
+    p.mount.z = 0.9;
+    p.self_filter = SelfFilterParams{enabled, 0.93, 0.70, 0.05};
+    LidarDecoder dec(p, [&](const std::string& n, int64_t k) { (*counts)[n] += k; });
+    std::vector<Revolution> out;
+    dec.feed(difop_bytes.data(), difop_bytes.size(), 1'000'000, &out);
+    for (int k = 0; k < 3; ++k) {
+      rs_helios::MsopEncoder m;
+      for (int b = 0; b < rs_helios::kBlocksPerPacket; ++b) {
+        m.blocks[b].azimuth_deg = std::fmod(350.0 + 0.2 * (12 * k + b), 360.0);
+        m.blocks[b].distance_m[31] = 0.6;
+        m.blocks[b].distance_m[20] = 2.4;
+      }
+      m.utc_us = 1'000'000 + k * 667;
+      auto bytes = m.encode();
+      dec.feed(bytes.data(), bytes.size(), 1'001'000 + k * 667, &out);
+    }
+    dec.flush(&out);
+    std::vector<int> lasers;
+    for (const auto& r : out)
+      for (int i = 0; i < r.cloud.n; ++i) lasers.push_back(r.cloud.ring[i]);
+    return lasers;
+  };
+  std::map<std::string, int64_t> with, without;
+  auto kept = run_once(true, &with);
+  auto all = run_once(false, &without);
+  EXPECT_EQ(all.size(), 2u * 36u);     // 36 firings, two returns each
+  ASSERT_EQ(kept.size(), 36u);
+  rs_helios::Calibration cal;
+  ASSERT_EQ(rs_helios::parse_difop(difop_bytes.data(), difop_bytes.size(), &cal), rs_helios::PacketStatus::kOk);
+  for (int ring : kept) EXPECT_EQ(ring, cal.ring[20]);  // the -22 deg channel
+  EXPECT_EQ(with["self_filtered_points"], 36);
+  EXPECT_EQ(without["self_filtered_points"], 0);
+}
+
 // ---------------------------------------------------------------- the core
 
 config::Node test_config(const std::string& model = "vlp16") {
@@ -268,6 +358,9 @@ lidar_driver:
   time_source: receive
   max_packets_per_revolution: 1000
   publish_scan: true
+  self_filter: true
+  self_filter_margin_m: 0.05
+robot: {footprint_length_m: 0.42, footprint_width_m: 0.31}
 )",
                              "test.yaml");
 }
@@ -278,6 +371,9 @@ TEST(LidarDriverConfig, ReadsRobotYamlAndRejectsBadValues) {
   EXPECT_EQ(p.ports(), std::vector<int>{2368});
   auto q = LidarDriverParams::from_config(test_config("rs_helios"));
   EXPECT_EQ(q.ports(), (std::vector<int>{6699, 7788}));
+  EXPECT_TRUE(q.decoder.self_filter.enabled);
+  EXPECT_DOUBLE_EQ(q.decoder.self_filter.margin_m, 0.05);
+  EXPECT_DOUBLE_EQ(q.decoder.self_filter.footprint_length_m, 0.42);
   EXPECT_DOUBLE_EQ(q.decoder.mount.pitch, 0.01);
   std::string bad = R"(
 lidar: {model: vlp16, mount: {x_m: 0, y_m: 0, z_m: 0.5, roll_rad: 0, pitch_rad: 0, yaw_rad: 0}}

@@ -4,7 +4,8 @@
 //      fed with advancing receive times through a LidarDecoder, whose
 //      LIDAR_SCAN records are then replayed through a second decoder: the
 //      clouds must come out byte-identical (the replay contract), else the
-//      target aborts. Nothing may crash, hang or read out of bounds.
+//      target aborts. Nothing may crash, hang or read out of bounds. Half
+//      the inputs run with the footprint self-filter on.
 #pragma once
 
 #include <cstdint>
@@ -44,6 +45,10 @@ inline int fuzz_lidar(LidarModel model, const uint8_t* data, size_t size) {
   if (size > 0) {
     p.cut_azimuth_deg = (data[0] >> 1) * (360.0 / 128.0);
     p.time_source = (size > 1 && (data[1] & 1)) ? TimeSource::kSensor : TimeSource::kReceive;
+    // The footprint self-filter on half the inputs, under a tilted mount.
+    p.self_filter = SelfFilterParams{size > 1 && (data[1] & 2) != 0, 0.93, 0.70, 0.05};
+    p.mount.z = 0.9;
+    p.mount.pitch = size > 1 ? (data[1] >> 2) * 0.01 : 0.0;
   }
   LidarDecoder live(p, nullptr);
   std::vector<Revolution> revs;

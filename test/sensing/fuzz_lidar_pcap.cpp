@@ -1,6 +1,6 @@
 // libFuzzer target: capture files. The input is a pcap file in memory; every
-// UDP datagram the reader finds goes through a VLP-16 decoder, as in
-// `lidar_driver --pcap`. Malformed headers, link types, IP/UDP lengths and
+// UDP datagram the reader finds goes through a VLP-16 and an RS-Helios
+// decoder (with the footprint self-filter), as in `lidar_driver --pcap`. Malformed headers, link types, IP/UDP lengths and
 // truncated records must be skipped, never crash.
 #include <cstdio>
 #include <stdexcept>
@@ -17,14 +17,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     evade::sensing::PcapUdpReader reader(f, "fuzz input");
     evade::sensing::LidarDecoder dec({}, nullptr);
+    evade::sensing::LidarDecoderParams helios_params;
+    helios_params.model = evade::sensing::LidarModel::kRsHelios;
+    helios_params.self_filter = evade::sensing::SelfFilterParams{true, 0.93, 0.70, 0.05};
+    evade::sensing::LidarDecoder helios(helios_params, nullptr);
     std::vector<evade::sensing::Revolution> out;
     evade::sensing::UdpDatagram d;
     for (int i = 0; i < 10000 && reader.next(&d); ++i) {
       if (d.truncated) continue;
       dec.feed(d.payload.data(), d.payload.size(), d.utime, &out);
+      helios.feed(d.payload.data(), d.payload.size(), d.utime, &out);
       out.clear();
     }
     dec.flush(&out);
+    helios.flush(&out);
   } catch (const std::runtime_error&) {
     // not a capture we can read: rejected with a reason, as intended
   }

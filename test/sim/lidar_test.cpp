@@ -1,12 +1,19 @@
-// The simulated VLP-16: packets decoded by lib/sensing's decoder (the one
-// lidar_driver runs) give points on the true surfaces, from a standing and
-// from a moving robot; timing, azimuth and noise are the sensor's.
+// The simulated VLP-16 and RS-Helios: packets decoded by lib/sensing's
+// decoders (the ones lidar_driver runs) give points on the true surfaces,
+// from a standing and from a moving robot; timing, packet rates, azimuth,
+// ring elevations and noise are the sensor's.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <set>
+#include <string>
 
+#include "sensing/lidar_decoder.h"
+#include "sensing/rs_helios.h"
 #include "sensing/vlp16.h"
 #include "sim/lidar_sim.h"
+#include "sim/rs_helios_sim.h"
 
 namespace evade::sim {
 namespace {
@@ -198,6 +205,231 @@ TEST(LidarSim, SameSeedSamePackets) {
   };
   Vlp16Simulator a(params(0.01), kStartUs), b(params(0.01), kStartUs);
   for (int i = 0; i < 5; ++i) EXPECT_EQ(a.make_packet(world), b.make_packet(world));
+}
+
+// ------------------------------------------------------------ RS-Helios
+namespace h = sensing::rs_helios;
+
+struct HeliosDecoded {
+  sensing::LidarReturn ret;
+  double fire_us;  // absolute firing time, from the packet's UTC header time
+};
+
+// Runs the simulator until `until_us`, decoding every packet as the driver
+// does (nothing before the first DIFOP). Counts packets by kind.
+struct HeliosRun {
+  std::vector<HeliosDecoded> points;
+  std::vector<int64_t> difop_ready_us, msop_utc_us;
+  h::Calibration cal;
+  bool have_cal = false;
+};
+HeliosRun run_helios(RsHeliosSimulator& sim, int64_t until_us, const WorldAt& world) {
+  HeliosRun r;
+  int64_t last_ready = 0;
+  while (sim.next_packet_ready_us() <= until_us) {
+    const int64_t ready = sim.next_packet_ready_us();
+    EXPECT_GE(ready, last_ready);  // packets come out in time order
+    last_ready = ready;
+    Packet p = sim.make_packet(world);
+    EXPECT_EQ(p.size(), h::kPacketSize);
+    if (p.port == LidarPort::kDifop) {
+      EXPECT_EQ(h::classify(p.data(), p.size()), h::PacketKind::kDifop);
+      EXPECT_EQ(h::parse_difop(p.data(), p.size(), &r.cal), h::PacketStatus::kOk);
+      r.have_cal = true;
+      r.difop_ready_us.push_back(ready);
+      continue;
+    }
+    EXPECT_EQ(h::classify(p.data(), p.size()), h::PacketKind::kMsop);
+    if (!r.have_cal) continue;
+    std::vector<sensing::LidarReturn> rets;
+    h::PacketInfo info;
+    EXPECT_EQ(h::decode_msop(p.data(), p.size(), r.cal, {}, &rets, &info), h::PacketStatus::kOk);
+    r.msop_utc_us.push_back(info.utc_us);
+    for (const auto& ret : rets)
+      r.points.push_back(HeliosDecoded{ret, static_cast<double>(info.utc_us) + static_cast<double>(ret.time_offset_us)});
+  }
+  return r;
+}
+
+void helios_to_world(const sensing::LidarReturn& r, const Pose2& pose, double height, double* x, double* y, double* z) {
+  double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+  *x = pose.x + c * r.x - s * r.y;
+  *y = pose.y + s * r.x + c * r.y;
+  *z = height + r.z;
+}
+
+TEST(RsHeliosSim, PacketRatesAreTheSensors) {
+  RsHeliosSimulator sim(params(0.0), kStartUs);
+  EXPECT_NEAR(RsHeliosSimulator::kPacketPeriodUs, 666.72, 1e-9);
+  EXPECT_NEAR(1e6 / RsHeliosSimulator::kPacketPeriodUs, 1499.88, 0.01);
+  WorldAt world = [](int64_t, WorldSnapshot* w) {
+    w->robot = Pose2{};
+    w->solids = {};
+  };
+  // 3 s of packets: a DIFOP at the start and every second after, MSOPs every 666.72 us.
+  HeliosRun r = run_helios(sim, kStartUs + 3'000'000, world);
+  ASSERT_EQ(r.difop_ready_us.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) EXPECT_EQ(r.difop_ready_us[i], kStartUs + static_cast<int64_t>(i) * 1'000'000);
+  EXPECT_EQ(sim.difop_made(), 4);
+  EXPECT_EQ(sim.msop_made(), 4499);  // floor(3e6 / 666.72) packets complete by then
+  ASSERT_EQ(r.msop_utc_us.size(), 4499u);
+  for (size_t k = 0; k < r.msop_utc_us.size(); ++k)
+    EXPECT_EQ(r.msop_utc_us[k], kStartUs + std::llround(k * 666.72)) << k;
+  EXPECT_EQ(r.cal.rpm, 600);
+  EXPECT_EQ(r.cal.return_mode, h::kStrongest);
+}
+
+TEST(RsHeliosSim, RingElevationsAreTheHelios5515s) {
+  RsHeliosSimulator sim(params(0.0), kStartUs);
+  WorldAt world = [](int64_t, WorldSnapshot* w) {
+    w->robot = Pose2{};
+    w->solids = {};
+  };
+  HeliosRun r = run_helios(sim, kStartUs + 110'000, world);
+  ASSERT_TRUE(r.have_cal);
+  // The DIFOP carries the nominal table: +15 deg (channel 1) to -55 deg
+  // (channel 32), 70 deg of vertical field of view, 1.33 deg apart at the horizon.
+  EXPECT_DOUBLE_EQ(r.cal.vertical_deg[0], 15.0);
+  EXPECT_DOUBLE_EQ(r.cal.vertical_deg[31], -55.0);
+  for (int c = 0; c < h::kChannels; ++c) {
+    EXPECT_NEAR(r.cal.vertical_deg[c], RsHeliosSimulator::kElevationDeg[static_cast<size_t>(c)], 1e-9);
+    EXPECT_NEAR(r.cal.horizontal_deg[c], (c % 2 == 0) ? -4.0 : 4.0, 1e-9);
+  }
+  EXPECT_EQ(r.cal.ring[31], 0);   // lowest
+  EXPECT_EQ(r.cal.ring[0], 31);   // highest
+  EXPECT_EQ(r.cal.ring[17], 13);  // -16 deg fires before -13 deg: rings follow elevation, not channel order
+  EXPECT_EQ(r.cal.ring[18], 14);
+  // Every downward channel sees the flat ground at the elevation it claims:
+  // z / horizontal distance = tan(elevation), from the sensor 0.5 m up.
+  int per_channel[h::kChannels] = {};
+  for (const auto& d : r.points) {
+    const int c = d.ret.laser;
+    ASSERT_LT(RsHeliosSimulator::kElevationDeg[static_cast<size_t>(c)], 0.0) << "an upward channel hit the ground";
+    EXPECT_NEAR(d.ret.z, -0.5, 0.002);
+    const double horizontal = std::hypot(d.ret.x - h::kOpticalCentreOffsetM * std::cos(d.ret.firing_azimuth_deg * M_PI / 180),
+                                         d.ret.y + h::kOpticalCentreOffsetM * std::sin(d.ret.firing_azimuth_deg * M_PI / 180));
+    EXPECT_NEAR(std::atan2(d.ret.z, horizontal) * 180 / M_PI, RsHeliosSimulator::kElevationDeg[static_cast<size_t>(c)], 0.2);
+    per_channel[c]++;
+  }
+  for (int c = 0; c < h::kChannels; ++c) {
+    if (RsHeliosSimulator::kElevationDeg[static_cast<size_t>(c)] < 0.0)
+      EXPECT_GT(per_channel[c], 1700) << c;  // about 1800 firings a revolution at 10 Hz
+    else
+      EXPECT_EQ(per_channel[c], 0) << c;
+  }
+}
+
+TEST(RsHeliosSim, StandingAndMovingRobotPointsLieOnTheTrueSurfaces) {
+  auto pose_at = [](double t_us) {  // 1 m/s, turning at 0.5 rad/s
+    double t = (t_us - kStartUs) * 1e-6;
+    return Pose2{2.0 * std::sin(0.5 * t), 2.0 * (1 - std::cos(0.5 * t)), 0.5 * t};
+  };
+  for (bool moving : {false, true}) {
+    LidarSimParams p = params(0.0);
+    p.mount_height_m = 0.8;
+    RsHeliosSimulator sim(p, kStartUs);
+    WorldAt world = [&](int64_t t, WorldSnapshot* w) {
+      w->robot = moving ? pose_at(static_cast<double>(t)) : Pose2{};
+      w->solids = world_solids();
+    };
+    HeliosRun r = run_helios(sim, kStartUs + 105'000, world);  // one revolution after the DIFOP
+    int on[3] = {0, 0, 0};
+    double worst = 0.0, worst_if_static = 0.0;
+    for (const auto& d : r.points) {
+      double x, y, z;
+      Surface which;
+      helios_to_world(d.ret, moving ? pose_at(d.fire_us) : Pose2{}, 0.8, &x, &y, &z);
+      worst = std::max(worst, surface_error(x, y, z, &which));
+      on[static_cast<int>(which)]++;
+      helios_to_world(d.ret, Pose2{}, 0.8, &x, &y, &z);
+      worst_if_static = std::max(worst_if_static, surface_error(x, y, z, &which));
+    }
+    // 2.5 mm distance unit (1.25 mm rounding), float points, 1 us firing-time rounding.
+    EXPECT_LT(worst, 0.002) << (moving ? "moving" : "standing");
+    if (moving) EXPECT_GT(worst_if_static, 0.05);
+    EXPECT_GT(on[0], 21 * 1700);  // 22 of the 32 channels look down, about 1880 firings each, some hidden
+    EXPECT_GT(on[1], 50);
+    EXPECT_GT(on[2], 100);
+  }
+}
+
+TEST(RsHeliosSim, RevolutionsThroughTheDriversDecoder) {
+  LidarSimParams p = params(0.01);
+  RsHeliosSimulator sim(p, kStartUs);
+  WorldAt world = [](int64_t, WorldSnapshot* w) {
+    w->robot = Pose2{};
+    w->solids = {};
+  };
+  sensing::LidarDecoderParams dp;
+  dp.model = sensing::LidarModel::kRsHelios;
+  std::map<std::string, int64_t> counts;
+  sensing::LidarDecoder dec(dp, [&](const std::string& k, int64_t n) { counts[k] += n; });
+  std::vector<sensing::Revolution> revs;
+  while (sim.next_packet_ready_us() <= kStartUs + 1'000'000) {
+    const int64_t t = sim.next_packet_ready_us();
+    Packet pk = sim.make_packet(world);
+    dec.feed(pk.data(), pk.size(), t, &revs);
+  }
+  // 10 revolutions in a second (the sweep starts at 0 deg, the cut angle).
+  ASSERT_GE(revs.size(), 9u);
+  for (size_t i = 1; i + 1 < revs.size(); ++i) {
+    const auto& c = revs[i].cloud;
+    EXPECT_EQ(c.sensor_model, "rs_helios");
+    EXPECT_NEAR(c.packets, 150, 1);  // 100 ms / 666.72 us
+    EXPECT_GT(c.n, 22 * 1790);  // the 22 downward channels, 1800 firings each
+    std::set<int> rings(c.ring.begin(), c.ring.end());
+    EXPECT_EQ(rings.size(), 22u);  // the downward rings 0..21 (flat ground, nothing else)
+    EXPECT_EQ(*rings.begin(), 0);
+    EXPECT_EQ(*rings.rbegin(), 21);
+  }
+  EXPECT_EQ(counts["malformed_bad_header"], 0);
+}
+
+// A tilted, offset mount (looking 0.3 rad down, turned 0.5 rad, 0.2 m
+// forward) at 20 Hz: the decoded points, put through the mount pose, still
+// lie on the true surfaces; 20 revolutions a second, rpm 1200 in the DIFOP.
+TEST(RsHeliosSim, TiltedMountAt20HzPointsLieOnTheTrueSurfaces) {
+  LidarSimParams p = params(0.0);
+  p.rate_hz = 20.0;
+  p.mount_height_m = 0.9;
+  p.mount_x_m = 0.2;
+  p.mount_pitch_rad = 0.3;
+  p.mount_yaw_rad = 0.5;
+  p.mount_roll_rad = 0.05;
+  RsHeliosSimulator sim(p, kStartUs);
+  WorldAt world = [](int64_t, WorldSnapshot* w) {
+    w->robot = Pose2{};
+    w->solids = world_solids();
+  };
+  HeliosRun r = run_helios(sim, kStartUs + 1'000'000, world);
+  EXPECT_EQ(r.cal.rpm, 1200);
+  double rot[3][3];
+  mount_rotation(p, rot);
+  double worst = 0.0;
+  int on[3] = {0, 0, 0};
+  for (const auto& d : r.points) {
+    const double s[3] = {d.ret.x, d.ret.y, d.ret.z};
+    double b[3];
+    for (int i = 0; i < 3; ++i) b[i] = rot[i][0] * s[0] + rot[i][1] * s[1] + rot[i][2] * s[2];
+    Surface which;
+    worst = std::max(worst, surface_error(b[0] + 0.2, b[1], b[2] + 0.9, &which));
+    on[static_cast<int>(which)]++;
+  }
+  EXPECT_LT(worst, 0.002);
+  EXPECT_GT(on[1], 100);
+  EXPECT_GT(on[2], 100);
+  sensing::LidarDecoderParams dp;
+  dp.model = sensing::LidarModel::kRsHelios;
+  sensing::LidarDecoder dec(dp, nullptr);
+  std::vector<sensing::Revolution> revs;
+  RsHeliosSimulator again(p, kStartUs);
+  while (again.next_packet_ready_us() <= kStartUs + 1'000'000) {
+    const int64_t t = again.next_packet_ready_us();
+    Packet pk = again.make_packet(world);
+    dec.feed(pk.data(), pk.size(), t, &revs);
+  }
+  EXPECT_EQ(revs.size(), 19u);  // 20 a second; the 20th is complete when the next one starts
+  for (size_t i = 0; i < revs.size(); ++i) EXPECT_NEAR(revs[i].cloud.packets, 75, 1) << i;  // 50 ms / 666.72 us
 }
 
 }  // namespace

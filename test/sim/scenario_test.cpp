@@ -104,6 +104,19 @@ TEST(Scenario, StartDelayIsReadForMoversOnly) {
             "bad.yaml:16: key 'obstacles[3].start_delay_s': value -1 outside [0, 86400]");
 }
 
+TEST(Scenario, LidarModelIsVlp16OrRsHeliosAtItsRates) {
+  Scenario sc = parse_scenario(replace(kSpecExample, "model: vlp16", "model: rs_helios"), "s.yaml");
+  EXPECT_EQ(sc.lidar.model, "rs_helios");
+  sc = parse_scenario(replace(replace(kSpecExample, "model: vlp16", "model: rs_helios"), "rate_hz: 10", "rate_hz: 20"),
+                      "s.yaml");
+  EXPECT_DOUBLE_EQ(sc.lidar.rate_hz, 20.0);
+  EXPECT_EQ(error_of(replace(replace(kSpecExample, "model: vlp16", "model: rs_helios"), "rate_hz: 10", "rate_hz: 15")),
+            "bad.yaml:8: key 'lidar.rate_hz': the RS-Helios turns at 10 or 20 Hz (600 or 1200 rpm)");
+  EXPECT_EQ(error_of(replace(kSpecExample, "model: vlp16", "model: hdl32")),
+            "bad.yaml:8: key 'lidar.model': 'hdl32' is not one of: vlp16, rs_helios");
+  EXPECT_DOUBLE_EQ(parse_scenario(replace(kSpecExample, "rate_hz: 10", "rate_hz: 15"), "s.yaml").lidar.rate_hz, 15.0);
+}
+
 TEST(Scenario, UnknownTopLevelKeyNamesFileLineKey) {
   EXPECT_EQ(error_of(std::string(kSpecExample) + "speed_limit: 3\n"), "bad.yaml:17: key 'speed_limit': unknown key");
 }

@@ -10,6 +10,8 @@
 
 #include "base/scout_protocol.h"
 #include "bus/memory_bus.h"
+#include "sensing/lidar_decoder.h"
+#include "sensing/rs_helios.h"
 #include "sensing/vlp16.h"
 #include "sim/sim_core.h"
 
@@ -263,6 +265,95 @@ TEST_F(SimCoreTest, FinishesAfterTheScenarioDuration) {
   EXPECT_FALSE(core_.finished());
   run_until(kT0 + 30'000'000);
   EXPECT_TRUE(core_.finished());
+}
+
+// A Scout-sized robot with an RS-Helios 0.9 m up and its 0.35 m body
+// modelled: the sim sends MSOP to the data port and a DIFOP at once and
+// every second; decoded without the self-filter, the -55..-43 deg channels
+// land on the body's top; with it, nothing over the footprint is left and
+// the ground around is.
+const char* kHeliosScenario = R"(name: helios
+duration_s: 30
+robot:
+  start: {x: 1.0, y: 2.0, yaw: 0.7}
+  goal: {x: 9.0, y: 0.0, tolerance: 0.3}
+  footprint: {length: 0.93, width: 0.70}
+lidar: {model: rs_helios, rate_hz: 10, height: 0.9, range_noise_std: 0.0}
+obstacles:
+  - {shape: box, size: [1.0, 2.0, 1.0], x: 4.0, y: 3.0, yaw: 0.3}
+)";
+
+struct BodyPoints {
+  int over_footprint = 0, body_top = 0, outside = 0;
+  int64_t filtered = 0;
+};
+BodyPoints decode_helios(const std::vector<Packet>& packets, bool self_filter) {
+  sensing::LidarDecoderParams dp;
+  dp.model = sensing::LidarModel::kRsHelios;
+  dp.mount.z = 0.9;
+  dp.self_filter = sensing::SelfFilterParams{self_filter, 0.93, 0.70, 0.05};
+  BodyPoints b;
+  sensing::LidarDecoder dec(dp, [&](const std::string& n, int64_t k) {
+    if (n == "self_filtered_points") b.filtered += k;
+  });
+  std::vector<sensing::Revolution> revs;
+  int64_t t = kT0;
+  for (const Packet& p : packets) dec.feed(p.data(), p.size(), t += 667, &revs);
+  dec.flush(&revs);
+  for (const auto& r : revs)
+    for (int i = 0; i < r.cloud.n; ++i) {
+      const double bz = 0.9 + r.cloud.z[i];  // mount: 0.9 m up on the base centre, level
+      if (std::abs(r.cloud.x[i]) <= 0.465 + 0.05 && std::abs(r.cloud.y[i]) <= 0.35 + 0.05) {
+        ++b.over_footprint;
+        if (std::abs(bz - 0.35) < 0.01) ++b.body_top;
+      } else {
+        ++b.outside;
+      }
+    }
+  return b;
+}
+
+TEST(SimCoreHelios, MsopAndDifopOnTheirPortsAndTheBodySeenThenFiltered) {
+  SimParams params = test_params();
+  EXPECT_EQ(params.dest_port("rs_helios", LidarPort::kData), 6699);
+  EXPECT_EQ(params.dest_port("rs_helios", LidarPort::kDifop), 7788);
+  EXPECT_EQ(params.dest_port("vlp16", LidarPort::kData), 2368);
+  params.robot_body_height_m = 0.35;
+  SimCore core(parse_scenario(kHeliosScenario, "helios.yaml"), params);
+  std::vector<Packet> packets;
+  core.set_packet_sink([&](const Packet& p) { packets.push_back(p); });
+  bus::MemoryBus bus;
+  bus.add(core);
+  for (int64_t t = kT0; t <= kT0 + 1'200'000; t += 1000) bus.advance_to(t);
+  ASSERT_FALSE(packets.empty());
+  EXPECT_EQ(packets.front().port, LidarPort::kDifop);
+  int difop = 0, msop = 0;
+  for (const Packet& p : packets) {
+    const auto kind = sensing::rs_helios::classify(p.data(), p.size());
+    if (p.port == LidarPort::kDifop) {
+      ++difop;
+      EXPECT_EQ(kind, sensing::rs_helios::PacketKind::kDifop);
+    } else {
+      ++msop;
+      EXPECT_EQ(kind, sensing::rs_helios::PacketKind::kMsop);
+    }
+  }
+  EXPECT_EQ(difop, 2);                 // at the start and a second later
+  EXPECT_NEAR(msop, 1.2e6 / 666.72, 2);  // 1499.9 a second
+  EXPECT_EQ(core.counter("lidar_packets"), difop + msop);
+
+  const BodyPoints raw = decode_helios(packets, false);
+  const BodyPoints filtered = decode_helios(packets, true);
+  EXPECT_GT(raw.body_top, 5000);  // a dozen channels x 1800 firings a revolution, a second
+  EXPECT_EQ(raw.filtered, 0);
+  EXPECT_EQ(filtered.over_footprint, 0);
+  EXPECT_EQ(filtered.filtered, raw.over_footprint);
+  EXPECT_EQ(filtered.outside, raw.outside);
+  EXPECT_GT(filtered.outside, 200000);
+
+  // The body cannot reach the sensor.
+  params.robot_body_height_m = 0.9;
+  EXPECT_THROW(SimCore(parse_scenario(kHeliosScenario, "helios.yaml"), params), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,8 +1,9 @@
 // sim -> UDP -> lidar_driver -> LIDAR_POINTS, both real binaries, in a
-// private network namespace: every point of every revolution, put in the
-// world with SIM_TRUTH's robot pose and the mount pose the message
-// carries, lies on the true ground, cylinder or box surface (within the
-// scenario's range noise).
+// private network namespace, for each LiDAR model (VLP-16 on its data
+// port; RS-Helios MSOP and DIFOP on theirs): every point of every
+// revolution, put in the world with SIM_TRUTH's robot pose and the mount
+// pose the message carries, lies on the true ground, cylinder or box
+// surface (within the scenario's range noise).
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -75,9 +77,29 @@ double surface_error(double x, double y, double z, int* which) {
   return best;
 }
 
-TEST(SimLidarDriverChain, PointsLieOnTheTrueSurfaces) {
+// robot.yaml with lidar.model set to `model`.
+std::string config_for(const std::string& model) {
+  std::ifstream in(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  const size_t at = text.find("model: vlp16 ");
+  EXPECT_NE(at, std::string::npos);
+  text.replace(at, 13, "model: " + model + " ");
+  std::string path = "/tmp/evade_sim_chain_" + model + "_" + std::to_string(::getpid()) + ".yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+class SimLidarDriverChain : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SimLidarDriverChain, PointsLieOnTheTrueSurfaces) {
+  const std::string model = GetParam();
   std::string scenario = "/tmp/evade_sim_chain_" + std::to_string(::getpid()) + ".yaml";
-  std::ofstream(scenario) << kScenario;
+  std::string text = kScenario;
+  text.replace(text.find("model: vlp16"), 12, "model: " + model);
+  std::ofstream(scenario) << text;
+  const std::string config = config_for(model);
   std::string device = "/tmp/evade_sim_chain_" + std::to_string(::getpid()) + ".pty";
 
   lcm::LCM lcm;
@@ -93,13 +115,14 @@ TEST(SimLidarDriverChain, PointsLieOnTheTrueSurfaces) {
   lcm.subscribe("LIDAR_POINTS", &Handler::cloud, &h);
   lcm.subscribe("SIM_TRUTH", &Handler::truth, &h);
 
-  pid_t driver = spawn({LIDAR_DRIVER_BINARY});
-  pid_t sim = spawn({SIM_BINARY, "--scenario", scenario, "--device", device});
+  pid_t driver = spawn({LIDAR_DRIVER_BINARY, "--config", config});
+  pid_t sim = spawn({SIM_BINARY, "--scenario", scenario, "--device", device, "--config", config});
   auto end = Clock::now() + std::chrono::seconds(15);
   while (clouds.size() < 6 && Clock::now() < end) lcm.handleTimeout(50);
   stop(sim);
   stop(driver);
   std::remove(scenario.c_str());
+  std::remove(config.c_str());
   ASSERT_GE(clouds.size(), 6u) << "lidar_driver published too few revolutions";
   ASSERT_FALSE(truths.empty());
   const evade::sim_truth_t& t = truths.back();
@@ -111,8 +134,9 @@ TEST(SimLidarDriverChain, PointsLieOnTheTrueSurfaces) {
   size_t points = 0;
   for (size_t k = 1; k < clouds.size(); ++k) {
     const evade::pointcloud_t& c = clouds[k];
-    EXPECT_EQ(c.sensor_model, "vlp16");
-    EXPECT_GT(c.n, 12000);  // 8 ground-facing lasers x ~1800 firings, less what the solids hide
+    EXPECT_EQ(c.sensor_model, model);
+    // Ground-facing lasers x ~1800 firings, less what the solids hide: VLP-16 8, RS-Helios 22.
+    EXPECT_GT(c.n, model == "vlp16" ? 12000 : 36000);
     for (int i = 0; i < c.n; ++i) {
       // Sensor frame -> base (mount from the message; yaw-only mount here) -> world.
       double mc = std::cos(c.mount.yaw), ms = std::sin(c.mount.yaw);
@@ -128,10 +152,12 @@ TEST(SimLidarDriverChain, PointsLieOnTheTrueSurfaces) {
   }
   std::printf("%zu points in %zu revolutions: worst surface error %.4f m; %d ground, %d cylinder, %d box\n", points,
               clouds.size() - 1, worst, counts[0], counts[1], counts[2]);
-  // 6 sigma of the range noise (80,000 draws), plus the 2 mm range unit and float rounding.
+  // 6 sigma of the range noise (80,000 to 200,000 draws), plus the 2 / 2.5 mm range unit and float rounding.
   EXPECT_LT(worst, 6 * kNoise + 0.003) << "over " << points << " points";
   EXPECT_GT(counts[1], 100 * static_cast<int>(clouds.size() - 1) / 2);
   EXPECT_GT(counts[2], 100 * static_cast<int>(clouds.size() - 1) / 2);
 }
+
+INSTANTIATE_TEST_SUITE_P(Models, SimLidarDriverChain, ::testing::Values("vlp16", "rs_helios"));
 
 }  // namespace

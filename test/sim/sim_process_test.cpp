@@ -284,4 +284,24 @@ TEST(SimProcessErrors, BadLidarDestinationIsRefused) {
   EXPECT_NE(err.find("expected HOST:PORT"), std::string::npos) << err;
 }
 
+// The robot's body (sim.robot_body_height_m, 0.3 m in robot.yaml) must stay
+// below the LiDAR, and the RS-Helios turns at 10 or 20 Hz only.
+TEST(SimProcessErrors, ALidarTheSimCannotSimulateIsRefused) {
+  std::string path = temp_path("low_lidar.yaml");
+  std::string text = kScenario;
+  const size_t at = text.find("height: 0.5, range_noise_std");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 11, "height: 0.2");
+  std::ofstream(path) << text;
+  std::string err;
+  EXPECT_EQ(run_to_end({SIM_BINARY, "--scenario", path}, &err), 2);
+  EXPECT_NE(err.find("robot_body_height_m must be below the LiDAR"), std::string::npos) << err;
+  text = kScenario;
+  text.replace(text.find("model: vlp16, rate_hz: 10"), 25, "model: rs_helios, rate_hz: 15");
+  std::ofstream(path) << text;
+  EXPECT_EQ(run_to_end({SIM_BINARY, "--scenario", path}, &err), 2);
+  EXPECT_NE(err.find("key 'lidar.rate_hz': the RS-Helios turns at 10 or 20 Hz"), std::string::npos) << err;
+  std::remove(path.c_str());
+}
+
 }  // namespace
