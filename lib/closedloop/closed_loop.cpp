@@ -5,6 +5,7 @@
 
 #include "base/base_driver_core.h"
 #include "bus/auth.h"
+#include "closedloop/cpu.h"
 #include "closedloop/event_queue.h"
 #include "closedloop/lockstep_params.h"
 #include "closedloop/process_node.h"
@@ -31,6 +32,13 @@ bool published_other_than_health(const std::vector<bus::LogEvent>& outputs) {
   return false;
 }
 
+// The PLAN a callback published, if any.
+bool plan_of(const std::vector<bus::LogEvent>& out, evade::plan_t* plan) {
+  for (const auto& o : out)
+    if (o.channel == "PLAN" && bus::decode(o.data.data(), o.data.size(), plan)) return true;
+  return false;
+}
+
 // callback_s per callback, publish_s more when it published.
 ProcessNode::ComputeModel fixed_cost(const ProcessCost& c) {
   return [c](const std::vector<bus::LogEvent>& out) {
@@ -43,11 +51,8 @@ ProcessNode::ComputeModel fixed_cost(const ProcessCost& c) {
 // plus callback_s; other callbacks as fixed_cost.
 ProcessNode::ComputeModel planner_cost(const ProcessCost& c) {
   return [c, other = fixed_cost(c)](const std::vector<bus::LogEvent>& out) {
-    for (const auto& o : out) {
-      if (o.channel != "PLAN") continue;
-      evade::plan_t plan;
-      if (bus::decode(o.data.data(), o.data.size(), &plan)) return us(c.callback_s) + std::max<int64_t>(0, plan.solve_time_us);
-    }
+    evade::plan_t plan;
+    if (plan_of(out, &plan)) return us(c.callback_s) + std::max<int64_t>(0, plan.solve_time_us);
     return other(out);
   };
 }
@@ -76,7 +81,13 @@ struct ClosedLoop::Impl {
   std::vector<std::unique_ptr<bus::HmacAuth>> auths;  // one per robot process, as live
   std::vector<std::unique_ptr<ProcessNode>> nodes;
   std::map<std::string, std::vector<ProcessNode*>> subscribers;
+  std::unique_ptr<Cpu> cpu;  // the shared cores (none: each process has its own)
+  std::map<std::string, ProcessStats> profiles;
   std::unique_ptr<SerialLine> to_base, to_sim;
+  // What the simulator's running callback made; it leaves when the
+  // callback has had its compute time, as any process's output.
+  std::vector<Bytes> sim_packets;
+  std::vector<uint8_t> sim_serial;
   ProcessNode* sim_node = nullptr;
   ProcessNode* lidar_node = nullptr;
   ProcessNode* base_node = nullptr;
@@ -87,12 +98,31 @@ struct ClosedLoop::Impl {
   ProcessNode* add(bus::Core& core, ProcessNode::ComputeModel model, std::set<std::string> conflated = {});
   void route(const std::string& channel, int64_t t_leave, const Bytes& data);
   void wire_devices(int baud_rate);
+  void profile(const bus::Core& core, const std::vector<bus::LogEvent>& out, double cpu_s);
 };
 
+// One profiled callback, filed by its size (CpuSample).
+void ClosedLoop::Impl::profile(const bus::Core& core, const std::vector<bus::LogEvent>& out, double cpu_s) {
+  ProcessStats& p = profiles[core.name()];
+  evade::plan_t plan;
+  if (&core == sim.get())
+    p.samples.push_back({static_cast<double>(sim_packets.size()), cpu_s});
+  else if (&core == planner.get() && plan_of(out, &plan))
+    p.plan_samples.push_back({static_cast<double>(plan.iterations), cpu_s});
+  else
+    p.samples.push_back({published_other_than_health(out) ? 1.0 : 0.0, cpu_s});
+}
+
 ProcessNode* ClosedLoop::Impl::add(bus::Core& core, ProcessNode::ComputeModel model, std::set<std::string> conflated) {
+  const bool charged = static_cast<bool>(model);  // the run monitor is not a process of the robot
   nodes.push_back(std::make_unique<ProcessNode>(core, q, std::move(model), std::move(conflated)));
   ProcessNode* n = nodes.back().get();
   n->set_router([this](const std::string& ch, int64_t t, const Bytes& data) { route(ch, t, data); });
+  n->set_cpu(cpu.get());
+  if (run.cpu_clock && charged)
+    n->set_profiler(run.cpu_clock, [this, &core](const std::vector<bus::LogEvent>& out, double cpu_s) {
+      profile(core, out, cpu_s);
+    });
   for (const auto& ch : core.channels()) subscribers[ch].push_back(n);
   return n;
 }
@@ -112,11 +142,8 @@ void ClosedLoop::Impl::route(const std::string& channel, int64_t t_leave, const 
 // the Scout's UART both ways.
 void ClosedLoop::Impl::wire_devices(int baud_rate) {
   const int64_t udp = us(params.udp_latency_s);
-  sim->set_packet_sink([this, udp](const sim::Packet& p) {
-    auto bytes = std::make_shared<const std::vector<uint8_t>>(p.begin(), p.end());
-    q.at(q.now() + udp, [this, bytes] {
-      lidar_node->input([this, bytes] { lidar->on_packet(bytes->data(), bytes->size()); }, "udp");
-    });
+  sim->set_packet_sink([this](const sim::Packet& p) {
+    sim_packets.push_back(std::make_shared<const std::vector<uint8_t>>(p.begin(), p.end()));
   });
   to_base = std::make_unique<SerialLine>(q, baud_rate, [this](const std::vector<uint8_t>& b) {
     base_node->input([this, b] { base->on_serial_bytes(b.data(), b.size()); }, "serial");
@@ -124,7 +151,16 @@ void ClosedLoop::Impl::wire_devices(int baud_rate) {
   to_sim = std::make_unique<SerialLine>(q, baud_rate, [this](const std::vector<uint8_t>& b) {
     sim_node->input([this, b] { sim->on_serial_bytes(b.data(), b.size()); }, "");
   });
-  sim->set_serial_sink([this](const uint8_t* d, size_t n) { to_base->write(q.now(), std::vector<uint8_t>(d, d + n)); });
+  sim->set_serial_sink([this](const uint8_t* d, size_t n) { sim_serial.insert(sim_serial.end(), d, d + n); });
+  sim_node->set_after([this, udp](int64_t leave) {
+    for (const Bytes& bytes : sim_packets)
+      q.at(leave + udp, [this, bytes] {
+        lidar_node->input([this, bytes] { lidar->on_packet(bytes->data(), bytes->size()); }, "udp");
+      });
+    sim_packets.clear();
+    if (!sim_serial.empty()) to_base->write(leave, std::move(sim_serial));
+    sim_serial.clear();
+  });
   base_node->set_after([this](int64_t leave) {
     std::vector<uint8_t> tx = base->take_tx();
     if (!tx.empty()) to_sim->write(leave, std::move(tx));
@@ -166,7 +202,11 @@ void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
     c->set_authenticator(auths.back().get());
   }
 
-  sim_node = add(*sim, nullptr);
+  if (params.cpu_cores > 0) cpu = std::make_unique<Cpu>(q, params.cpu_cores, params.background_load_cores);
+  const ProcessCost sc = params.costs.at("sim");
+  sim_node = add(*sim, [this, sc](const std::vector<bus::LogEvent>&) {
+    return us(sc.callback_s + sc.packet_s * static_cast<double>(sim_packets.size()));
+  });
   lidar_node = add(*lidar, fixed_cost(params.costs.at("lidar_driver")));
   base_node = add(*base, fixed_cost(params.costs.at("base_driver")));
   for (auto& c : others) add(*c, fixed_cost(params.costs.at(c->name())));
@@ -180,6 +220,8 @@ ClosedLoop::ClosedLoop(const config::Node& root, const sim::Scenario& scenario, 
     : impl_(std::make_unique<Impl>()) {
   impl_->params = LockstepParams::from_config(root);
   if (!run.planner_compute.empty()) impl_->params.planner_compute = parse_planner_compute(run.planner_compute);
+  if (run.cpu_cores) impl_->params.cpu_cores = *run.cpu_cores;
+  if (run.background_load_cores) impl_->params.background_load_cores = *run.background_load_cores;
   impl_->run = run;
   impl_->build(root, scenario);
 }
@@ -201,8 +243,13 @@ LockstepResult ClosedLoop::run(bus::LogWriter* log) {
   r.outcome = m.monitor->result();
   r.sim_s = (m.q.now() - t0) * 1e-6;
   r.events = static_cast<int64_t>(m.q.events_run());
-  for (auto& n : m.nodes)
-    r.processes[n->core().name()] = ProcessStats{n->callbacks(), n->compute_us() * 1e-6};
+  r.cpu_work_s = m.cpu ? m.cpu->work_done_us() * 1e-6 : 0.0;
+  for (auto& n : m.nodes) {
+    ProcessStats& p = r.processes[n->core().name()];
+    p = std::move(m.profiles[n->core().name()]);
+    p.callbacks = n->callbacks();
+    p.compute_s = n->compute_us() * 1e-6;
+  }
   return r;
 }
 

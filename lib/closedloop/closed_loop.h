@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -37,21 +38,38 @@ struct LockstepRun {
   std::optional<uint64_t> seed;  // overrides the scenario's seed (the simulator's sensor noise)
   std::string planner_mode;      // empty: the configuration's
   std::string planner_compute;   // empty: the configuration's (fixed | iterations | measured)
+  std::optional<double> cpu_cores;              // overrides lockstep.cpu_cores
+  std::optional<double> background_load_cores;  // overrides lockstep.background_load_cores
   bool quiet = true;             // no progress lines from the run monitor
   // Channels not written to the log (LIDAR_SCAN holds the packets the
   // point clouds are decoded from, as in a live run_scenario log).
   std::set<std::string> unlogged = {"LIDAR_POINTS"};
+  // Profiling: when set, read before and after every callback (the tool
+  // passes the thread's CPU clock, s); ProcessStats then holds the samples
+  // that calibrate lockstep.costs (cost_profile.h). Never changes a run.
+  std::function<double()> cpu_clock;
+};
+
+// One profiled callback: its size k (1 if it published, 0 if not; the
+// simulator: the packets it made; the planner's PLAN cycles: the Ceres
+// iterations) and the CPU time it took here.
+struct CpuSample {
+  double k = 0.0;
+  double cpu_s = 0.0;
 };
 
 struct ProcessStats {
   int64_t callbacks = 0;
   double compute_s = 0.0;  // simulated compute time charged
+  std::vector<CpuSample> samples;       // profiled callbacks (the planner's PLAN cycles aside)
+  std::vector<CpuSample> plan_samples;  // the planner's PLAN cycles, k = iterations
 };
 
 struct LockstepResult {
   int outcome = -1;     // RunMonitor::kGoal, kDuration (or -1: stopped at the safety cap)
   double sim_s = 0.0;   // simulated time from start to end
   int64_t events = 0;   // callbacks run by the event queue
+  double cpu_work_s = 0.0;  // CPU time the shared cores handed out (0 without contention)
   std::map<std::string, ProcessStats> processes;
 };
 

@@ -29,12 +29,17 @@ LockstepParams LockstepParams::from_config(const config::Node& root) {
   p.planner_base_s = s.get_double("planner_base_s", 0.0, 1.0);
   p.planner_per_iteration_s = s.get_double("planner_per_iteration_s", 0.0, 0.1);
   p.planner_measured_scale = s.get_double("planner_measured_scale", 0.0, 100.0);
+  p.cpu_cores = s.get_double("cpu_cores", 0.0, 256.0);
+  p.background_load_cores = s.get_double("background_load_cores", 0.0, 256.0);
   const config::Node costs = s.section("costs");
   for (const char* name : kProcesses) {
     const config::Node c = costs.section(name);
     p.costs[name] = ProcessCost{c.get_double("callback_s", 0.0, 1.0), c.get_double("publish_s", 0.0, 1.0)};
     c.close();
   }
+  const config::Node sim = costs.section("sim");
+  p.costs["sim"] = ProcessCost{sim.get_double("callback_s", 0.0, 1.0), 0.0, sim.get_double("packet_s", 0.0, 1.0)};
+  sim.close();
   costs.close();
   s.close();
   return p;

@@ -7,6 +7,11 @@
 //   iterations: planner_base_s + planner_per_iteration_s x Ceres iterations
 //   measured:   the cycle's steady-clock solve time x planner_measured_scale
 //               (not deterministic: the only model that is not)
+// The simulator is charged callback_s per callback and packet_s per VLP-16
+// packet it makes. These are CPU times: the processes and the simulator
+// share cpu_cores cores with background_load_cores always-runnable threads
+// (Cpu, cpu.h), so a callback takes longer than its charge when more are
+// runnable than there are cores; cpu_cores 0 gives each its own core.
 // Defaults and how they were measured: lib/closedloop/README.md.
 #pragma once
 
@@ -22,7 +27,8 @@ enum class PlannerCompute { kFixed, kIterations, kMeasured };
 
 struct ProcessCost {
   double callback_s = 0.0;
-  double publish_s = 0.0;
+  double publish_s = 0.0;  // the evade processes: a callback that published
+  double packet_s = 0.0;   // the simulator: each VLP-16 packet made
 };
 
 struct LockstepParams {
@@ -35,7 +41,9 @@ struct LockstepParams {
   double planner_base_s = 0.0;
   double planner_per_iteration_s = 0.0;
   double planner_measured_scale = 1.0;
-  std::map<std::string, ProcessCost> costs;  // by process name (the evade processes, not the sim)
+  double cpu_cores = 2.0;              // cores the processes and the simulator share (0: one each)
+  double background_load_cores = 0.0;  // threads of other programs, always runnable, at the stack's weight
+  std::map<std::string, ProcessCost> costs;  // by process name (the evade processes and "sim")
 
   static LockstepParams from_config(const config::Node& root);
   // The compute time of a planner cycle of `iterations` Ceres iterations

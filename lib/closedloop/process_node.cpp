@@ -44,20 +44,32 @@ void ProcessNode::run(Work w) {
   busy_ = true;
   outputs_.clear();
   const int64_t t = q_.now();
+  const double c0 = clock_ ? clock_() : 0.0;
   switch (w.kind) {
     case Kind::kMessage: core_.deliver(w.channel, w.data->data(), w.data->size(), t); break;
     case Kind::kInput: core_.input(t, w.fn, w.channel); break;
     case Kind::kTimer: core_.fire_next(t); break;
   }
+  if (clock_ && profiler_) profiler_(outputs_, clock_() - c0);
   const int64_t d = model_ ? model_(outputs_) : 0;
   if (d < 0) throw std::logic_error(core_.name() + ": negative compute time");
   ++callbacks_;
   compute_us_ += d;
-  const int64_t leave = t + d;
-  for (auto& o : outputs_) router_(o.channel, leave, std::make_shared<const std::vector<uint8_t>>(std::move(o.data)));
+  leaving_ = std::move(outputs_);
   outputs_.clear();
+  if (cpu_)
+    cpu_->run(d, [this] { finish(); });
+  else
+    q_.at(t + d, [this] { finish(); });
+}
+
+// The callback has had its compute time: its outputs leave now.
+void ProcessNode::finish() {
+  const int64_t leave = q_.now();
+  for (auto& o : leaving_) router_(o.channel, leave, std::make_shared<const std::vector<uint8_t>>(std::move(o.data)));
+  leaving_.clear();
   if (after_) after_(leave);
-  q_.at(leave, [this] { on_free(); });
+  on_free();
 }
 
 // Free again: what waited runs first, unless a timer came due before it

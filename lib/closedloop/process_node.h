@@ -1,8 +1,9 @@
 // One process of the stack in simulated time. Its core runs one callback
 // at a time, as the single-threaded process does live: a callback that
 // starts at bus time t is charged the compute time its ComputeModel gives
-// for what it published (d); its outputs leave at t + d and the process is
-// busy until then. Messages, external inputs and timers that come due
+// for what it published (d); its outputs leave when it has had d of CPU
+// time (at t + d on a core of its own; later when it shares the Cpu with
+// other processes, see cpu.h) and the process is busy until then. Messages, external inputs and timers that come due
 // meanwhile wait and run when it is free, in the order they came (a timer
 // before a message that arrived after its deadline); on a conflated
 // channel only the newest waiting message is kept, as LiveBus does.
@@ -18,6 +19,7 @@
 
 #include "bus/core.h"
 #include "bus/log.h"
+#include "closedloop/cpu.h"
 #include "closedloop/event_queue.h"
 
 namespace evade::closedloop {
@@ -39,6 +41,16 @@ class ProcessNode : public bus::Sink {
   // Runs after every callback with the time its outputs leave (the base
   // driver's serial bytes go out then).
   void set_after(std::function<void(int64_t t_leave)> after) { after_ = std::move(after); }
+  // The cores this process shares with others (nullptr: a core of its own).
+  void set_cpu(Cpu* cpu) { cpu_ = cpu; }
+  // Profiling (not deterministic, never changes what is charged): `clock`
+  // is read before and after each callback and `sink` gets the callback's
+  // outputs and the clock's difference (the tool passes thread CPU time).
+  using Profiler = std::function<void(const std::vector<bus::LogEvent>& outputs, double clock_s)>;
+  void set_profiler(std::function<double()> clock, Profiler sink) {
+    clock_ = std::move(clock);
+    profiler_ = std::move(sink);
+  }
 
   // Arms the core's timers at bus time t (a process starting).
   void start(int64_t t);
@@ -64,6 +76,7 @@ class ProcessNode : public bus::Sink {
   };
   void arrive(Work w);
   void run(Work w);
+  void finish();
   void on_free();
   void schedule_timer();
 
@@ -73,7 +86,11 @@ class ProcessNode : public bus::Sink {
   std::set<std::string> conflated_;
   Router router_;
   std::function<void(int64_t)> after_;
+  Cpu* cpu_ = nullptr;
+  std::function<double()> clock_;
+  Profiler profiler_;
   std::vector<bus::LogEvent> outputs_;
+  std::vector<bus::LogEvent> leaving_;  // the running callback's outputs, until its compute time has passed
   std::deque<Work> waiting_;
   bool busy_ = false;
   int64_t timer_at_ = bus::kNever;

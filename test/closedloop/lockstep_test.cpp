@@ -137,3 +137,103 @@ TEST(Lockstep, AFixedPlannerComputeTimeIsChargedForEveryCycle) {
 
 }  // namespace
 }  // namespace evade::closedloop
+
+namespace evade::closedloop {
+namespace {
+
+// bus time a PLAN reached the bus minus the time the ODOMETRY it was made
+// from reached the planner, for every plan that solved; and its charge.
+struct PlanLag {
+  int64_t lag_us;
+  int64_t charged_us;
+};
+std::vector<PlanLag> plan_lags(const LoopRun& r) {
+  std::map<int64_t, int64_t> odometry_at;
+  std::vector<PlanLag> lags;
+  bus::for_each_event(r.log, [&](const bus::LogEvent& e) {
+    if (e.channel == "ODOMETRY") {
+      evade::odometry_t o;
+      if (bus::decode(e.data.data(), e.data.size(), &o)) odometry_at[o.utime] = e.timestamp;
+    } else if (e.channel == "PLAN") {
+      evade::plan_t p;
+      if (!bus::decode(e.data.data(), e.data.size(), &p) || !odometry_at.count(p.utime) || p.solve_time_us <= 0) return;
+      if (p.status == evade::plan_t::STATUS_STALE_INPUT || p.status == evade::plan_t::STATUS_NO_ROUTE ||
+          p.status == evade::plan_t::STATUS_GOAL)
+        return;
+      lags.push_back({e.timestamp - odometry_at[p.utime], p.solve_time_us});
+    }
+  });
+  return lags;
+}
+
+// One core shared with nine always-runnable threads: every callback gets at
+// most a tenth of a core, so every plan takes at least ten times its charge.
+TEST(Lockstep, ALoadedComputerStretchesEveryPlan) {
+  LockstepRun own;
+  own.planner_compute = "fixed";
+  own.cpu_cores = 0;  // a core per process
+  LockstepRun loaded = own;
+  loaded.cpu_cores = 1;
+  loaded.background_load_cores = 9;
+  const std::vector<PlanLag> free_lags = plan_lags(run_once("own_cores", own));
+  const std::vector<PlanLag> loaded_lags = plan_lags(run_once("loaded", loaded));
+  ASSERT_GT(free_lags.size(), 50u);
+  ASSERT_GT(loaded_lags.size(), 20u);
+  double free_mean = 0;
+  for (const PlanLag& l : free_lags) free_mean += static_cast<double>(l.lag_us - l.charged_us);
+  free_mean /= static_cast<double>(free_lags.size());
+  EXPECT_LT(free_mean, 1000.0);  // on a core of its own a plan leaves about when its charge has passed
+  for (const PlanLag& l : loaded_lags) EXPECT_GE(l.lag_us, 10 * l.charged_us);
+}
+
+// Profiling reads a clock around every callback but changes nothing in the
+// run, and gives samples to calibrate the costs from.
+TEST(Lockstep, ProfilingFillsSamplesAndLeavesTheLogAsItIs) {
+  LockstepRun plain;
+  plain.seed = 3;
+  LockstepRun profiled = plain;
+  double fake_clock = 0.0;
+  profiled.cpu_clock = [&fake_clock] { return fake_clock += 1e-6; };
+  const LoopRun a = run_once("unprofiled", plain);
+  const LoopRun b = run_once("profiled", profiled);
+  EXPECT_TRUE(bytes_of(a.log) == bytes_of(b.log));
+  EXPECT_TRUE(a.result.processes.at("planner").samples.empty());
+  for (const char* p : {"sim", "lidar_driver", "elevation_map", "tracker", "predictor", "planner", "base_driver"})
+    EXPECT_GT(b.result.processes.at(p).samples.size(), 10u) << p;
+  EXPECT_GT(b.result.processes.at("planner").plan_samples.size(), 50u);
+}
+
+}  // namespace
+}  // namespace evade::closedloop
+
+#include "closedloop/lockstep_params.h"
+
+namespace evade::closedloop {
+namespace {
+
+// robot.yaml with one line replaced; the error LockstepParams gives (empty: none).
+std::string lockstep_error(const std::string& from, const std::string& to) {
+  std::string text = bytes_of(kSource + "/config/robot.yaml");
+  const size_t at = text.find(from);
+  if (at == std::string::npos) return "premise: '" + from + "' not in robot.yaml";
+  text.replace(at, from.size(), to);
+  try {
+    LockstepParams::from_config(config::load_string(text, "robot.yaml"));
+  } catch (const config::ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Lockstep, TheSharedCoresAndTheSimulatorsCostsAreReadStrictly) {
+  EXPECT_EQ(lockstep_error("  cpu_cores: 2 ", "  cpu_cores: 2 "), "");
+  EXPECT_NE(lockstep_error("  cpu_cores: 2 ", "  cpu_cores: -1 ").find("key 'lockstep.cpu_cores'"), std::string::npos);
+  EXPECT_NE(lockstep_error("  background_load_cores: 0.0 ", "  background_load_cores: -0.5 ")
+                .find("key 'lockstep.background_load_cores'"),
+            std::string::npos);
+  EXPECT_NE(lockstep_error("packet_s: 0.0000473}", "packet_s: 0.0000473, publish_s: 0.001}").find("publish_s"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace evade::closedloop
