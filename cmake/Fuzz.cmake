@@ -76,6 +76,7 @@ function(evade_add_fuzzer name)
   endif()
   # The same harness and the LIBS' own sources, instrumented by clang.
   set(lib_sources)
+  set(lib_defines)
   set(deps ${harness})
   foreach(lib ${F_LIBS})
     if(NOT TARGET ${lib})
@@ -87,6 +88,13 @@ function(evade_add_fuzzer name)
     endif()
     get_target_property(srcs ${lib} SOURCES)
     get_target_property(dir ${lib} SOURCE_DIR)
+    # The library's own compile definitions (e.g. lib/config's paths).
+    get_target_property(defs ${lib} COMPILE_DEFINITIONS)
+    if(defs)
+      foreach(d ${defs})
+        list(APPEND lib_defines -D${d})
+      endforeach()
+    endif()
     foreach(s ${srcs})
       get_filename_component(abs ${s} ABSOLUTE BASE_DIR ${dir})
       if(abs MATCHES "\\.(cpp|cc|cxx)$")
@@ -100,7 +108,7 @@ function(evade_add_fuzzer name)
     COMMAND ${EVADE_CLANGXX} -std=c++17 -g -O1 -fsanitize=fuzzer,address,undefined
             -fno-sanitize-recover=undefined
             -I${EVADE_SOURCE_DIR}/lib -I${CMAKE_BINARY_DIR}/gen/cpp
-            -DEVADE_SOURCE_DIR="${EVADE_SOURCE_DIR}" ${F_CLANG_FLAGS}
+            -DEVADE_SOURCE_DIR="${EVADE_SOURCE_DIR}" ${lib_defines} ${F_CLANG_FLAGS}
             ${harness} ${lib_sources} ${F_CLANG_LINK} -lcrypto -o ${out}
     DEPENDS ${harness} ${lib_sources}
     COMMENT "clang libFuzzer: fuzz_${name}"

@@ -12,7 +12,9 @@
 namespace evade::bus {
 
 void add_common_options(CLI::App& app, CommonOptions& opts) {
-  app.add_option("--config", opts.config_path, "robot configuration (default config/robot.yaml)");
+  app.add_option("--config", opts.config_path,
+                 "robot configuration (default: $EVADE_CONFIG, ./config/robot.yaml, the source tree's, or the "
+                 "installed <sysconfdir>/evade/robot.yaml; lib/config/README.md)");
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   app.add_option("--replay", opts.replay_in, "run over this lcm-logger log instead of live LCM");
   app.add_option("--replay-out", opts.replay_out, "with --replay: write the outputs to this log (a new file)");

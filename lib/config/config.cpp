@@ -278,11 +278,4 @@ Node load_robot_config(const std::string& path) {
   return root;
 }
 
-std::string default_config_path() {
-  if (const char* env = std::getenv("EVADE_CONFIG"); env && *env) return env;
-  std::ifstream local("config/robot.yaml");
-  if (local) return "config/robot.yaml";
-  return std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml";
-}
-
 }  // namespace evade::config

@@ -81,8 +81,21 @@ const std::vector<std::string>& robot_sections();
 // cross-section safety rules of config/safety.h.
 Node load_robot_config(const std::string& path);
 
-// The default robot configuration: $EVADE_CONFIG, else config/robot.yaml
-// relative to the current directory, else the source tree's copy.
+// Where a process finds a configuration file NAME (robot.yaml,
+// scenario_families.yaml) when no --config names one. One rule, the first
+// that exists wins (config_path.cpp):
+//   1. ./config/NAME            (started inside a working tree)
+//   2. SOURCE/config/NAME       (the executable runs from this build's tree:
+//                                the source tree it was built from)
+//   3. SYSCONF/evade/NAME       (installed: the install's sysconfdir, found
+//                                relative to the executable, so /etc/evade
+//                                for /usr/libexec/evade/bin/X and
+//                                ROOT/etc/evade for a copy under ROOT)
+// Nothing exists: the last candidate (the error then names it).
+std::vector<std::string> config_file_candidates(const std::string& name);
+std::string find_config_file(const std::string& name);
+// The default robot configuration: $EVADE_CONFIG, else
+// find_config_file("robot.yaml").
 std::string default_config_path();
 
 }  // namespace evade::config

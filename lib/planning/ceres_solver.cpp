@@ -268,8 +268,8 @@ class InnerCost : public ceres::CostFunction {
       const size_t idx = static_cast<size_t>(i) * (N + 1) + k;
       if (!have_[idx]) {
         const ObstacleTrack& o = pb_.obstacles[i];
-        bar_[idx] = barrier_cs(xs[3 * k], xs[3 * k + 1], o.x[k], o.y[k], o.a[k], o.b[k], orientation_[2 * idx],
-                               orientation_[2 * idx + 1], pb_.d_safe);
+        bar_[idx] = footprint_barrier_cs(xs[3 * k], xs[3 * k + 1], xs[3 * k + 2], o.x[k], o.y[k], o.a[k], o.b[k],
+                                         orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint, pb_.d_safe);
         have_[idx] = 1;
       }
       return bar_[idx];
@@ -316,10 +316,11 @@ class InnerCost : public ceres::CostFunction {
         const ObstacleTrack& o = pb_.obstacles[i];
         const BarrierValue& b1 = barrier_of(i, k + 1);
         width_[r] = 2 * (k + 1);
-        ro_.add_state_row(pb_, k + 1, coef * b1.gx, coef * b1.gy, 0, jr);
+        ro_.add_state_row(pb_, k + 1, coef * b1.gx, coef * b1.gy, coef * b1.gth, jr);
         if (o.decay != 0.0) {
           const BarrierValue& b0 = barrier_of(i, k);
-          ro_.add_state_row(pb_, k, -coef * o.decay * b0.gx, -coef * o.decay * b0.gy, 0, jr);
+          const double d = -coef * o.decay;
+          ro_.add_state_row(pb_, k, d * b0.gx, d * b0.gy, d * b0.gth, jr);
         }
       }
     }
@@ -861,7 +862,8 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
     const ObstacleTrack& o = pb.obstacles[i];
     if (o.x.empty() || o.y.empty()) continue;
     const int j0 = pb.num_rate_constraints() + static_cast<int>(i) * pb.N;
-    const double h0 = barrier_at(o, 0, pb.x0, pb.y0, pb.d_safe).h;
+    const double start[3] = {pb.x0, pb.y0, pb.yaw0};
+    const double h0 = barrier_at(pb, o, 0, start).h;
     // Start inside d_safe: h' = h - h(X_0) meets the D-CBF from where it is.
     const double inside = h0 < 0 ? -(1.0 - o.decay) * h0 : 0.0;
     const double speed = std::hypot(o.x.back() - o.x.front(), o.y.back() - o.y.front()) / horizon_s;
@@ -877,7 +879,7 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
     for (int k = 0; k < pb.N; ++k) {
       double swell = 0.0;
       if (settled) {
-        const double w = h0 - barrier_at(held, k + 1, pb.x0, pb.y0, pb.d_safe).h;
+        const double w = h0 - barrier_at(pb, held, k + 1, start).h;
         swell = w - o.decay * w_prev;  // the D-CBF on h + w_k
         w_prev = w;
       }

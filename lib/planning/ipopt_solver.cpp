@@ -16,7 +16,8 @@ constexpr Number kInf = 2e19;  // IPOPT's default "no bound"
 
 // Variables: X_k = (x, y, theta) for k = 0..N at 3k, then U_k = (v, omega)
 // at 3(N+1) + 2k. Constraints: 3N dynamics (= 0), 2N rate limits (ranges),
-// M N barrier constraints (>= 0).
+// M N barrier constraints (>= 0), of the footprint (problem.h): each depends
+// on x, y and theta of its two steps.
 class MpcNlp : public Ipopt::TNLP {
  public:
   explicit MpcNlp(const Problem& pb) : pb_(pb), N_(pb.N), M_(static_cast<int>(pb.obstacles.size())) {}
@@ -32,7 +33,7 @@ class MpcNlp : public Ipopt::TNLP {
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override {
     n = this->n();
     m = this->m();
-    nnz_jac_g = N_ * (4 + 4 + 3) + (2 * N_ - 2) * 2 + 2 + M_ * N_ * 4;
+    nnz_jac_g = N_ * (4 + 4 + 3) + (2 * N_ - 2) * 2 + 2 + M_ * N_ * 6;
     build_hessian_structure();
     nnz_h_lag = static_cast<Index>(h_rows_.size());
     style = TNLP::C_STYLE;
@@ -138,8 +139,8 @@ class MpcNlp : public Ipopt::TNLP {
     for (int i = 0; i < M_; ++i) {
       const ObstacleTrack& o = pb_.obstacles[i];
       for (int k = 0; k < N_; ++k) {
-        const double h1 = barrier_at(o, k + 1, z[xi(k + 1)], z[xi(k + 1) + 1], pb_.d_safe).h;
-        const double h0 = barrier_at(o, k, z[xi(k)], z[xi(k) + 1], pb_.d_safe).h;
+        const double h1 = barrier_at(pb_, o, k + 1, z + xi(k + 1)).h;
+        const double h0 = barrier_at(pb_, o, k, z + xi(k)).h;
         g[r++] = h1 - o.decay * h0;
       }
     }
@@ -167,7 +168,8 @@ class MpcNlp : public Ipopt::TNLP {
       }
       for (int i = 0; i < M_; ++i)
         for (int k = 0; k < N_; ++k) {
-          for (int c : {xi(k + 1), xi(k + 1) + 1, xi(k), xi(k) + 1}) iRow[e] = r, jCol[e++] = c;
+          for (int c : {xi(k + 1), xi(k + 1) + 1, xi(k + 1) + 2, xi(k), xi(k) + 1, xi(k) + 2})
+            iRow[e] = r, jCol[e++] = c;
           ++r;
         }
       return true;
@@ -195,12 +197,14 @@ class MpcNlp : public Ipopt::TNLP {
     for (int i = 0; i < M_; ++i) {
       const ObstacleTrack& o = pb_.obstacles[i];
       for (int k = 0; k < N_; ++k) {
-        const BarrierValue b1 = barrier_at(o, k + 1, z[xi(k + 1)], z[xi(k + 1) + 1], pb_.d_safe);
-        const BarrierValue b0 = barrier_at(o, k, z[xi(k)], z[xi(k) + 1], pb_.d_safe);
+        const BarrierValue b1 = barrier_at(pb_, o, k + 1, z + xi(k + 1));
+        const BarrierValue b0 = barrier_at(pb_, o, k, z + xi(k));
         values[e++] = b1.gx;
         values[e++] = b1.gy;
+        values[e++] = b1.gth;
         values[e++] = -o.decay * b0.gx;
         values[e++] = -o.decay * b0.gy;
+        values[e++] = -o.decay * b0.gth;
       }
     }
     return true;
@@ -250,16 +254,8 @@ class MpcNlp : public Ipopt::TNLP {
       for (int k = 0; k < N_; ++k) {
         const double l = lambda[base + i * N_ + k];
         if (l == 0) continue;
-        const BarrierValue b1 = barrier_at(o, k + 1, z[xi(k + 1)], z[xi(k + 1) + 1], pb_.d_safe, true);
-        values[hx_[k + 1]] += l * b1.hxx;
-        values[hyx_[k + 1]] += l * b1.hxy;
-        values[hy_[k + 1]] += l * b1.hyy;
-        if (o.decay != 0) {
-          const BarrierValue b0 = barrier_at(o, k, z[xi(k)], z[xi(k) + 1], pb_.d_safe, true);
-          values[hx_[k]] -= l * o.decay * b0.hxx;
-          values[hyx_[k]] -= l * o.decay * b0.hxy;
-          values[hy_[k]] -= l * o.decay * b0.hyy;
-        }
+        add_barrier_hessian(barrier_at(pb_, o, k + 1, z + xi(k + 1), true), k + 1, l, values);
+        if (o.decay != 0) add_barrier_hessian(barrier_at(pb_, o, k, z + xi(k), true), k, -l * o.decay, values);
       }
     }
     return true;
@@ -273,6 +269,15 @@ class MpcNlp : public Ipopt::TNLP {
   }
 
  private:
+  // scale times the barrier's second derivatives in (x, y, theta) at step k
+  void add_barrier_hessian(const BarrierValue& b, int k, double scale, Number* values) const {
+    values[hx_[k]] += scale * b.hxx;
+    values[hyx_[k]] += scale * b.hxy;
+    values[hy_[k]] += scale * b.hyy;
+    values[htx_[k]] += scale * b.hxt;
+    values[hty_[k]] += scale * b.hyt;
+    values[ht_[k]] += scale * b.htt;
+  }
   int add_h(int row, int col) {
     h_rows_.push_back(row);
     h_cols_.push_back(col);
@@ -286,6 +291,8 @@ class MpcNlp : public Ipopt::TNLP {
       hyx_.push_back(add_h(xi(k) + 1, xi(k)));
       hy_.push_back(add_h(xi(k) + 1, xi(k) + 1));
       ht_.push_back(add_h(xi(k) + 2, xi(k) + 2));
+      htx_.push_back(add_h(xi(k) + 2, xi(k)));
+      hty_.push_back(add_h(xi(k) + 2, xi(k) + 1));
     }
     for (int k = 0; k < N_; ++k) {
       hvt_.push_back(add_h(ui(k), xi(k) + 2));
@@ -301,7 +308,7 @@ class MpcNlp : public Ipopt::TNLP {
   const Problem& pb_;
   int N_, M_;
   std::vector<Index> h_rows_, h_cols_;
-  std::vector<int> hx_, hyx_, hy_, ht_, hvt_, hv_, hw_, hvv1_, hww1_;
+  std::vector<int> hx_, hyx_, hy_, ht_, htx_, hty_, hvt_, hv_, hw_, hvv1_, hww1_;
 };
 
 }  // namespace

@@ -22,6 +22,8 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.limits.accel = robot.get_positive("max_accel_mps2");
   p.limits.decel = robot.get_positive("max_decel_mps2");
   p.limits.alpha = robot.get_positive("max_alpha_radps2");
+  const double length_m = robot.get_positive("footprint_length_m");
+  const double width_m = robot.get_positive("footprint_width_m");
 
   const config::Node s = root.section("planner");
   p.mode = parse_mode(s.get_choice("mode", mode_names()));
@@ -33,6 +35,8 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.gamma = s.get_double("gamma", 1e-6, 1.0);  // 0 < gamma <= 1 (paper, discrete D-CBF)
   p.evade_gamma = s.get_double("evade_gamma", 1e-6, 1.0);
   p.d_safe_m = s.get_double("d_safe_m", 0.0, 10.0);
+  p.footprint_discs = s.get_int("footprint_discs", 1, 16);
+  p.footprint = Footprint::covering(length_m, width_m, p.footprint_discs);
   p.reference_speed_mps = s.get_double("reference_speed_mps", 0.0, p.limits.v_max);
   p.route_end_decel_mps2 = s.get_positive("route_end_decel_mps2");
   p.goal_tolerance_m = s.get_positive("goal_tolerance_m");

@@ -22,12 +22,14 @@ enum class PaperFallback {
 struct PlannerParams {
   Mode mode = Mode::kEvade;  // modes.h
   PaperFallback paper_fallback = PaperFallback::kBrake;
-  double rate_hz = 10;
+  double rate_hz = 8;  // least rate: cycles run on each new obstacle list, on ODOMETRY after 1/rate_hz without
   int horizon_steps = 25;
   double dt_s = 0.1;
   double gamma = 0.15;       // the paper's D-CBF decay (its Section IV), modes with GammaKey::kPaper
   double evade_gamma = 0.1;  // evade's own (GammaKey::kEvade)
-  double d_safe_m = 0.35;
+  double d_safe_m = 0.15;     // margin beyond the footprint's covering discs
+  int footprint_discs = 3;    // discs covering robot.footprint_length_m x footprint_width_m
+  Footprint footprint;        // made from those (problem.h); the default: a point
   double reference_speed_mps = 0.8;
   double route_end_decel_mps2 = 0.5;
   double goal_tolerance_m = 0.3;

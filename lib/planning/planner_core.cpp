@@ -24,8 +24,8 @@ double barrier_shortfall(const Problem& pb, const std::vector<double>& states) {
   double worst = 0.0;
   for (const ObstacleTrack& o : pb.obstacles)
     for (int k = 0; k < pb.N; ++k) {
-      const double h0 = barrier_at(o, k, states[3 * k], states[3 * k + 1], pb.d_safe).h;
-      const double h1 = barrier_at(o, k + 1, states[3 * (k + 1)], states[3 * (k + 1) + 1], pb.d_safe).h;
+      const double h0 = barrier_at(pb, o, k, &states[3 * k]).h;
+      const double h1 = barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h;
       worst = std::max(worst, o.decay * h0 - h1);
     }
   return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
@@ -49,7 +49,7 @@ PlannerCore::PlannerCore(PlannerParams params)
     : Core("planner"),
       p_(params),
       mode_(mode_spec(params.mode)),
-      detour_(params.detour, params.d_safe_m),
+      detour_(params.detour, params.d_safe_m + params.footprint.radius),
       settled_(params.detour.memory_s),
       history_(params.curvefit_degree, params.curvefit_window_s),
       period_us_(std::llround(1e6 / params.rate_hz)) {
@@ -73,12 +73,14 @@ PlannerCore::PlannerCore(PlannerParams params)
       seen[t.id] = it == first_seen_.end() ? m.utime : it->second;
     }
     first_seen_.swap(seen);
+    if (mode_.source == ObstacleSource::kPredicted) on_new_obstacle_input();
   });
   subscribe<evade::obstacle_list_t>("OBSTACLES", [this](const evade::obstacle_list_t& m) {
     if (!accept_observed(m)) return;
     observed_ = m;
     observed_rx_ = now();
     history_.add(m);  // cbf_curvefit's observed centres
+    if (mode_.source == ObstacleSource::kObserved) on_new_obstacle_input();
   });
   every(period_us_, [this] { watchdog(); });
 }
@@ -108,8 +110,9 @@ bool PlannerCore::escape_turn(const Problem& pb, double v0, double omega0, std::
   // or at its edge, where the D-CBF lets h fall by only gamma h per step
   const BarrierValue* deepest = nullptr;
   std::vector<BarrierValue> h0(pb.obstacles.size());
+  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
-    h0[i] = barrier_at(pb.obstacles[i], 0, pb.x0, pb.y0, pb.d_safe);
+    h0[i] = barrier_at(pb, pb.obstacles[i], 0, start);
     if (h0[i].h < p_.escape_near_m && (!deepest || h0[i].h < deepest->h)) deepest = &h0[i];
   }
   if (!deepest) return false;
@@ -148,11 +151,33 @@ void PlannerCore::on_odometry(const evade::odometry_t& odom) {
   // not at the next plan cycle: the stop must not wait up to one period.
   const bool just_stale = input_stale() &&
                           !(last_plan_ && last_plan_->status == evade::plan_t::STATUS_STALE_INPUT);
-  // rate limit on message time: deterministic in replay
-  if (!just_stale && next_plan_utime_ >= 0 && odom.utime < next_plan_utime_) return;
-  next_plan_utime_ = next_plan_utime_ < 0 ? odom.utime + period_us_ : next_plan_utime_ + period_us_;
-  if (next_plan_utime_ <= odom.utime) next_plan_utime_ = odom.utime + period_us_;
+  // A list that came while the last cycle ran waited for this odometry.
+  if (cycle_pending_) {
+    count("cycle_on_obstacles");
+    plan_cycle(odom);
+    return;
+  }
+  // The obstacle input runs the cycles (on_new_obstacle_input); odometry
+  // runs one only when that is late: no cycle for a period of bus time
+  // (the arrival times: deterministic in replay).
+  if (!just_stale && last_cycle_now_ >= 0 && now() - last_cycle_now_ < period_us_) return;
+  count("cycle_on_odometry");
   plan_cycle(odom);
+}
+
+void PlannerCore::on_new_obstacle_input() {
+  // No odometry yet, or none within its max age: the watchdog brakes.
+  if (!last_odometry_ || now() - odometry_rx_ > std::llround(p_.odometry_max_age_s * 1e6)) return;
+  // No odometry newer than the last cycle's: that cycle kept the planner
+  // busy and the odometry that came meanwhile is still waiting behind this
+  // list; the cycle waits for it rather than plan from where the robot was
+  // a cycle ago.
+  if (last_odometry_->utime == last_cycle_odometry_) {
+    cycle_pending_ = true;
+    return;
+  }
+  count("cycle_on_obstacles");
+  plan_cycle(*last_odometry_);
 }
 
 bool PlannerCore::predictions_stale() const {
@@ -274,6 +299,9 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
 }
 
 void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
+  last_cycle_now_ = now();
+  last_cycle_odometry_ = odom.utime;
+  cycle_pending_ = false;
   const int N = p_.horizon_steps;
   const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
   const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
@@ -311,6 +339,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   pb.w = p_.weights;
   pb.lim = p_.limits;
   pb.d_safe = p_.d_safe_m;
+  pb.footprint = p_.footprint;
   make_reference(odom, &pb);
   {
     int invalid = 0;
@@ -605,8 +634,8 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
   for (const ObstacleTrack& o : pb->obstacles) {
     double slack = std::numeric_limits<double>::infinity();
     for (int k = 0; k < N; ++k) {
-      const double h0 = barrier_at(o, k, states[3 * k], states[3 * k + 1], pb->d_safe).h;
-      const double h1 = barrier_at(o, k + 1, states[3 * (k + 1)], states[3 * (k + 1) + 1], pb->d_safe).h;
+      const double h0 = barrier_at(*pb, o, k, &states[3 * k]).h;
+      const double h1 = barrier_at(*pb, o, k + 1, &states[3 * (k + 1)]).h;
       slack = std::min(slack, h1 - o.decay * h0);
     }
     plan.obstacle_id.push_back(o.id);
@@ -615,6 +644,7 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
     plan.obstacle_slack.push_back(std::isfinite(slack) ? slack : kNoObstacleBarrier);
   }
   plan.num_obstacles = static_cast<int32_t>(plan.obstacle_id.size());
+  plan.predictions_utime = mode_.source == ObstacleSource::kPredicted && predictions_ ? predictions_->utime : -1;
   if (!std::isfinite(plan.cost)) plan.cost = 0;
   if (!std::isfinite(plan.min_barrier)) plan.min_barrier = kNoObstacleBarrier;
   if (!std::isfinite(plan.max_violation)) plan.max_violation = 0;

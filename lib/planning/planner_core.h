@@ -1,5 +1,8 @@
-// The planner process core: ODOMETRY-triggered MPC at rate_hz (on message
-// time), publishing PLAN and CMD_VEL, never NaN. Its mode (modes.h) says
+// The planner process core: an MPC cycle on each new list of the mode's
+// obstacle input (OBSTACLE_PREDICTIONS, or OBSTACLES in the modes that read
+// them), from the newest odometry; when that input is late, ODOMETRY runs a
+// cycle once none has run for 1 / rate_hz of bus time. It publishes PLAN
+// (naming the prediction list it used) and CMD_VEL, never NaN. Its mode (modes.h) says
 // which obstacle input (OBSTACLES or OBSTACLE_PREDICTIONS) enters which
 // constraint; in the paper's modes the route is the reference and a failed
 // solve brakes, in `evade` the reference goes round what stands on the route
@@ -51,6 +54,10 @@ class PlannerCore : public bus::Core {
 
  private:
   void on_odometry(const evade::odometry_t& odom);
+  // A new list of the mode's obstacle input has been accepted: a cycle from
+  // the newest odometry, unless there is none fresh enough (the watchdog's)
+  // or none newer than the last cycle's (then at the next one).
+  void on_new_obstacle_input();
   void plan_cycle(const evade::odometry_t& odom);
   // The reference of this cycle: along the route, or round the settled
   // obstacles standing on it (detour.h).
@@ -105,7 +112,9 @@ class PlannerCore : public bus::Core {
   int64_t observed_rx_ = -1;           // bus time they arrived
   int64_t odometry_rx_ = -1;           // bus time of the last odometry
   std::optional<evade::odometry_t> last_odometry_;
-  int64_t next_plan_utime_ = -1;
+  int64_t last_cycle_now_ = -1;  // bus time of the last planning cycle (the odometry fallback's clock)
+  int64_t last_cycle_odometry_ = -1;  // utime of the odometry the last cycle planned from
+  bool cycle_pending_ = false;        // a list came with no newer odometry than that: the next one plans
   int64_t period_us_;
   // warm start: previous solution (any status) and previous feasible plan
   std::vector<double> prev_u_;

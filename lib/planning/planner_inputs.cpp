@@ -54,7 +54,9 @@ void PlannerCore::start_new_epoch(const evade::odometry_t& odom) {
   prev_ids_.clear();
   feasible_u_.clear();
   feasible_utime_ = -1;
-  next_plan_utime_ = -1;
+  last_cycle_now_ = -1;
+  cycle_pending_ = false;
+  last_cycle_odometry_ = -1;
   odometry_rx_ = now();
   last_odometry_ = odom;
   const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);

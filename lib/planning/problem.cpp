@@ -36,7 +36,7 @@ double min_barrier(const Problem& pb, const std::vector<double>& states, int fir
   double best = kNoObstacleBarrier;
   for (const auto& o : pb.obstacles)
     for (int k = first_step; k <= pb.N; ++k)
-      best = std::min(best, barrier_at(o, k, states[3 * k], states[3 * k + 1], pb.d_safe).h);
+      best = std::min(best, barrier_at(pb, o, k, &states[3 * k]).h);
   return best;
 }
 

@@ -13,6 +13,10 @@
 // with h = ||p - x_ob|| - l(delta) - d_safe, l the paper's line-ellipse
 // distance. decay = 1 - gamma gives the discrete (D-)CBF condition
 // Delta h >= -gamma h; decay = 0 gives the plain distance constraint h >= 0.
+// The robot is its footprint's covering discs (Footprint): h is the
+// smallest over the discs of that distance from the disc's centre, less the
+// disc's radius, so d_safe is the margin beyond the body; it depends on the
+// heading as well as the position.
 #pragma once
 
 #include <cmath>
@@ -44,6 +48,24 @@ struct ObstacleTrack {
   double age_s = 0.0;                     // since the planner first saw the track (solve_elastic)
 };
 
+// The robot's body as discs along its heading: centres `offsets` (m,
+// forward of the base centre), each of `radius`. The default, one disc of
+// radius 0 at the centre, is the paper's point robot.
+struct Footprint {
+  std::vector<double> offsets{0.0};
+  double radius = 0.0;
+  // n discs covering a length x width rectangle centred on the base: the
+  // length cut in n equal slices, each disc the circle round its slice.
+  static Footprint covering(double length, double width, int n) {
+    Footprint f;
+    f.offsets.clear();
+    const double slice = length / n;
+    for (int i = 0; i < n; ++i) f.offsets.push_back(-0.5 * length + slice * (i + 0.5));
+    f.radius = std::hypot(0.5 * slice, 0.5 * width);
+    return f;
+  }
+};
+
 struct Problem {
   int N = 0;
   double dt = 0;
@@ -52,7 +74,8 @@ struct Problem {
   std::vector<double> ref_x, ref_y, ref_yaw;  // N + 1, yaw unwrapped near yaw0
   Weights w;
   Limits lim;
-  double d_safe = 0;
+  double d_safe = 0;  // margin beyond the footprint
+  Footprint footprint;
   std::vector<ObstacleTrack> obstacles;
   // Optional per-constraint relaxation added to g_j (empty = none): used
   // only for an infeasible problem, see CeresMpcSolver::solve_elastic.
@@ -79,6 +102,10 @@ struct BarrierValue {
   double h = 0;
   double gx = 0, gy = 0;             // dh/dp
   double hxx = 0, hxy = 0, hyy = 0;  // d2h/dp2 (used by the IPOPT peer)
+  // of the footprint's h (footprint_barrier): dh/dyaw, and the second
+  // derivatives with yaw (0 for a point)
+  double gth = 0;
+  double hxt = 0, hyt = 0, htt = 0;
 };
 
 // Below this centre distance (m) the direction to the robot is undefined;
@@ -142,6 +169,44 @@ inline BarrierValue barrier_at(const ObstacleTrack& o, int k, double px, double 
   return barrier(px, py, o.x[k], o.y[k], o.a[k], o.b[k], o.theta[k], d_safe, want_hessian);
 }
 
+// The footprint's h at pose (px, py, yaw) against an ellipse (orientation
+// as cosine c and sine s_): the smallest over the discs of the barrier of
+// the disc's centre less its radius, with derivatives in (x, y, yaw) of
+// that disc (h is a minimum of smooth functions: where two discs tie, one
+// side's derivatives).
+inline BarrierValue footprint_barrier_cs(double px, double py, double yaw, double cx, double cy, double a, double b,
+                                         double c, double s_, const Footprint& fp, double d_safe,
+                                         bool want_hessian = false) {
+  const bool point = fp.offsets.size() == 1 && fp.offsets[0] == 0.0;
+  const double cyaw = point ? 1.0 : std::cos(yaw), syaw = point ? 0.0 : std::sin(yaw);
+  BarrierValue best;
+  bool first = true;
+  double best_off = 0.0;
+  for (double off : fp.offsets) {
+    BarrierValue v = barrier_cs(px + off * cyaw, py + off * syaw, cx, cy, a, b, c, s_, d_safe, want_hessian);
+    v.h -= fp.radius;
+    if (first || v.h < best.h) best = v, best_off = off, first = false;
+  }
+  if (best_off != 0.0) {
+    // the disc's centre moves with yaw by t = off (-sin, cos), t' = -off (cos, sin)
+    const double tx = -best_off * syaw, ty = best_off * cyaw;
+    best.gth = best.gx * tx + best.gy * ty;
+    if (want_hessian) {
+      best.hxt = best.hxx * tx + best.hxy * ty;
+      best.hyt = best.hxy * tx + best.hyy * ty;
+      best.htt = tx * best.hxt + ty * best.hyt + best.gx * (-best_off * cyaw) + best.gy * (-best_off * syaw);
+    }
+  }
+  return best;
+}
+
+// The footprint's h of obstacle o at its step k for a state (x, y, yaw).
+inline BarrierValue barrier_at(const Problem& pb, const ObstacleTrack& o, int k, const double* state,
+                               bool want_hessian = false) {
+  return footprint_barrier_cs(state[0], state[1], state[2], o.x[k], o.y[k], o.a[k], o.b[k], std::cos(o.theta[k]),
+                              std::sin(o.theta[k]), pb.footprint, pb.d_safe, want_hessian);
+}
+
 // ---- the model, generic in the scalar type (double or ceres::Jet) ----
 
 // states: 3 (N + 1) values x, y, yaw per step; u: 2 N values v, omega per step.
@@ -171,12 +236,12 @@ void rollout(const Problem& pb, const T* u, T* states, T* cos_th = nullptr, T* s
 // Lifts a barrier value computed in double back into the scalar type T by
 // the chain rule (h depends on the position only): for double this is h,
 // for a Jet the derivative part is gx * px.v + gy * py.v.
-inline double lift_barrier(const BarrierValue& b, double, double) { return b.h; }
+inline double lift_barrier(const BarrierValue& b, double, double, double) { return b.h; }
 template <class J>
-J lift_barrier(const BarrierValue& b, const J& px, const J& py) {
+J lift_barrier(const BarrierValue& b, const J& px, const J& py, const J& yaw) {
   J out;
   out.a = b.h;
-  out.v = b.gx * px.v + b.gy * py.v;
+  out.v = b.gx * px.v + b.gy * py.v + b.gth * yaw.v;
   return out;
 }
 inline double value_of(double x) { return x; }
@@ -203,11 +268,11 @@ T constraint(const Problem& pb, const T* states, const T* u, int j) {
   const int k = jj % pb.N;
   const T* p0 = states + 3 * k;
   const T* p1 = states + 3 * (k + 1);
-  const BarrierValue b1 = barrier_at(o, k + 1, value_of(p1[0]), value_of(p1[1]), pb.d_safe);
-  T g = lift_barrier(b1, p1[0], p1[1]);
+  const double s1[3] = {value_of(p1[0]), value_of(p1[1]), value_of(p1[2])};
+  T g = lift_barrier(barrier_at(pb, o, k + 1, s1), p1[0], p1[1], p1[2]);
   if (o.decay != 0.0) {
-    const BarrierValue b0 = barrier_at(o, k, value_of(p0[0]), value_of(p0[1]), pb.d_safe);
-    g = g - o.decay * lift_barrier(b0, p0[0], p0[1]);
+    const double s0[3] = {value_of(p0[0]), value_of(p0[1]), value_of(p0[2])};
+    g = g - o.decay * lift_barrier(barrier_at(pb, o, k, s0), p0[0], p0[1], p0[2]);
   }
   if (!pb.relax.empty()) g = g + pb.relax[j];
   return g;

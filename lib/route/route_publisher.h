@@ -1,7 +1,9 @@
 // The global path. The paper gets its reference path from a global planner
 // (PF-RRT*); evade takes it from the robot configuration or a scenario's
 // waypoints and repeats it on ROUTE so that a planner started late, or
-// restarted, has it within one period.
+// restarted, has it within one period. A valid ROUTE that somebody else
+// publishes (tools/goto) replaces it: the last route on the bus is the one
+// repeated. An invalid one is counted (`route_rejected`) and ignored.
 #pragma once
 
 #include <vector>
@@ -23,6 +25,17 @@ struct RouteParams {
 // Checks a polyline: at least two points, finite, no zero-length segment.
 // Returns an empty string when valid, else the reason.
 std::string validate_route(const std::vector<std::vector<double>>& waypoints);
+std::string validate_route(const evade::path_t& path);
+
+// A ROUTE message of these waypoints (not validated).
+evade::path_t make_path(const std::vector<std::vector<double>>& waypoints, int64_t utime);
+// tools/goto X Y: the straight route from the robot's position (x0, y0) to
+// (x, y); throws std::invalid_argument when it is not a valid route.
+std::vector<std::vector<double>> route_to(double x0, double y0, double x, double y);
+// A route file: YAML with the one key `route: [[x, y], ...]` (metres, the
+// odometry/world frame), read strictly; errors (ConfigError) name file,
+// line and key.
+std::vector<std::vector<double>> load_route_file(const std::string& path);
 
 class RoutePublisher : public bus::Core {
  public:
@@ -30,6 +43,7 @@ class RoutePublisher : public bus::Core {
   const evade::path_t& path() const { return path_; }
 
  private:
+  void on_route(const evade::path_t& msg);
   evade::path_t path_{};
 };
 

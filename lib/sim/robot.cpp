@@ -56,6 +56,8 @@ void UnicycleRobot::step() {
   pose_ = integrate_arc(pose_, v_, omega_, dt);
   t_us_ += limits_.step_us;
   bool live = commanded_recently(t_us_);
+  if (live_ && !live) command_timeouts_++;
+  live_ = live;
   double target_v = live ? cmd_v_ : 0.0;
   double target_omega = live ? cmd_omega_ : 0.0;
   v_ = ramp(v_, target_v, limits_.max_accel_mps2, limits_.max_decel_mps2, dt);

@@ -1,7 +1,9 @@
 // The simulated differential-drive base: unicycle kinematics driven by the
 // velocities the emulated Scout was commanded, through acceleration limits,
-// with a command timeout (no motion command for `command_timeout_us` -> the
-// target becomes zero and the base brakes, as the Jackal and the Scout do).
+// with the Scout's command timeout: no motion command for
+// `command_timeout_us` (the manual's receive timeout, 500 ms; lib/base/README.md
+// "The base's own command timeout") -> the target becomes zero and the base
+// brakes at its deceleration limit until the next command.
 //
 // Integration runs on a fixed time grid (step_us) so that a run does not
 // depend on how often somebody asks for the pose. Over each step the
@@ -20,7 +22,7 @@ struct RobotLimits {
   double max_accel_mps2 = 1.0;   // speeding up
   double max_decel_mps2 = 1.5;   // braking (speed magnitude decreasing)
   double max_alpha_radps2 = 3.0; // yaw acceleration, either way
-  int64_t command_timeout_us = 250'000;
+  int64_t command_timeout_us = 500'000;
   int64_t step_us = 1000;
 };
 
@@ -48,6 +50,9 @@ class UnicycleRobot {
   double omega() const { return omega_; }
   int64_t time() const { return t_us_; }
   bool commanded_recently(int64_t utime) const;
+  // How often the command timeout has expired on a commanded base (a grid
+  // step found the last command older than command_timeout_us).
+  int64_t command_timeouts() const { return command_timeouts_; }
   // Grid time at which the velocity first became non-zero; -1 before.
   int64_t first_motion_us() const { return first_motion_us_; }
 
@@ -66,6 +71,8 @@ class UnicycleRobot {
   int64_t last_command_us_ = -1;
   int64_t t_us_;
   int64_t first_motion_us_ = -1;
+  bool live_ = false;
+  int64_t command_timeouts_ = 0;
 };
 
 }  // namespace evade::sim

@@ -319,10 +319,6 @@ FamilyParams FamilyParams::from_config(const config::Node& root, const RobotFact
   return p;
 }
 
-std::string default_families_path() {
-  std::ifstream local("config/scenario_families.yaml");
-  if (local) return "config/scenario_families.yaml";
-  return std::string(EVADE_SOURCE_DIR) + "/config/scenario_families.yaml";
-}
+std::string default_families_path() { return config::find_config_file("scenario_families.yaml"); }
 
 }  // namespace evade::sim::gen

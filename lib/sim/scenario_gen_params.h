@@ -145,7 +145,8 @@ struct FamilyParams {
 // The family names, in the order of the file.
 const std::vector<std::string>& family_names();
 
-// config/scenario_families.yaml next to the default robot configuration.
+// scenario_families.yaml found as the robot configuration is (config.h:
+// config_file_candidates): ./config, the source tree, the installed sysconfdir.
 std::string default_families_path();
 
 }  // namespace evade::sim::gen

@@ -162,6 +162,10 @@ void SimCore::send_status() {
   std::copy(a.begin(), a.end(), bytes);
   std::copy(b.begin(), b.end(), bytes + base::kFrameSize);
   count("scout_status_frames", 2);
+  if (robot_->command_timeouts() != reported_timeouts_) {
+    count("scout_command_timeouts", robot_->command_timeouts() - reported_timeouts_);
+    reported_timeouts_ = robot_->command_timeouts();
+  }
   if (serial_sink_) serial_sink_(bytes, sizeof(bytes));
 }
 

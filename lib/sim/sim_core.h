@@ -109,6 +109,7 @@ class SimCore : public bus::Core {
   int64_t start_us_ = 0;
   base::StreamParser parser_;
   base::ParserStats reported_{};
+  int64_t reported_timeouts_ = 0;
   uint8_t tx_count_ = 0;
   PacketSink packet_sink_;
   SerialSink serial_sink_;

@@ -3,6 +3,7 @@
 // the way its model says.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -17,6 +18,7 @@
 #include "config/config.h"
 #include "evade/odometry_t.hpp"
 #include "evade/plan_t.hpp"
+#include "evade/prediction_list_t.hpp"
 #include "sim/scenario.h"
 
 namespace evade::closedloop {
@@ -141,26 +143,34 @@ TEST(Lockstep, AFixedPlannerComputeTimeIsChargedForEveryCycle) {
 namespace evade::closedloop {
 namespace {
 
-// bus time a PLAN reached the bus minus the time the ODOMETRY it was made
-// from reached the planner, for every plan that solved; and its charge.
+// bus time a PLAN reached the bus minus the time its cycle was triggered
+// (the later of the arrivals of the ODOMETRY it starts from and of the
+// prediction list it was made from), for every plan that solved; and its
+// charge.
 struct PlanLag {
   int64_t lag_us;
   int64_t charged_us;
 };
 std::vector<PlanLag> plan_lags(const LoopRun& r) {
-  std::map<int64_t, int64_t> odometry_at;
+  std::map<int64_t, int64_t> odometry_at, predictions_at;
   std::vector<PlanLag> lags;
   bus::for_each_event(r.log, [&](const bus::LogEvent& e) {
     if (e.channel == "ODOMETRY") {
       evade::odometry_t o;
       if (bus::decode(e.data.data(), e.data.size(), &o)) odometry_at[o.utime] = e.timestamp;
+    } else if (e.channel == "OBSTACLE_PREDICTIONS") {
+      evade::prediction_list_t m;
+      if (bus::decode(e.data.data(), e.data.size(), &m)) predictions_at.emplace(m.utime, e.timestamp);
     } else if (e.channel == "PLAN") {
       evade::plan_t p;
       if (!bus::decode(e.data.data(), e.data.size(), &p) || !odometry_at.count(p.utime) || p.solve_time_us <= 0) return;
       if (p.status == evade::plan_t::STATUS_STALE_INPUT || p.status == evade::plan_t::STATUS_NO_ROUTE ||
           p.status == evade::plan_t::STATUS_GOAL)
         return;
-      lags.push_back({e.timestamp - odometry_at[p.utime], p.solve_time_us});
+      int64_t triggered = odometry_at[p.utime];
+      auto list = predictions_at.find(p.predictions_utime);
+      if (list != predictions_at.end()) triggered = std::max(triggered, list->second);
+      lags.push_back({e.timestamp - triggered, p.solve_time_us});
     }
   });
   return lags;

@@ -122,9 +122,9 @@ TEST(Safety, AWatchdogAboveOneSecondIsRefusedWithFileLineKey) {
 
 TEST(Safety, APlannerPeriodNotBelowTheWatchdogIsRefused) {
   // 4 Hz = 0.25 s, the watchdog's timeout: every gap would trip it
-  const std::string err = safety_error("  rate_hz: 10.0  ", "  rate_hz: 4.0  ");
+  const std::string err = safety_error("  rate_hz: 8.0  ", "  rate_hz: 4.0  ");
   EXPECT_NE(err.find("key 'planner.rate_hz': the planner's period"), std::string::npos) << err;
-  EXPECT_EQ(safety_error("  rate_hz: 10.0  ", "  rate_hz: 5.0  "), "");
+  EXPECT_EQ(safety_error("  rate_hz: 8.0  ", "  rate_hz: 5.0  "), "");
 }
 
 TEST(Safety, PlanningWithoutPredictionsOnlyInATestConfig) {

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "planning/ceres_solver.h"
+#include "planning/ipopt_solver.h"
 #include "planning/problem.h"
 #include "test_problems.h"
 
@@ -63,6 +65,57 @@ TEST(Barrier, GradientAndHessianMatchFiniteDifferences) {
     EXPECT_NEAR(v.hxy, (yp.gx - ym.gx) / (2 * e), 1e-5);
     EXPECT_NEAR(v.hyy, (yp.gy - ym.gy) / (2 * e), 1e-5);
   }
+}
+
+// The footprint's h (problem.h): derivatives in x, y and yaw of the
+// nearest disc, at poses where one disc is clearly the nearest.
+TEST(Barrier, FootprintDerivativesMatchFiniteDifferences) {
+  const Footprint fp = Footprint::covering(0.93, 0.70, 3);
+  const double a = 0.6, b = 0.3, theta = 0.5, cx = 2.0, cy = 1.0, ds = 0.15, e = 1e-6;
+  const double c = std::cos(theta), s_ = std::sin(theta);
+  auto at = [&](double x, double y, double yaw) {
+    return footprint_barrier_cs(x, y, yaw, cx, cy, a, b, c, s_, fp, ds, true);
+  };
+  for (auto [px, py, yaw] : {std::tuple{0.0, 0.0, 0.3}, std::tuple{3.5, 2.5, -2.0}, std::tuple{2.0, -1.0, 1.4}}) {
+    const BarrierValue v = at(px, py, yaw);
+    const BarrierValue xp = at(px + e, py, yaw), xm = at(px - e, py, yaw);
+    const BarrierValue yp = at(px, py + e, yaw), ym = at(px, py - e, yaw);
+    const BarrierValue tp = at(px, py, yaw + e), tm = at(px, py, yaw - e);
+    EXPECT_NEAR(v.gx, (xp.h - xm.h) / (2 * e), 1e-6);
+    EXPECT_NEAR(v.gy, (yp.h - ym.h) / (2 * e), 1e-6);
+    EXPECT_NEAR(v.gth, (tp.h - tm.h) / (2 * e), 1e-6);
+    EXPECT_NEAR(v.hxt, (tp.gx - tm.gx) / (2 * e), 1e-5);
+    EXPECT_NEAR(v.hyt, (tp.gy - tm.gy) / (2 * e), 1e-5);
+    EXPECT_NEAR(v.htt, (tp.gth - tm.gth) / (2 * e), 1e-5);
+    EXPECT_NE(v.gth, 0.0);  // an end disc: yaw matters
+  }
+}
+
+// Covering discs hold the whole rectangle, and against a round obstacle h
+// + d_safe is the body's clearance less at most the discs' excess.
+TEST(Footprint, CoveringDiscsHoldTheRectangle) {
+  for (int n : {1, 2, 3, 5}) {
+    const double L = 0.93, W = 0.70;
+    const Footprint fp = Footprint::covering(L, W, n);
+    ASSERT_EQ(fp.offsets.size(), static_cast<size_t>(n));
+    for (int i = 0; i <= 40; ++i)
+      for (int j = 0; j <= 40; ++j) {
+        const double x = -L / 2 + L * i / 40, y = -W / 2 + W * j / 40;
+        double nearest = 1e9;
+        for (double o : fp.offsets) nearest = std::min(nearest, std::hypot(x - o, y));
+        EXPECT_LE(nearest, fp.radius + 1e-12) << n << " discs, point " << x << ", " << y;
+      }
+  }
+  const Footprint fp = Footprint::covering(0.93, 0.70, 3);
+  EXPECT_NEAR(fp.radius, std::hypot(0.155, 0.35), 1e-12);
+  const double ds = 0.15, r = 0.25;
+  // beside the middle: the clearance less the excess radius - W/2
+  const double side = footprint_barrier_cs(0, 0, 0, 0, 1.0, r, r, 1, 0, fp, ds).h;
+  EXPECT_NEAR(side + ds, (1.0 - 0.35 - r) - (fp.radius - 0.35), 1e-12);
+  // ahead, the robot turned by 90 deg: the front disc's centre at (0, 0.31)
+  const double ahead = footprint_barrier_cs(0, 0, M_PI / 2, 0, 1.0, r, r, 1, 0, fp, ds).h;
+  EXPECT_NEAR(ahead + ds, 1.0 - 0.31 - fp.radius - r, 1e-12);
+  EXPECT_LE(ahead + ds, 1.0 - 0.465 - r);  // never more than the true clearance
 }
 
 TEST(CeresSolver, AnalyticJacobianMatchesFiniteDifferences) {
@@ -323,6 +376,21 @@ TEST(CeresSolver, NeverNaNOnDegenerateInput) {
   SolveResult e = solver.solve_elastic(pb, r.u);
   for (double v : e.u) EXPECT_TRUE(std::isfinite(v));
   for (double v : e.states) EXPECT_TRUE(std::isfinite(v));
+}
+
+// The IPOPT peer solves the same NLP (the footprint's discs, yaw-dependent
+// constraints with their exact Hessian): from zeros it reaches a plan that
+// meets problem.h's constraints and costs what Ceres's does.
+TEST(IpoptPeer, SolvesTheSameFootprintNlpAsCeres) {
+  for (int k : {0, 4, 8}) {
+    const Problem pb = bench_problem(k);
+    const SolveResult ceres = CeresMpcSolver(opts()).solve(pb, std::vector<double>(2 * pb.N, 0.0));
+    const IpoptResult ip = solve_with_ipopt(pb);
+    ASSERT_TRUE(ceres.feasible) << k;
+    ASSERT_TRUE(ip.solved) << k << " obstacles, IPOPT status " << ip.status;
+    EXPECT_LE(ip.max_violation, 1e-3) << k;
+    EXPECT_NEAR(ip.cost, ceres.cost, 0.01 * ceres.cost) << k << " obstacles";
+  }
 }
 
 }  // namespace

@@ -76,6 +76,8 @@ inline ObstacleTrack moving_obstacle(int64_t id, double x, double y, double vx, 
 inline Problem bench_problem(int num_obstacles, double time_offset_s = 0.0) {
   const double v = 0.8;
   Problem pb = straight_problem(v * time_offset_s, 0.0, 0.0, v, v);
+  pb.footprint = Footprint::covering(0.42, 0.31, 3);  // the robot of config/robot.yaml, its planner's discs
+  pb.d_safe = 0.15;
   const double decay = 1.0 - 0.1;  // gamma = 0.1
   for (int i = 0; i < num_obstacles; ++i) {
     const double t = time_offset_s;

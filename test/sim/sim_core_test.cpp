@@ -109,19 +109,38 @@ TEST_F(SimCoreTest, StatusFramesAt50HzReportTheRobotsVelocity) {
   for (size_t i = 1; i < frames.size(); ++i) EXPECT_EQ(static_cast<uint8_t>(frames[i - 1].count + 1), frames[i].count);
 }
 
-TEST_F(SimCoreTest, RobotAcceleratesAtTheConfiguredLimitThenStopsOnTimeout) {
+TEST_F(SimCoreTest, RobotAcceleratesAtTheConfiguredLimit) {
   command(0.75, 0.0, kT0 + 1000);
   run_until(kT0 + 201'000);
   // max_accel_mps2 for 0.2 s
   EXPECT_NEAR(core_.robot()->v(), std::min(0.75, params_.robot.max_accel_mps2 * 0.2), 1e-9);
-  // No more commands: 0.25 s after the last one the base brakes to zero.
-  run_until(kT0 + 251'000);
-  double v_at_timeout = core_.robot()->v();
-  EXPECT_GT(v_at_timeout, 0.0);
-  run_until(kT0 + 251'000 + 50'000);
+}
+
+// The Scout manual: motion frames every 20 ms, receive timeout 500 ms
+// (lib/base/README.md). Frames stop -> the base holds the last command for
+// 500 ms, then brakes to rest at its deceleration limit and reports standby.
+TEST_F(SimCoreTest, FramesStopTheBaseHoldsTheCommandForHalfASecondThenBrakesToRest) {
+  ASSERT_EQ(params_.robot.command_timeout_us, 500'000);  // config/robot.yaml sim.command_timeout_s
+  int64_t last = 0;
+  for (int64_t t = kT0 + 1000; t <= kT0 + 1'001'000; t += 20'000) command(0.75, 0.0, last = t);
+  run_until(last + 1000);
+  ASSERT_NEAR(core_.robot()->v(), 0.75, 1e-9);
+  // 490 ms of silence: still the commanded speed, still in serial control.
+  run_until(last + 490'000);
+  EXPECT_NEAR(core_.robot()->v(), 0.75, 1e-9);
+  EXPECT_EQ(core_.counter("scout_command_timeouts"), 0);
+  // 500 ms: the timeout; 50 ms later the speed has dropped by 50 ms of braking.
+  run_until(last + 501'000);
+  const double v_at_timeout = core_.robot()->v();
+  EXPECT_NEAR(v_at_timeout, 0.75, params_.robot.max_decel_mps2 * 0.0011);
+  run_until(last + 551'000);
   EXPECT_NEAR(core_.robot()->v(), v_at_timeout - params_.robot.max_decel_mps2 * 0.05, 2e-3);
-  run_until(kT0 + 2'000'000);
+  // At rest after 0.75 / max_decel, and it stays there.
+  run_until(last + 500'000 + static_cast<int64_t>(0.75 / params_.robot.max_decel_mps2 * 1e6) + 2000);
   EXPECT_EQ(core_.robot()->v(), 0.0);
+  run_until(last + 3'000'000);
+  EXPECT_EQ(core_.robot()->v(), 0.0);
+  EXPECT_EQ(core_.counter("scout_command_timeouts"), 1);
   std::vector<base::Frame> frames = status_frames();
   base::MotionStatus m;
   ASSERT_TRUE(base::from_frame(frames.back(), &m));
@@ -129,6 +148,10 @@ TEST_F(SimCoreTest, RobotAcceleratesAtTheConfiguredLimitThenStopsOnTimeout) {
   base::SystemStatus s;
   ASSERT_TRUE(base::from_frame(frames[frames.size() - 2], &s));
   EXPECT_EQ(s.control_mode, base::kControlModeStandby);
+  // The next frame is obeyed again.
+  command(0.3, 0.0, last + 3'001'000);
+  run_until(last + 3'400'000);
+  EXPECT_NEAR(core_.robot()->v(), 0.3, 1e-9);
 }
 
 TEST_F(SimCoreTest, BadFramesAreCountedAndIgnored) {

@@ -1,27 +1,31 @@
 // log-migrate: carries a log across a change of lcmtypes that only
 // appended fields, so that golden logs need not be recorded again.
 //
-//   log-migrate odometry-epoch IN.lcmlog OUT.lcmlog [--force]
+//   log-migrate MIGRATION IN.lcmlog OUT.lcmlog [--force]
 //   log-migrate auth-sign IN.lcmlog OUT.lcmlog [--config F] [--force]
 //
 // odometry-epoch (issue 20): ODOMETRY encoded before odometry_t gained
 // `int64_t epoch` (fingerprint, utime, x, y, yaw, v, omega: 56 bytes) is
 // re-encoded with the current type and epoch 0 (one frame throughout, as
-// the recording was). Every other event is copied as it is. OUT may be IN
-// only with --force (it is written to a temporary file first).
-//
+// the recording was).
+// plan-predictions-utime (issue 18): PLAN encoded before plan_t gained
+// `int64_t predictions_utime` (its old fingerprint 0x9306470e7bded3f4) gets
+// the current fingerprint and predictions_utime -1 (not recorded).
 // auth-sign (issue 20): CMD_VEL, ODOMETRY, OBSTACLE_PREDICTIONS and ROUTE
 // encoded before their types gained the authentication fields (lib/bus/
-// auth.h) get the current fingerprint, the fields, and a signature made
-// with the configured key ($EVADE_BUS_KEY, else bus.auth.key_file) at the
-// event's timestamp, as their publisher (planner, base_driver, predictor,
-// route) would have signed them live. Messages already current are left
-// as they are.
+// auth.h), or current but never signed, get the current fingerprint, the
+// fields, and a signature made with the configured key ($EVADE_BUS_KEY,
+// else bus.auth.key_file) at the event's timestamp, as their publisher
+// (planner, base_driver, predictor, route) would have signed them live.
+// Every other event is copied as it is. OUT may be IN only with --force (it
+// is written to a temporary file first).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <map>
 
 #include "bus/auth.h"
 #include "bus/core.h"
@@ -30,6 +34,7 @@
 #include "evade/cmd_vel_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "evade/path_t.hpp"
+#include "evade/plan_t.hpp"
 #include "evade/prediction_list_t.hpp"
 
 namespace {
@@ -45,39 +50,64 @@ double be_double(const uint8_t* p) {
   std::memcpy(&d, &bits, sizeof d);
   return d;
 }
+void put_be64(int64_t v, uint8_t* p) {
+  for (int i = 7; i >= 0; --i, v = static_cast<int64_t>(static_cast<uint64_t>(v) >> 8)) p[i] = v & 0xff;
+}
+
+// One migration: the channel it rewrites and, for a message that is not of
+// the current type, the rewrite (false: neither the old nor the current type).
+struct Migration {
+  std::string channel;
+  std::function<bool(std::vector<uint8_t>*)> rewrite;
+};
 
 constexpr size_t kOldOdometrySize = 8 + 8 + 5 * 8;
 
-// Returns 0 or the process exit status.
-int migrate_odometry_epoch(std::vector<evade::bus::LogEvent>* events) {
-  namespace bus = evade::bus;
-  size_t migrated = 0, current = 0;
-  for (auto& e : *events) {
-    if (e.channel != "ODOMETRY") continue;
+bool odometry_epoch(std::vector<uint8_t>* data) {
+  if (data->size() != kOldOdometrySize) return false;
+  const uint8_t* p = data->data() + 8;
+  evade::odometry_t m{};
+  m.utime = be64(p);
+  m.x = be_double(p + 8);
+  m.y = be_double(p + 16);
+  m.yaw = be_double(p + 24);
+  m.v = be_double(p + 32);
+  m.omega = be_double(p + 40);
+  m.epoch = 0;
+  *data = evade::bus::encode(m);
+  return true;
+}
+
+constexpr int64_t kOldPlanHash = static_cast<int64_t>(0x9306470e7bded3f4ULL);
+
+bool plan_predictions_utime(std::vector<uint8_t>* data) {
+  if (data->size() < 8 || be64(data->data()) != kOldPlanHash) return false;
+  std::vector<uint8_t> out = *data;
+  put_be64(evade::plan_t::getHash(), out.data());
+  out.resize(out.size() + 8);
+  put_be64(-1, out.data() + out.size() - 8);  // predictions_utime: not recorded
+  evade::plan_t check;
+  if (!evade::bus::decode(out.data(), out.size(), &check)) return false;
+  *data = std::move(out);
+  return true;
+}
+
+const std::map<std::string, Migration>& migrations() {
+  static const std::map<std::string, Migration> m = {
+      {"odometry-epoch", Migration{"ODOMETRY", odometry_epoch}},
+      {"plan-predictions-utime", Migration{"PLAN", plan_predictions_utime}},
+  };
+  return m;
+}
+
+// True when the bytes already decode as the channel's current type.
+bool current(const std::string& channel, const std::vector<uint8_t>& data) {
+  if (channel == "ODOMETRY") {
     evade::odometry_t m;
-    if (bus::decode(e.data.data(), e.data.size(), &m)) {
-      ++current;
-      continue;
-    }
-    if (e.data.size() != kOldOdometrySize) {
-      std::fprintf(stderr, "log-migrate: an ODOMETRY of %zu bytes is neither the old nor the current type\n",
-                   e.data.size());
-      return 1;
-    }
-    const uint8_t* p = e.data.data() + 8;
-    m = evade::odometry_t{};
-    m.utime = be64(p);
-    m.x = be_double(p + 8);
-    m.y = be_double(p + 16);
-    m.yaw = be_double(p + 24);
-    m.v = be_double(p + 32);
-    m.omega = be_double(p + 40);
-    m.epoch = 0;
-    e.data = bus::encode(m);
-    ++migrated;
+    return evade::bus::decode(data.data(), data.size(), &m);
   }
-  std::printf("log-migrate: %zu ODOMETRY migrated, %zu already current\n", migrated, current);
-  return 0;
+  evade::plan_t m;
+  return evade::bus::decode(data.data(), data.size(), &m);
 }
 
 template <class Msg>
@@ -146,12 +176,15 @@ int main(int argc, char** argv) {
   namespace bus = evade::bus;
   namespace fs = std::filesystem;
   CLI::App app{"evade log-migrate: carry a log across an appended-field lcmtypes change"};
-  std::string migration, in, out;
+  std::string name, in, out;
   bool force = false;
+  std::vector<std::string> names;
+  for (const auto& [n, m] : migrations()) names.push_back(n);
+  names.push_back("auth-sign");
   std::string config_path = evade::config::default_config_path();
-  app.add_option("migration", migration, "odometry-epoch | auth-sign")
+  app.add_option("migration", name, "odometry-epoch | plan-predictions-utime | auth-sign")
       ->required()
-      ->check(CLI::IsMember({"odometry-epoch", "auth-sign"}));
+      ->check(CLI::IsMember(names));
   app.add_option("--config", config_path, "auth-sign: the configuration naming the key (bus.auth)");
   app.add_option("in", in, "input log")->required()->check(CLI::ExistingFile);
   app.add_option("out", out, "output log")->required();
@@ -162,17 +195,40 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<bus::LogEvent> events = bus::read_log(in);
-  try {
-    const int status = migration == "odometry-epoch" ? migrate_odometry_epoch(&events)
-                                                     : migrate_auth_sign(&events, config_path);
+  if (name == "auth-sign") {
+    int status = 0;
+    try {
+      status = migrate_auth_sign(&events, config_path);
+    } catch (const std::exception& e) {  // a bad configuration or key
+      std::fprintf(stderr, "log-migrate: %s\n", e.what());
+      return 2;
+    }
     if (status != 0) return status;
-  } catch (const std::exception& e) {  // a bad configuration or key
-    std::fprintf(stderr, "log-migrate: %s\n", e.what());
-    return 2;
+    const std::string tmp = out + ".migrating";
+    bus::write_log(tmp, events);
+    fs::rename(tmp, out);
+    std::printf("log-migrate: %s -> %s: %zu events\n", in.c_str(), out.c_str(), events.size());
+    return 0;
+  }
+  const Migration& mig = migrations().at(name);
+  size_t migrated = 0, already = 0;
+  for (auto& e : events) {
+    if (e.channel != mig.channel) continue;
+    if (current(e.channel, e.data)) {
+      ++already;
+      continue;
+    }
+    if (!mig.rewrite(&e.data)) {
+      std::fprintf(stderr, "log-migrate: a %s of %zu bytes is neither the old nor the current type\n",
+                   e.channel.c_str(), e.data.size());
+      return 1;
+    }
+    ++migrated;
   }
   const std::string tmp = out + ".migrating";
   bus::write_log(tmp, events);
   fs::rename(tmp, out);
-  std::printf("log-migrate: %s -> %s: %zu events\n", in.c_str(), out.c_str(), events.size());
+  std::printf("log-migrate: %s -> %s: %zu %s migrated, %zu already current, %zu events\n", in.c_str(), out.c_str(),
+              migrated, mig.channel.c_str(), already, events.size());
   return 0;
 }

@@ -3,7 +3,8 @@
 // Reads a scenario (strictly: unknown keys are errors with file, line, key)
 // and prints what the launchers need. --write-config writes a copy of the
 // robot configuration whose LiDAR model and mount height are the
-// scenario's, so the drivers decode what the simulator sends.
+// scenario's, so the drivers decode what the simulator sends, and whose
+// footprint is the scenario's robot's, so the planner keeps it clear.
 #include <CLI/CLI.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -35,6 +36,8 @@ int main(int argc, char** argv) {
       YAML::Node root = YAML::LoadFile(base_path);
       root["lidar"]["model"] = sc.lidar.model;
       root["lidar"]["mount"]["z_m"] = sc.lidar.height;
+      root["robot"]["footprint_length_m"] = sc.footprint_length;  // the planner plans for the robot simulated
+      root["robot"]["footprint_width_m"] = sc.footprint_width;
       std::ofstream f(out);
       f << "# Written by scenario-info from " << base_path << " for scenario " << sc.name << "\n" << root << "\n";
       if (!f) throw std::runtime_error("cannot write " + out);
