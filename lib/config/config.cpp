@@ -265,7 +265,7 @@ const std::vector<std::string>& robot_sections() {
   static const std::vector<std::string> sections = {"robot",   "lidar",       "sim",           "lidar_driver",
                                                     "base_driver", "elevation_map", "tracker", "predictor",
                                                     "planner", "route",       "metrics",       "lockstep",
-                                                    "health_board", "viz", "bus"};
+                                                    "health_board", "viz", "bus", "teleop"};
   return sections;
 }
 

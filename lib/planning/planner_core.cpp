@@ -662,7 +662,7 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
   publish("PLAN", plan);
   last_plan_ = plan;
 
-  evade::cmd_vel_t cmd;
+  evade::cmd_vel_t cmd{};
   cmd.utime = odom.utime;
   cmd.v = u[0];
   cmd.omega = u[1];
