@@ -109,7 +109,7 @@ function(evade_add_fuzzer name)
             -fno-sanitize-recover=undefined
             -I${EVADE_SOURCE_DIR}/lib -I${CMAKE_BINARY_DIR}/gen/cpp
             -DEVADE_SOURCE_DIR="${EVADE_SOURCE_DIR}" ${lib_defines} ${F_CLANG_FLAGS}
-            ${harness} ${lib_sources} ${F_CLANG_LINK} -o ${out}
+            ${harness} ${lib_sources} ${F_CLANG_LINK} -lcrypto -o ${out}
     DEPENDS ${harness} ${lib_sources}
     COMMENT "clang libFuzzer: fuzz_${name}"
     COMMAND_EXPAND_LISTS VERBATIM)

@@ -3,6 +3,14 @@
 #   NETNS: every test runs through tools/netns-run, inside a private network
 #   namespace with multicast routed to lo and ttl=0, so no packet leaves.
 set(EVADE_NETNS_RUN ${CMAKE_SOURCE_DIR}/tools/netns-run)
+# Every test signs and checks the bus with the committed test-only key
+# (test/data/bus_test.key), never the user's: a copy with mode 0600 (git
+# keeps no modes, and a key readable by others is refused), named by
+# $EVADE_BUS_KEY, which overrides bus.auth.key_file.
+file(COPY ${CMAKE_SOURCE_DIR}/test/data/bus_test.key DESTINATION ${CMAKE_BINARY_DIR}/test
+     FILE_PERMISSIONS OWNER_READ OWNER_WRITE)
+set(EVADE_TEST_KEY ${CMAKE_BINARY_DIR}/test/bus_test.key)
+set(EVADE_TEST_ENV EVADE_BUS_KEY=${EVADE_TEST_KEY})
 function(evade_add_gtest name)
   cmake_parse_arguments(T "NETNS;SERIAL" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
   if(NOT T_LABEL)
@@ -22,7 +30,7 @@ function(evade_add_gtest name)
   endif()
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${CMAKE_SOURCE_DIR}
-    PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT} RUN_SERIAL ${serial}
+    PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT} RUN_SERIAL ${serial} ENVIRONMENT ${EVADE_TEST_ENV}
     DISCOVERY_TIMEOUT 60
     DISCOVERY_MODE PRE_TEST)
 endfunction()

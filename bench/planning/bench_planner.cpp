@@ -11,6 +11,10 @@
 //   loop/ceres/<k>        30 planner cycles (robot and obstacles moving), per-cycle counters
 //   detour/<k>            the way round k settled obstacles, one of them wide on the route
 //                         (detour.h, config/robot.yaml planner.detour), per planning cycle
+//   guidance/<k>          the distinct ways through the k obstacles of the fixed problem
+//                         (guidance.h, config/robot.yaml planner.guidance), per planning cycle
+//   cycle/guidance/<k>    guidance, the local solves side by side (planner.guidance.threads)
+//                         and the choice (topology_planner.h): mode evade's whole cycle
 // After the runs a table compares the costs (goal: Ceres within 1 % of IPOPT).
 #include <benchmark/benchmark.h>
 
@@ -24,6 +28,8 @@
 #include "config/config.h"
 #include "planning/ceres_solver.h"
 #include "planning/detour.h"
+#include "planning/guidance.h"
+#include "planning/topology_planner.h"
 #include "planning/ipopt_solver.h"
 #include "planning/params.h"
 #include "planning/reference.h"
@@ -235,6 +241,47 @@ void BM_Detour(benchmark::State& state) {
   state.counters["cells_expanded"] = static_cast<double>(expanded) / std::max(1, cycles);
 }
 
+evade::planning::PlannerParams config_params() {
+  return evade::planning::PlannerParams::from_config(
+      evade::config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
+}
+
+void BM_Guidance(benchmark::State& state) {
+  using namespace evade::planning;
+  const int k = static_cast<int>(state.range(0));
+  const PlannerParams p = config_params();
+  const Problem pb = evade::planning::testing::bench_problem(k);
+  size_t classes = 0;
+  for (auto _ : state) {
+    const std::vector<GuidancePath> ways = find_guidance(pb, p.guidance);
+    classes = ways.size();
+    benchmark::DoNotOptimize(ways.data());
+  }
+  state.counters["classes"] = static_cast<double>(classes);
+}
+
+void BM_GuidanceCycle(benchmark::State& state) {
+  using namespace evade::planning;
+  const int k = static_cast<int>(state.range(0));
+  const PlannerParams p = config_params();
+  const Problem pb = evade::planning::testing::bench_problem(k);
+  const Warm w = warm_start(k, CeresMpcSolver(p.solver));
+  TopologyPlanner planner(p.guidance, p.solver,
+                          local_solves_budget(p.guidance, p.solver.max_total_iterations, p.max_cycle_iterations));
+  TopologyOutcome o;
+  for (auto _ : state) {
+    planner.reset();
+    o = planner.plan(pb, {w.u}, std::vector<double>(2 * pb.N, 0.0));
+    benchmark::DoNotOptimize(o.u.data());
+  }
+  state.counters["solves"] = o.solves;
+  state.counters["iterations"] = o.iterations;
+  state.counters["critical_iterations"] = o.critical_iterations;
+  state.counters["feasible"] = o.feasible ? 1 : 0;
+}
+
+BENCHMARK(BM_Guidance)->Name("guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GuidanceCycle)->Name("cycle/guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Detour)->Name("detour")->Arg(1)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ceres)->Name("solve/ceres")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CeresWarmMultipliers)->Name("solve/ceres_warm_multipliers")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);

@@ -7,6 +7,7 @@
 
 #include "evade/base_status_t.hpp"
 #include "evade/cmd_vel_t.hpp"
+#include "evade/estop_t.hpp"
 #include "evade/odometry_t.hpp"
 
 namespace evade::base {
@@ -71,21 +72,56 @@ BaseDriverCore::BaseDriverCore(const BaseDriverParams& params)
       command_period_us_(std::max<int64_t>(1, to_us(1.0 / params.command_rate_hz))),
       pose_(params.initial_pose) {
   subscribe<evade::cmd_vel_t>(kCmdVelChannel, [this](const evade::cmd_vel_t& m) { on_cmd_vel(m.utime, m.v, m.omega); });
+  subscribe<evade::estop_t>(kEstopChannel, [this](const evade::estop_t& m) { on_estop(m.utime, m.engaged); });
   every(command_period_us_, [this] { command_tick(); });
   every(std::max<int64_t>(1, to_us(1.0 / params.status_rate_hz)), [this] { publish_status(); });
 }
 
 // ------------------------------------------------------------- commands ----
 
+int64_t BaseDriverCore::age_of(int64_t utime) const {
+  // saturating: utime may be anything a sender put there
+  int64_t age;
+  if (__builtin_sub_overflow(now(), utime, &age)) age = utime < 0 ? bus::kNever : -bus::kNever;
+  return age;
+}
+
+void BaseDriverCore::on_estop(int64_t utime, bool engaged) {
+  if (engaged) {
+    // Stopping is always safe: no age check beyond the bus's window.
+    if (!estop_) count("estop_engaged");
+    estop_ = true;
+    target_ = Twist{};
+    commanded_ = Twist{};
+    publish_status();
+    return;
+  }
+  const int64_t age = age_of(utime);
+  const int64_t max_age = to_us(params_.cmd_vel_max_age_s);
+  if (age > max_age || age < -max_age) {
+    count("estop_release_late");
+    return;
+  }
+  if (!estop_) return;
+  estop_ = false;
+  count("estop_released");
+  // Nothing said before the release drives the robot: a new CMD_VEL must come.
+  have_cmd_ = false;
+  watchdog_tripped_ = true;
+  publish_status();
+}
+
 void BaseDriverCore::on_cmd_vel(int64_t utime, double v, double omega) {
+  if (estop_) {
+    count("cmd_vel_during_estop");
+    return;
+  }
   if (!std::isfinite(v) || !std::isfinite(omega)) {
     count("cmd_vel_not_finite");
     return;
   }
   const int64_t max_age = to_us(params_.cmd_vel_max_age_s);
-  // saturating: utime may be anything a sender put there
-  int64_t age;
-  if (__builtin_sub_overflow(now(), utime, &age)) age = utime < 0 ? bus::kNever : -bus::kNever;
+  const int64_t age = age_of(utime);
   if (age > max_age) {
     count("cmd_vel_late");
     return;
@@ -122,8 +158,8 @@ void BaseDriverCore::command_tick() {
   }
 
   if (update_watchdog()) publish_status();
-  if (watchdog_tripped_ || !link_ok_) {
-    // no planner, or no word from the base: zero until both are back
+  if (estop_ || watchdog_tripped_ || !link_ok_) {
+    // e-stop, no planner, or no word from the base: zero until all are clear
     commanded_ = Twist{};
   } else {
     commanded_ = limit_step(commanded_, target_, params_.limits, command_period_us_ / kUsPerS);
@@ -228,7 +264,7 @@ void BaseDriverCore::on_motion_status(const MotionStatus& status) {
 }
 
 void BaseDriverCore::publish_odometry(int64_t utime, double v, double omega) {
-  evade::odometry_t m;
+  evade::odometry_t m{};
   m.utime = utime;
   m.epoch = params_.epoch;
   m.x = pose_.x;
@@ -251,6 +287,7 @@ void BaseDriverCore::publish_status() {
   m.fault_code = system_.fault_code;
   m.watchdog_tripped = watchdog_tripped_;
   m.link_ok = link_ok_;
+  m.estop_engaged = estop_;
   m.commanded_v = commanded_.v;
   m.commanded_omega = commanded_.omega;
   m.measured_v = link_ok_ ? measured_.v : 0.0;

@@ -36,6 +36,12 @@
 //   main): odometry of one epoch is one continuous frame; a new epoch (a
 //   restarted driver, its pose reset) tells the planner and the map to
 //   start over.
+// - E-stop: a (signed) ESTOP with engaged = true latches the stop: from
+//   then on every motion frame is zero and every CMD_VEL is ignored
+//   (counted cmd_vel_during_estop), until an ESTOP with engaged = false,
+//   stamped within cmd_vel_max_age_s of its arrival, releases it. After a
+//   release the robot waits for a new CMD_VEL and ramps up from zero.
+//   BASE_STATUS.estop_engaged tells the state.
 // - stop(): queues one zero-speed frame, whatever the state (a main being
 //   stopped by a signal sends it before closing the port).
 #pragma once
@@ -54,6 +60,7 @@ namespace evade::base {
 inline constexpr const char* kCmdVelChannel = "CMD_VEL";
 inline constexpr const char* kOdometryChannel = "ODOMETRY";
 inline constexpr const char* kBaseStatusChannel = "BASE_STATUS";
+inline constexpr const char* kEstopChannel = "ESTOP";
 
 struct BaseDriverParams {
   std::string device = "/tmp/evade_scout";  // serial device (a pty symlink for the simulator)
@@ -100,6 +107,7 @@ class BaseDriverCore : public bus::Core {
   const Twist& commanded() const { return commanded_; }
   const Twist& measured() const { return measured_; }
   bool watchdog_tripped() const { return watchdog_tripped_; }
+  bool estop_engaged() const { return estop_; }
   bool link_ok() const { return link_ok_; }
   bool port_open() const { return port_open_; }
   const ParserStats& parser_stats() const { return parser_.stats(); }
@@ -107,6 +115,9 @@ class BaseDriverCore : public bus::Core {
 
  private:
   void on_cmd_vel(int64_t utime, double v, double omega);
+  void on_estop(int64_t utime, bool engaged);
+  // Saturating now() - utime.
+  int64_t age_of(int64_t utime) const;
   void queue_motion_frame();
   void command_tick();
   // Trips the watchdog if CMD_VEL is stale at now(); true if it just tripped.
@@ -129,6 +140,7 @@ class BaseDriverCore : public bus::Core {
   Twist target_;
   Twist commanded_;
   bool watchdog_tripped_ = true;  // until the first CMD_VEL
+  bool estop_ = false;            // latched by ESTOP engaged, cleared by a release
   uint8_t tx_count_ = 0;
   std::vector<uint8_t> tx_;
 

@@ -30,13 +30,31 @@ void Core::run_measured(const std::function<void()>& fn) {
   ++latency_n_;
 }
 
+const char* verdict_name(AuthVerdict v) {
+  switch (v) {
+    case AuthVerdict::kOk: return "auth_ok";
+    case AuthVerdict::kUnsigned: return "auth_unsigned";
+    case AuthVerdict::kBadMac: return "auth_bad_mac";
+    case AuthVerdict::kOldSeq: return "auth_old_seq";
+    case AuthVerdict::kOutsideWindow: return "auth_outside_window";
+  }
+  return "auth_unknown";
+}
+
 bool Core::deliver(const std::string& channel, const uint8_t* data, size_t size, int64_t now) {
   auto it = inputs_.find(channel);
   if (it == inputs_.end()) return false;
   now_ = now;
   Input& in = it->second;
   in.received++;
-  in.last_now = now;
+  if (auth_) {
+    const AuthVerdict v = auth_->verify(channel, data, size, now);
+    if (v != AuthVerdict::kOk) {
+      count(verdict_name(v));
+      return false;
+    }
+  }
+  in.last_now = now;  // the input's age: that of the last message it may act on
   bool ok = true;
   run_measured([&] { ok = in.decode_and_handle(data, size); });
   if (!ok) in.malformed++;
@@ -91,6 +109,10 @@ void Core::advance_to(int64_t now) {
 }
 
 void Core::publish_raw(const std::string& channel, std::vector<uint8_t> data) {
+  if (auth_ && !auth_->sign(channel, now_, &data)) {
+    count("auth_sign_failed");
+    return;
+  }
   ++outputs_since_;
   if (sink_) sink_->publish(channel, now_, std::move(data));
 }

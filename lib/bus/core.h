@@ -25,6 +25,25 @@ namespace evade::bus {
 inline constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
 inline constexpr const char* kHealthChannel = "HEALTH";
 
+// Signs what a core publishes and checks what it receives, for the
+// channels that carry authentication (lib/bus/auth.h). Set on a core by
+// whoever runs it (process_main, base_driver's main, the lockstep loop,
+// process-replay); the core's own code never sees keys, codes or
+// sequence numbers. Verdicts other than kOk are counted in HEALTH under
+// verdict_name() and the message is dropped before it is decoded.
+enum class AuthVerdict { kOk, kUnsigned, kBadMac, kOldSeq, kOutsideWindow };
+const char* verdict_name(AuthVerdict v);
+class Authenticator {
+ public:
+  virtual ~Authenticator() = default;
+  // Signs `data` (an encoded message) in place for `channel`, published at
+  // bus time `now`; channels without authentication are left as they are.
+  // False when the message cannot be signed (it carries no auth fields).
+  virtual bool sign(const std::string& channel, int64_t now, std::vector<uint8_t>* data) = 0;
+  // kOk for a channel without authentication.
+  virtual AuthVerdict verify(const std::string& channel, const uint8_t* data, size_t size, int64_t now) = 0;
+};
+
 // Where a core's output goes. `now` is the bus time at which it was published.
 class Sink {
  public:
@@ -72,6 +91,8 @@ class Core {
   // A counter the adapter or main sets from outside the core (e.g.
   // bus_exposed_interfaces at start), reported in HEALTH like count().
   void note(const std::string& name, int64_t n = 1) { count(name, n); }
+  // Signs outputs and checks inputs from now on (not owned; nullptr: off).
+  void set_authenticator(Authenticator* auth) { auth_ = auth; }
 
  protected:
   template <class Msg>
@@ -99,6 +120,7 @@ class Core {
 
   std::string name_;
   Sink* sink_ = nullptr;
+  Authenticator* auth_ = nullptr;
   std::map<std::string, Input> inputs_;
   std::map<std::string, Input> external_;  // non-LCM inputs: reported, never subscribed
   std::vector<Timer> timers_;

@@ -37,6 +37,21 @@ void guard_bus(const std::string& process, const std::string& url, const config:
   for (Core* c : cores) c->note("bus_exposed_interfaces", exposed);
 }
 
+std::unique_ptr<HmacAuth> authenticate_or_exit(const std::string& process, const config::Node& root, Core& core,
+                                               bool publishes_signed) {
+  bool needed = publishes_signed;
+  for (const auto& ch : core.channels()) needed |= is_authenticated(ch);
+  if (!needed) return nullptr;
+  try {
+    auto auth = load_auth(root).make(process);
+    core.set_authenticator(auth.get());
+    return auth;
+  } catch (const std::exception& e) {  // KeyError, ConfigError
+    std::fprintf(stderr, "%s: %s\n", process.c_str(), e.what());
+    std::exit(2);
+  }
+}
+
 bool replay_paths_ok(const std::string& in, const std::string& out, bool force, std::string* why) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -73,6 +88,7 @@ int process_main(int argc, char** argv, const std::string& name,
     std::fprintf(stderr, "%s: %s\n", name.c_str(), e.what());
     return 2;
   }
+  const std::unique_ptr<HmacAuth> auth = authenticate_or_exit(name, root, *core, options.publishes_signed);
 
   if (!opts.replay_in.empty()) {
     if (opts.replay_out.empty()) {

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "bus/auth.h"
 #include "bus/core.h"
 #include "config/config.h"
 
@@ -41,12 +42,23 @@ void guard_bus(const std::string& process, const std::string& url, const config:
 // set. /dev/null and other non-regular files are fine.
 bool replay_paths_ok(const std::string& in, const std::string& out, bool force, std::string* why);
 
+// Signs and checks the authenticated channels (auth.h) of a core that
+// subscribes to one or, with `publishes_signed`, publishes one: loads the
+// key of the configuration and sets it on the core. nullptr (and no key
+// needed) for any other core. On a missing or exposed key, or a bad
+// `bus.auth` section, prints "<process>: <reason>" and exits with status 2.
+std::unique_ptr<HmacAuth> authenticate_or_exit(const std::string& process, const config::Node& root, Core& core,
+                                               bool publishes_signed);
+
 using CoreFactory = std::function<std::unique_ptr<Core>(const config::Node& root)>;
 
 struct ProcessOptions {
   // Live only: channels whose queued messages are conflated to the newest
   // (see LiveBus::conflate). A log replay delivers every message.
   std::vector<std::string> conflate;
+  // The core publishes an authenticated channel (auth.h) and so needs the
+  // key even if it subscribes to none.
+  bool publishes_signed = false;
 };
 
 // Parses the command line (flags added by `add_flags` too), builds the core

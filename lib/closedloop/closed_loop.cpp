@@ -1,8 +1,10 @@
 #include "closedloop/closed_loop.h"
 
+
 #include <stdexcept>
 
 #include "base/base_driver_core.h"
+#include "bus/auth.h"
 #include "closedloop/cpu.h"
 #include "closedloop/event_queue.h"
 #include "closedloop/lockstep_params.h"
@@ -76,6 +78,7 @@ struct ClosedLoop::Impl {
   std::unique_ptr<planning::PlannerCore> planner;
   std::vector<std::unique_ptr<bus::Core>> others;  // elevation_map, tracker, predictor, route
   std::unique_ptr<RunMonitor> monitor;
+  std::vector<std::unique_ptr<bus::HmacAuth>> auths;  // one per robot process, as live
   std::vector<std::unique_ptr<ProcessNode>> nodes;
   std::map<std::string, std::vector<ProcessNode*>> subscribers;
   std::unique_ptr<Cpu> cpu;  // the shared cores (none: each process has its own)
@@ -188,6 +191,16 @@ void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
   mp.margin_s = params.goal_margin_s;
   mp.quiet = run.quiet;
   monitor = std::make_unique<RunMonitor>(mp);
+
+  // The robot's processes sign and check the authenticated channels with
+  // the configured key, as they do live, so a lockstep log replays with it.
+  const bus::AuthSetup keys = bus::load_auth(root);
+  std::vector<bus::Core*> robot = {base.get(), planner.get()};
+  for (auto& c : others) robot.push_back(c.get());
+  for (bus::Core* c : robot) {
+    auths.push_back(keys.make(c->name()));
+    c->set_authenticator(auths.back().get());
+  }
 
   if (params.cpu_cores > 0) cpu = std::make_unique<Cpu>(q, params.cpu_cores, params.background_load_cores);
   const ProcessCost sc = params.costs.at("sim");

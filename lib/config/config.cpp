@@ -264,8 +264,8 @@ Node load_string(const std::string& text, const std::string& name) { return pars
 const std::vector<std::string>& robot_sections() {
   static const std::vector<std::string> sections = {"robot",   "lidar",       "sim",           "lidar_driver",
                                                     "base_driver", "elevation_map", "tracker", "predictor",
-                                                    "planner", "route",       "metrics",       "perception_metrics", "lockstep",
-                                                    "health_board", "viz", "bus"};
+                                                    "planner", "route",       "metrics",       "perception_metrics",
+                                                    "lockstep", "health_board", "viz", "bus", "teleop"};
   return sections;
 }
 

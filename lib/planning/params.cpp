@@ -98,6 +98,20 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.detour.min_mover_age_s = d.get_double("min_mover_age_s", 0.0, 3600.0);
   d.close();
 
+  const config::Node g = s.section("guidance");
+  p.guidance.enabled = g.get<bool>("enabled");
+  p.guidance.max_classes = g.get_int("max_classes", 0, 16);
+  p.guidance.threads = g.get_int("threads", 1, 64);
+  p.guidance.layer_steps = g.get_int("layer_steps", 1, 64);
+  p.guidance.lateral_step_m = g.get_double("lateral_step_m", 0.05, 2.0);
+  p.guidance.lateral_max_m = g.get_double("lateral_max_m", 0.0, 10.0);
+  p.guidance.longitudinal_step_m = g.get_double("longitudinal_step_m", 0.05, 2.0);
+  p.guidance.switch_cost_factor = g.get_double("switch_cost_factor", 1.0, 100.0);
+  p.guidance.fallback = g.get_choice("fallback", {"least_violating", "recovery"}) == "recovery"
+                            ? GuidanceParams::Fallback::kRecovery
+                            : GuidanceParams::Fallback::kLeastViolating;
+  g.close();
+
   const config::Node o = s.section("solver");
   p.solver.max_outer_iterations = o.get_int("max_outer_iterations", 1, 1000);
   p.solver.max_inner_iterations = o.get_int("max_inner_iterations", 1, 1000);

@@ -7,6 +7,7 @@
 #include "config/config.h"
 #include "planning/ceres_solver.h"
 #include "planning/detour.h"
+#include "planning/guidance.h"
 #include "planning/modes.h"
 #include "planning/problem.h"
 
@@ -54,6 +55,10 @@ struct PlannerParams {
   // that a replay plans exactly as the live run did.
   int max_cycle_iterations = 900;
   DetourParams detour;
+  // Mode evade: guidance classes solved side by side and the choice among
+  // them (guidance.h, topology_planner.h); off: one solve from the warm
+  // start and evade's recovery chain.
+  GuidanceParams guidance;
   // Inside d_safe of an obstacle that stands ahead and to one side, the
   // relaxed problem keeps h from falling (at its edge the D-CBF lets it fall
   // by only gamma h per step), and a robot that must turn on the spot for

@@ -52,6 +52,8 @@ PlannerCore::PlannerCore(PlannerParams params)
       detour_(params.detour, params.d_safe_m + params.footprint.radius),
       settled_(params.detour.memory_s),
       history_(params.curvefit_degree, params.curvefit_window_s),
+      topology_(params.guidance, params.solver,
+                local_solves_budget(params.guidance, params.solver.max_total_iterations, params.max_cycle_iterations)),
       period_us_(std::llround(1e6 / params.rate_hz)) {
   subscribe<evade::odometry_t>("ODOMETRY", [this](const evade::odometry_t& m) { on_odometry(m); });
   subscribe<evade::path_t>("ROUTE", [this](const evade::path_t& m) {
@@ -378,6 +380,10 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
     for (int k = 0; k < N; ++k) warm_u[2 * k] = v0;  // hold the current speed, go straight
   }
 
+  if (mode_.evade_layers && p_.guidance.enabled) {
+    plan_with_guidance(pb, warm_u, warm_lambda, odom, v0, w0);
+    return;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   // Controls only: with the previous multipliers (and their penalty) the
   // solves measured slower and costlier in bench_planner, so they start at 0.
@@ -406,6 +412,11 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
   const double solve_us = solve_time_model_ ? solve_time_model_(iterations, measured_us) : measured_us;
 
+  finish_cycle(odom, status, pb, u, res, solve_us, iterations);
+}
+
+void PlannerCore::finish_cycle(const evade::odometry_t& odom, int8_t status, const Problem& pb,
+                               const std::vector<double>& u, const SolveResult& res, double solve_us, int iterations) {
   if (status == evade::plan_t::STATUS_OK) {
     feasible_u_ = u;
     feasible_utime_ = odom.utime;
@@ -651,7 +662,7 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
   publish("PLAN", plan);
   last_plan_ = plan;
 
-  evade::cmd_vel_t cmd;
+  evade::cmd_vel_t cmd{};
   cmd.utime = odom.utime;
   cmd.v = u[0];
   cmd.omega = u[1];

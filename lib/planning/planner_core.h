@@ -27,6 +27,7 @@
 #include "planning/obstacles.h"
 #include "planning/params.h"
 #include "planning/reference.h"
+#include "planning/topology_planner.h"
 
 namespace evade::planning {
 
@@ -95,6 +96,14 @@ class PlannerCore : public bus::Core {
   // inside d_safe, replaces it with a turn on the spot towards the way out
   // and returns true.
   bool escape_turn(const Problem& pb, double v0, double omega0, std::vector<double>* u) const;
+  // Mode evade with planner.guidance.enabled: the cycle's solves and choice
+  // by TopologyPlanner (planner_guidance.cpp), then as plan_cycle's end.
+  void plan_with_guidance(const Problem& pb, const std::vector<double>& warm_u,
+                          const std::vector<double>& warm_lambda, const evade::odometry_t& odom, double v0, double w0);
+  // The end of a cycle: remembers the plan for the next warm start (and a
+  // feasible one for the fallback) and publishes it.
+  void finish_cycle(const evade::odometry_t& odom, int8_t status, const Problem& pb, const std::vector<double>& u,
+                    const SolveResult& res, double solve_us, int iterations);
   void publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb, const std::vector<double>& u,
                     double solve_us, int iterations, int num_obstacles);
 
@@ -104,6 +113,7 @@ class PlannerCore : public bus::Core {
   DetourPlanner detour_;
   SettledMemory settled_;
   CurveFitHistory history_;
+  TopologyPlanner topology_;
   std::map<int64_t, int64_t> first_seen_;  // track id -> utime of its first prediction
   double track_age_s(int64_t id, int64_t utime) const;  // since first_seen_ (0 for an unknown id)
   std::optional<evade::prediction_list_t> predictions_;

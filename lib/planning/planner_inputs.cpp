@@ -52,6 +52,7 @@ void PlannerCore::start_new_epoch(const evade::odometry_t& odom) {
   prev_multipliers_.clear();
   prev_penalty_ = 0;
   prev_ids_.clear();
+  topology_.reset();
   feasible_u_.clear();
   feasible_utime_ = -1;
   last_cycle_now_ = -1;

@@ -18,7 +18,7 @@ class PredictorCore : public bus::Core {
  private:
   void on_obstacles(const evade::obstacle_list_t& msg);
   Predictor predictor_;
-  evade::prediction_list_t out_;  // reused between frames
+  evade::prediction_list_t out_{};  // reused between frames
 };
 
 }  // namespace evade::prediction

@@ -44,7 +44,7 @@ class RoutePublisher : public bus::Core {
 
  private:
   void on_route(const evade::path_t& msg);
-  evade::path_t path_;
+  evade::path_t path_{};
 };
 
 }  // namespace evade::route

@@ -165,6 +165,8 @@ int main(int argc, char** argv) {
   // 0 in a replay, which stays deterministic.
   params.epoch = opts.replay_in.empty() ? bus::bus_utime() : 0;
   auto core = std::make_unique<base::BaseDriverCore>(params);
+  // Signs ODOMETRY; acts on CMD_VEL and ESTOP only when they are signed.
+  const auto auth = bus::authenticate_or_exit(kName, root, *core, /*publishes_signed=*/true);
   if (!opts.replay_in.empty()) {
     // A log holds no serial bytes: the replay exercises the command side
     // (CMD_VEL -> watchdog, BASE_STATUS) deterministically.

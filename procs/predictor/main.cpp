@@ -9,5 +9,5 @@ int main(int argc, char** argv) {
   return bus::process_main(argc, argv, "predictor", nullptr, [](const config::Node& root) {
     const auto params = prediction::PredictorParams::from_config(root.section("predictor"));
     return std::make_unique<prediction::PredictorCore>(params);
-  });
+  }, bus::ProcessOptions{{}, /*publishes_signed=*/true});
 }

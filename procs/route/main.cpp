@@ -22,5 +22,6 @@ int main(int argc, char** argv) {
         }
         std::fprintf(stderr, "route: %zu points\n", params.waypoints.size());
         return std::make_unique<evade::route::RoutePublisher>(params);
-      });
+      },
+      evade::bus::ProcessOptions{{}, /*publishes_signed=*/true});
 }

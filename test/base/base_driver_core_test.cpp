@@ -9,10 +9,12 @@
 #include <cmath>
 #include <limits>
 
+#include "bus/auth.h"
 #include "bus/memory_bus.h"
 #include "config/config.h"
 #include "evade/base_status_t.hpp"
 #include "evade/cmd_vel_t.hpp"
+#include "evade/estop_t.hpp"
 #include "evade/health_t.hpp"
 #include "evade/odometry_t.hpp"
 
@@ -447,6 +449,108 @@ TEST(BaseDriverCore, OdometryCarriesTheDriversEpoch) {
   auto odo = r.bus.decoded<evade::odometry_t>(kOdometryChannel);
   ASSERT_EQ(odo.size(), 1u);
   EXPECT_EQ(odo[0].epoch, 1234567);
+}
+
+// ---- authenticated commands and the e-stop (issue 20) ----
+
+std::vector<uint8_t> signed_msg(bus::HmacAuth& signer, const std::string& channel, std::vector<uint8_t> data,
+                                int64_t now) {
+  EXPECT_TRUE(signer.sign(channel, now, &data));
+  return data;
+}
+evade::estop_t estop(bool engaged, int64_t utime) {
+  evade::estop_t m{};
+  m.utime = utime;
+  m.engaged = engaged;
+  m.reason = "test";
+  return m;
+}
+
+struct SignedRig : Rig {
+  SignedRig() : Rig() { core.set_authenticator(&auth); }
+  // The planner's CMD_VEL just before tick k.
+  void planner_cmd(int k, double v) {
+    const int64_t t = kT0 + k * kTick - 1;
+    bus.inject(kCmdVelChannel, signed_msg(planner, kCmdVelChannel, bus::encode(cmd(v, 0.0, t)), t), t);
+  }
+  void estop_from(bus::HmacAuth& who, bool engaged, int64_t t) {
+    bus.inject(kEstopChannel, signed_msg(who, kEstopChannel, bus::encode(estop(engaged, t)), t), t);
+  }
+  std::vector<uint8_t> key = std::vector<uint8_t>(32, 0x42);
+  bus::HmacAuth auth{key, "base_driver", 2.0};
+  bus::HmacAuth planner{key, "planner", 2.0};
+  bus::HmacAuth operator_tool{key, "estop", 2.0};
+};
+
+TEST(BaseDriverAuth, AnEstopWinsOverAConcurrentCmdVelStreamUntilReleased) {
+  SignedRig r;
+  r.base_alive = true;
+  for (int k = 1; k <= 20; ++k) {
+    r.planner_cmd(k, 0.5);
+    r.run_to(kT0 + k * kTick);
+  }
+  EXPECT_GT(r.core.commanded().v, 0.3);
+  (void)r.core.take_tx();
+  // The e-stop arrives between two planner commands; the planner goes on at 50 Hz.
+  r.estop_from(r.operator_tool, true, kT0 + 20 * kTick + 500);
+  EXPECT_TRUE(r.core.estop_engaged());
+  EXPECT_TRUE(r.bus.decoded<evade::base_status_t>(kBaseStatusChannel).back().estop_engaged);
+  for (int k = 21; k <= 120; ++k) {
+    r.planner_cmd(k, 0.5);
+    r.run_to(kT0 + k * kTick);
+  }
+  auto cmds = commands(r.core.take_tx());
+  ASSERT_EQ(cmds.size(), 100u);
+  for (const auto& c : cmds) EXPECT_EQ(c.linear_percent, 0);  // every frame, from the first tick on
+  EXPECT_EQ(r.core.counter("cmd_vel_during_estop"), 100);
+  EXPECT_EQ(r.core.counter("estop_engaged"), 1);
+
+  // A release signed with another key is refused; the stop holds.
+  bus::HmacAuth forger(std::vector<uint8_t>(32, 0x43), "estop", 2.0);
+  r.estop_from(forger, false, kT0 + 120 * kTick + 500);
+  EXPECT_TRUE(r.core.estop_engaged());
+  EXPECT_EQ(r.core.counter("auth_bad_mac"), 1);
+  // The genuine release: the planner's next command drives again, from zero.
+  r.estop_from(r.operator_tool, false, kT0 + 120 * kTick + 600);
+  EXPECT_FALSE(r.core.estop_engaged());
+  EXPECT_EQ(r.core.counter("estop_released"), 1);
+  r.run_to(kT0 + 121 * kTick);
+  for (const auto& c : commands(r.core.take_tx())) EXPECT_EQ(c.linear_percent, 0);  // no command since the release
+  r.planner_cmd(122, 0.5);
+  r.run_to(kT0 + 122 * kTick);
+  cmds = commands(r.core.take_tx());
+  ASSERT_EQ(cmds.size(), 1u);
+  EXPECT_EQ(cmds[0].linear_percent, linear_percent(0.02));
+}
+
+TEST(BaseDriverAuth, ForgedReplayedAndUnsignedCommandsNeverDrive) {
+  SignedRig r;
+  r.base_alive = true;
+  bus::HmacAuth forger(std::vector<uint8_t>(32, 0x43), "planner", 2.0);
+  const int64_t t1 = kT0 + kTick - 1;
+  const auto recorded = signed_msg(r.planner, kCmdVelChannel, bus::encode(cmd(0.5, 0.0, t1)), t1);
+  r.bus.inject(kCmdVelChannel, recorded, t1);
+  r.run_to(kT0 + kTick);
+  EXPECT_FALSE(r.core.watchdog_tripped());
+  r.run_to(kT0 + 30 * kTick);  // the planner is gone: the watchdog trips
+  ASSERT_TRUE(r.core.watchdog_tripped());
+  (void)r.core.take_tx();
+  for (int k = 31; k <= 80; ++k) {
+    const int64_t t = kT0 + k * kTick - 1;
+    r.bus.inject(kCmdVelChannel, recorded, t);                                                    // replayed
+    r.bus.inject(kCmdVelChannel, signed_msg(forger, kCmdVelChannel, bus::encode(cmd(1.0, 0.0, t)), t), t);  // forged
+    r.bus.inject(kCmdVelChannel, cmd(1.0, 0.0, t), t);                                            // unsigned
+    r.run_to(kT0 + k * kTick);
+  }
+  EXPECT_TRUE(r.core.watchdog_tripped());
+  for (const auto& c : commands(r.core.take_tx())) EXPECT_EQ(c.linear_percent, 0);
+  EXPECT_EQ(r.core.counter("auth_old_seq"), 50);
+  EXPECT_EQ(r.core.counter("auth_bad_mac"), 50);
+  EXPECT_EQ(r.core.counter("auth_unsigned"), 50);
+  // A forged e-stop release of a genuine e-stop changes nothing either.
+  r.estop_from(r.operator_tool, true, kT0 + 80 * kTick + 1);
+  r.bus.inject(kEstopChannel, bus::encode(estop(false, kT0 + 80 * kTick + 2)), kT0 + 80 * kTick + 2);
+  EXPECT_TRUE(r.core.estop_engaged());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <chrono>
@@ -15,6 +16,7 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "base/scout_protocol.h"
 #include "bus/core.h"
@@ -24,6 +26,7 @@
 #include "evade/health_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "pty_peer.h"
+#include "../bus/test_signer.h"
 
 namespace evade::base {
 namespace {
@@ -96,7 +99,8 @@ class BaseDriverProcess : public ::testing::Test {
                         std::chrono::system_clock::now().time_since_epoch())
                         .count();  // base_driver ignores late commands
           c.v = cmd_v;
-          lcm_.publish("CMD_VEL", &c);
+          const auto data = bus::testing::signed_bytes(planner_, "CMD_VEL", c, c.utime);  // unsigned: ignored
+          lcm_.publish("CMD_VEL", data.data(), static_cast<unsigned>(data.size()));
         }
         if (base && status_mm_s != INT16_MIN) base->write(encode(MotionStatus{status_mm_s, 0}, 0));
       }
@@ -117,6 +121,7 @@ class BaseDriverProcess : public ::testing::Test {
   Listener listener_;
   StreamParser parser_;
   std::vector<MotionCommand> commands_;
+  bus::HmacAuth planner_ = bus::testing::test_signer("planner");
 };
 
 TEST_F(BaseDriverProcess, SurvivesHangUpAndReconnects) {
@@ -236,6 +241,66 @@ TEST_F(BaseDriverProcess, BadConfigExitsWithStatus2) {
   EXPECT_EQ(WEXITSTATUS(rc), 2);
 }
 
+// Issue 20: tools/estop's signed stop wins over a planner still sending
+// CMD_VEL at 50 Hz, until estop --release.
+TEST_F(BaseDriverProcess, EstopToolStopsTheBaseWhileCommandsKeepComing) {
+  start();
+  auto base = std::make_unique<PtyPeer>(path_);
+  for (int i = 0; i < 100 && commands_.size() < 5; ++i) pump(base.get(), 50);
+  pump(base.get(), 800, 0.6, 600);
+  ASSERT_GT(commands_.back().linear_percent, 0) << log();
+  auto tool = [&](const std::string& args) {
+    const std::string config = std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml";
+    return std::string(EVADE_BIN_DIR) + "/estop --config " + config + " " + args + " 2>>" + dir_ + "/estop.log";
+  };
+  pid_t estop = ::fork();
+  ASSERT_GE(estop, 0);
+  if (estop == 0) {
+    ::execl("/bin/sh", "sh", "-c", tool("--reason test").c_str(), static_cast<char*>(nullptr));
+    std::_Exit(127);
+  }
+  pump(base.get(), 1000, 0.6, 600);  // the planner goes on meanwhile
+  int status = 0;
+  ASSERT_EQ(::waitpid(estop, &status, 0), estop);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  commands_.clear();
+  pump(base.get(), 500, 0.6, 0);
+  ASSERT_GE(commands_.size(), 10u);
+  for (const auto& c : commands_) EXPECT_EQ(c.linear_percent, 0);
+  ASSERT_FALSE(listener_.status.empty());
+  EXPECT_TRUE(listener_.status.back().estop_engaged);
+  // Released: the planner's commands drive again.
+  ASSERT_EQ(std::system(tool("--release").c_str()), 0);
+  commands_.clear();
+  pump(base.get(), 800, 0.6, 600);
+  ASSERT_FALSE(commands_.empty());
+  EXPECT_GT(commands_.back().linear_percent, 0) << log();
+  EXPECT_FALSE(listener_.status.back().estop_engaged);
+  for (int i = 0; i < 30 && listener_.counters["cmd_vel_during_estop"] < 1; ++i) pump(base.get(), 100, 0.6, 600);
+  EXPECT_GT(listener_.counters["cmd_vel_during_estop"], 10);
+}
+
+// Issue 20: the key must exist and be the owner's alone.
+TEST_F(BaseDriverProcess, AMissingOrExposedKeyExitsWithStatus2AndSaysWhy) {
+  auto run_with_key = [&](const std::string& key) {
+    const std::string cmd = "EVADE_BUS_KEY=" + key + " " + std::string(EVADE_BIN_DIR) + "/base_driver --device " +
+                            path_ + " 2>" + dir_ + "/key.err";
+    const int rc = std::system(cmd.c_str());
+    std::ifstream in(dir_ + "/key.err");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return std::make_pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str());
+  };
+  auto [rc, err] = run_with_key(dir_ + "/missing.key");
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(err.find("base_driver: bus key: no key file " + dir_ + "/missing.key"), std::string::npos) << err;
+  std::ofstream(dir_ + "/open.key") << std::string(64, 'c') << "\n";
+  ASSERT_EQ(::chmod((dir_ + "/open.key").c_str(), 0644), 0);
+  std::tie(rc, err) = run_with_key(dir_ + "/open.key");
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(err.find("accessible to group or others (mode 644)"), std::string::npos) << err;
+}
+
 TEST_F(BaseDriverProcess, ReplayOfCmdVelIsDeterministic) {
   // A log with CMD_VEL at 50 Hz for 0.2 s, then none: the replayed
   // BASE_STATUS shows the watchdog clear, then tripped 0.25 s after the last
@@ -246,7 +311,7 @@ TEST_F(BaseDriverProcess, ReplayOfCmdVelIsDeterministic) {
     evade::cmd_vel_t c{};
     c.utime = t0 + i * 20'000;
     c.v = 0.4;
-    in.push_back(bus::LogEvent{c.utime, "CMD_VEL", bus::encode(c)});
+    in.push_back(bus::LogEvent{c.utime, "CMD_VEL", bus::testing::signed_bytes(planner_, "CMD_VEL", c, c.utime)});
   }
   // Other traffic keeps the log's clock going (the core does not read it).
   for (int i = 1; i <= 40; ++i) in.push_back(bus::LogEvent{t0 + 200'000 + i * 20'000, "OTHER", {1, 2, 3}});

@@ -21,6 +21,7 @@
 #include "evade/odometry_t.hpp"
 #include "evade/sim_truth_t.hpp"
 #include "pty_peer.h"
+#include "../bus/test_signer.h"
 
 namespace {
 
@@ -77,6 +78,7 @@ TEST(BaseSimLoop, OdometryFollowsTheSimulatedRobot) {
             dir + "/base_driver.log");
 
   // Wait for the link, then drive a curve for 3 s at 50 Hz.
+  evade::bus::HmacAuth planner = evade::bus::testing::test_signer("planner");
   auto until = [&](double seconds, const std::function<bool()>& done, bool send) {
     const auto end = Clock::now() + std::chrono::duration<double>(seconds);
     auto next = Clock::now();
@@ -89,7 +91,8 @@ TEST(BaseSimLoop, OdometryFollowsTheSimulatedRobot) {
                         .count();  // base_driver ignores late commands
         cmd.v = 0.6;
         cmd.omega = 0.3;
-        lcm.publish("CMD_VEL", &cmd);
+        const auto data = evade::bus::testing::signed_bytes(planner, "CMD_VEL", cmd, cmd.utime);  // unsigned: ignored
+        lcm.publish("CMD_VEL", data.data(), static_cast<unsigned>(data.size()));
       }
       lcm.handleTimeout(5);
     }

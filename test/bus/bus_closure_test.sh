@@ -75,6 +75,25 @@ planner_warns() {
             grep -o '"name":"bus_exposed_interfaces","value":[0-9]*' | grep -o '[0-9]*$' || true)
   grep -q "warning: the LCM bus" "$TMP/planner-$1.err"
 }
+# base_driver runs on the robot (no serial device) while the attacker plays
+# the log's CMD_VEL; sets refused to its HEALTH counter auth_outside_window.
+replay_refused() {
+  local log="$TMP/health-auth.lcmlog"
+  ip netns exec "$R" lcm-logger --lcm-url="$URL" "$log" > /dev/null 2>&1 &
+  local logger=$!
+  ip netns exec "$R" env LCM_DEFAULT_URL="$URL" "$BIN/base_driver" --config "$LINK_CONFIG" \
+    --device "$TMP/no-such-device" > /dev/null 2> "$TMP/base_driver.err" &
+  local driver=$!
+  sleep 0.7
+  ip netns exec "$A" lcm-logplayer -s 4 -e CMD_VEL --lcm-url="$ATTACK_URL" "$LOG" > /dev/null 2>&1
+  sleep 1.5  # a heartbeat after the last of them
+  kill -TERM $driver
+  wait $driver 2> /dev/null || true
+  kill -INT $logger
+  wait $logger 2> /dev/null || true
+  refused=$("$BIN/lcmlog-export" "$log" --channel HEALTH | grep '"base_driver"' | tail -1 |
+            grep -o '"name":"auth_outside_window","value":[0-9]*' | grep -o '[0-9]*$' || echo 0)
+}
 sent=$("$BIN/lcmlog-export" "$LOG" --channel CMD_VEL | wc -l)
 routes=$("$BIN/lcmlog-export" "$LOG" --channel ROUTE | wc -l)
 [ "$sent" -gt 0 ] && [ "$routes" -gt 0 ] || fail "the golden log needs CMD_VEL and ROUTE"
@@ -122,6 +141,12 @@ in_r env EVADE_BUS_CHECK="$BIN/bus-check" "$SRC/tools/bus-firewall" apply --conf
 attack robot-link
 echo "robot link allowed: robot recorded $n of $sent (the link is trusted)"
 [ "$n" -eq "$sent" ] || fail "robot link: $n of $sent arrived"
+# ... and authentication stops it (issue 20): the attacker's CMD_VEL are
+# genuine, signed messages recorded earlier, and base_driver refuses every
+# one as outside its time window (HEALTH counter auth_outside_window).
+replay_refused
+echo "robot link allowed: base_driver refused $refused of $sent replayed CMD_VEL"
+[ "$refused" -eq "$sent" ] || fail "base_driver refused $refused of $sent replayed CMD_VEL: $(cat "$TMP/base_driver.err")"
 in_r env EVADE_BUS_CHECK="$BIN/bus-check" "$SRC/tools/bus-firewall" remove --config "$LINK_CONFIG" > /dev/null
 [ -z "$(ip -n "$R" route show 239.255.76.67/32)" ] || fail "remove left the route"
 

@@ -5,6 +5,6 @@
 
 int main(int argc, char** argv) {
   return evade::bus::process_main(argc, argv, "bus_echo", nullptr, [](const evade::config::Node&) {
-    return std::make_unique<evade::bus::testing::EchoCore>();
+    return std::make_unique<evade::bus::testing::EchoCore>("ECHO_IN", "ECHO_OUT");
   });
 }

@@ -55,7 +55,7 @@ std::string run_capture(const std::string& cmd) {
 class Listener : public Core {
  public:
   Listener() : Core("listener") {
-    subscribe<evade::cmd_vel_t>("CMD_VEL", [this](const evade::cmd_vel_t& c) { heard.push_back(c); });
+    subscribe<evade::cmd_vel_t>("ECHO_OUT", [this](const evade::cmd_vel_t& c) { heard.push_back(c); });
   }
   std::vector<evade::cmd_vel_t> heard;
 };
@@ -88,7 +88,7 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
     evade::odometry_t o{};
     o.utime = probe--;
     auto bytes = encode(o);
-    bus.publish("ODOMETRY", 0, bytes);
+    bus.publish("ECHO_IN", 0, bytes);
     bus.spin_once(50);
   }
   ASSERT_FALSE(listener.heard.empty()) << "bus_echo never answered";
@@ -109,7 +109,7 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
     o.v = 0.5 + 1e-7 * i;
     o.omega = -0.25;
     sent.push_back(o);
-    bus.publish("ODOMETRY", 0, encode(o));
+    bus.publish("ECHO_IN", 0, encode(o));
     bus.spin_once(0);
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
@@ -134,17 +134,17 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
   stop(logger, SIGINT);
 
   // lcmlog-export reproduces every message exactly.
-  std::string json = run_capture(bin + "/lcmlog-export " + log_path + " --channel ODOMETRY --channel CMD_VEL");
+  std::string json = run_capture(bin + "/lcmlog-export " + log_path + " --channel ECHO_IN --channel ECHO_OUT");
   for (int i = 0; i < kCount; ++i) {
     const auto& o = sent[i];
     std::string msg = "\"type\":\"odometry_t\",\"msg\":{\"utime\":" + std::to_string(o.utime) +
                       ",\"x\":" + fmt("%.17g", o.x) + ",\"y\":" + fmt("%.17g", o.y) +
                       ",\"yaw\":" + fmt("%.17g", o.yaw) + ",\"v\":" + fmt("%.17g", o.v) +
-                      ",\"omega\":" + fmt("%.17g", o.omega) + ",\"epoch\":" + std::to_string(o.epoch) + "}}";
-    EXPECT_NE(json.find("{\"channel\":\"ODOMETRY\",\"utime\":"), std::string::npos);
+                      ",\"omega\":" + fmt("%.17g", o.omega) + ",\"epoch\":" + std::to_string(o.epoch) + ",\"auth_sender\":\"\",\"auth_seq\":0,";
+    EXPECT_NE(json.find("{\"channel\":\"ECHO_IN\",\"utime\":"), std::string::npos);
     EXPECT_NE(json.find(msg), std::string::npos) << "missing odometry " << i;
     std::string reply = "\"type\":\"cmd_vel_t\",\"msg\":{\"utime\":" + std::to_string(o.utime) +
-                        ",\"v\":" + fmt("%.17g", 2.0 * o.v) + ",\"omega\":" + fmt("%.17g", 2.0 * o.omega) + "}}";
+                        ",\"v\":" + fmt("%.17g", 2.0 * o.v) + ",\"omega\":" + fmt("%.17g", 2.0 * o.omega) + ",\"auth_sender\":\"\",\"auth_seq\":0,";
     EXPECT_NE(json.find(reply), std::string::npos) << "missing reply " << i;
   }
 
@@ -153,15 +153,15 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
   auto events = read_log(log_path);
   std::vector<LogEvent> logged_out;
   for (const auto& e : events)
-    if (e.channel == "CMD_VEL") {
+    if (e.channel == "ECHO_OUT") {
       evade::cmd_vel_t c;
       if (decode(e.data.data(), e.data.size(), &c) && c.utime >= 1'000'000) logged_out.push_back(e);
     }
   ASSERT_EQ(logged_out.size(), static_cast<size_t>(kCount));
   ReplayOptions opt;
-  opt.channels = {"ODOMETRY"};
+  opt.channels = {"ECHO_IN"};
   opt.keep_health = false;
-  testing::EchoCore a, b;
+  testing::EchoCore a("ECHO_IN", "ECHO_OUT"), b("ECHO_IN", "ECHO_OUT");
   auto out_a = replay({&a}, events, opt);
   auto out_b = replay({&b}, events, opt);
   ASSERT_EQ(out_a.size(), out_b.size());

@@ -34,7 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       core.on_serial_bytes(noise, n);
     }
   };
-  fuzz::run_sequence(core, {{"CMD_VEL", fuzz::cmd_vel}}, in, 64,
+  fuzz::run_sequence(core, {{"CMD_VEL", fuzz::cmd_vel}, {"ESTOP", fuzz::estop}}, in, 64,
                      {serial, serial, [&](fuzz::Bytes&, int64_t) { core.on_link_opened(); },
                       [&](fuzz::Bytes&, int64_t) { core.on_link_lost("fuzz"); },
                       [&](fuzz::Bytes&, int64_t) { core.stop(); }});

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "base/base_driver_core.h"
+#include "bus/auth.h"
 #include "bus/bus_guard.h"
 #include "config/config.h"
 #include "config/safety.h"
@@ -43,6 +44,7 @@ void robot_config(const std::string& text) {
   each([&] { sensing::LidarDriverParams::from_config(root); });
   each([&] { sim::SimParams::from_config(root); });
   each([&] { bus::BusGuardParams::from_config(root); });
+  each([&] { bus::AuthParams::from_config(root); });
 }
 
 }  // namespace

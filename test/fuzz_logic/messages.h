@@ -6,6 +6,7 @@
 
 #include "bus/core.h"
 #include "evade/cmd_vel_t.hpp"
+#include "evade/estop_t.hpp"
 #include "evade/grid_map_t.hpp"
 #include "evade/obstacle_list_t.hpp"
 #include "evade/odometry_t.hpp"
@@ -33,6 +34,14 @@ inline std::vector<uint8_t> cmd_vel(Bytes& in, int64_t now) {
   m.utime = in.utime(now);
   m.v = in.value(-3, 3);
   m.omega = in.value(-3, 3);
+  return bus::encode(m);
+}
+
+inline std::vector<uint8_t> estop(Bytes& in, int64_t now) {
+  evade::estop_t m{};
+  m.utime = in.utime(now);
+  m.engaged = in.chance(2);
+  m.reason = "fuzz";
   return bus::encode(m);
 }
 

@@ -252,6 +252,28 @@ TEST(PlannerCore, HeadOnMoverIsAvoided) {
   EXPECT_GT(r.final_x, 5.0);
 }
 
+// A walker coming head-on exactly along the route: left and right cost the
+// same, and the switching penalty (planner.guidance.switch_cost_factor)
+// keeps the side once taken until the walker is passed.
+TEST(PlannerCore, ASymmetricHeadOnIsPassedOnOneSideWithoutAlternating) {
+  const SimObstacle walker{8.0, 0.0, -0.5, 0.0, 0.3};
+  PlannerParams p = default_params();
+  p.guidance.enabled = true;
+  RunResult r = run(p, {walker}, 12.0);
+  EXPECT_EQ(r.nan, 0);
+  EXPECT_GE(r.min_h, -0.05);
+  EXPECT_GT(r.final_x, 8.0);
+  bool left = false, right = false;
+  for (size_t i = 0; i < r.plan_log.size(); ++i) {
+    const double t = (r.plan_log[i].utime - 1'000'000) * 1e-6;
+    if (r.plan_log[i].x[0] > walker.x + walker.vx * t) break;  // passed
+    if (r.robot_y[i] > 0.05) left = true;
+    if (r.robot_y[i] < -0.05) right = true;
+  }
+  EXPECT_TRUE(left || right);  // it went round
+  EXPECT_FALSE(left && right) << "the robot alternated sides";
+}
+
 // A head-on mover while the robot passes a static obstacle whose predicted
 // ellipse swells with its uncertainty: braking misses the constraints and
 // the relaxed problem applies (the swelling), so the swerve restarts are
@@ -259,11 +281,19 @@ TEST(PlannerCore, HeadOnMoverIsAvoided) {
 TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
   PlannerParams p = default_params();
   p.detour.oncoming_sweep_s = 0.0;  // the MPC's own reaction: the swept mover would detour the robot before it
-  RunResult r = run(p, {{3.5, 1.1, 0.0, 0.0, 0.3, 0.25}, {9.0, 0.05, -1.0, 0.0, 0.3}}, 14.0);
+  const std::vector<SimObstacle> scene{{3.5, 1.1, 0.0, 0.0, 0.3, 0.25}, {9.0, 0.05, -1.0, 0.0, 0.3}};
+  PlannerParams one_solve = p;
+  one_solve.guidance.enabled = false;  // the recovery chain alone, as the fallback runs it
+  p.guidance.enabled = true;
+  RunResult r = run(one_solve, scene, 14.0);
   EXPECT_GT(r.restarts_skipped, 0);  // the situation this test is about did arise
   EXPECT_EQ(r.nan, 0);
   EXPECT_GE(r.min_h, -0.05);
   EXPECT_GT(r.final_x, 6.0);
+  RunResult g = run(p, scene, 14.0);  // and with guidance
+  EXPECT_EQ(g.nan, 0);
+  EXPECT_GE(g.min_h, -0.05);
+  EXPECT_GT(g.final_x, 6.0);
 }
 
 // A fast mover (an e-bike, 1.5-2 m/s) comes head-on at a robot at rest,

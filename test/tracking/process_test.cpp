@@ -12,6 +12,7 @@
 
 #include "bus/core.h"
 #include "bus/log.h"
+#include "../bus/test_signer.h"
 #include "evade/grid_map_t.hpp"
 #include "evade/obstacle_list_t.hpp"
 #include "evade/odometry_t.hpp"
@@ -35,12 +36,13 @@ void write_input_log(const std::string& path) {
   bus::LogWriter log(path);
   const int64_t t0 = 1'700'000'000'000'000;
   int64_t next_odom = t0 - 100'000;
+  bus::HmacAuth base_driver = bus::testing::test_signer("base_driver");  // unsigned ODOMETRY is refused
   for (int f = 0; f < 20; ++f) {
     const int64_t utime = t0 + f * 100'000;
     for (; next_odom <= utime + 100'000; next_odom += 20'000) {
       odometry_t o{};
       o.utime = next_odom;
-      log.write(next_odom, "ODOMETRY", bus::encode(o));
+      log.write(next_odom, "ODOMETRY", bus::testing::signed_bytes(base_driver, "ODOMETRY", o, next_odom));
     }
     mapping::SynthWorld w;
     w.cylinders.push_back({2.0, 1.0, 0.3, 1.0});

@@ -2,6 +2,7 @@
 // appended fields, so that golden logs need not be recorded again.
 //
 //   log-migrate MIGRATION IN.lcmlog OUT.lcmlog [--force]
+//   log-migrate auth-sign IN.lcmlog OUT.lcmlog [--config F] [--force]
 //
 // odometry-epoch (issue 20): ODOMETRY encoded before odometry_t gained
 // `int64_t epoch` (fingerprint, utime, x, y, yaw, v, omega: 56 bytes) is
@@ -13,6 +14,12 @@
 // sim-truth-returns (issue 23): SIM_TRUTH encoded before sim_truth_t gained
 // `int32_t lidar_returns[num_obstacles]` gets the current fingerprint and
 // -1 (not recorded) for every obstacle.
+// auth-sign (issue 20): CMD_VEL, ODOMETRY, OBSTACLE_PREDICTIONS and ROUTE
+// encoded before their types gained the authentication fields (lib/bus/
+// auth.h), or current but never signed, get the current fingerprint, the
+// fields, and a signature made with the configured key ($EVADE_BUS_KEY,
+// else bus.auth.key_file) at the event's timestamp, as their publisher
+// (planner, base_driver, predictor, route) would have signed them live.
 // Every other event is copied as it is. OUT may be IN only with --force (it
 // is written to a temporary file first).
 #include <CLI/CLI.hpp>
@@ -23,10 +30,15 @@
 #include <functional>
 #include <map>
 
+#include "bus/auth.h"
 #include "bus/core.h"
 #include "bus/log.h"
+#include "config/config.h"
+#include "evade/cmd_vel_t.hpp"
 #include "evade/odometry_t.hpp"
+#include "evade/path_t.hpp"
 #include "evade/plan_t.hpp"
+#include "evade/prediction_list_t.hpp"
 #include "evade/sim_truth_t.hpp"
 
 namespace {
@@ -152,6 +164,66 @@ bool current(const std::string& channel, const std::vector<uint8_t>& data) {
   return evade::bus::decode(data.data(), data.size(), &m);
 }
 
+template <class Msg>
+struct AuthType {
+  // The message with the authentication fields appended empty; false when
+  // the bytes are neither the old type nor the current one. *was_current:
+  // it is current and signed already.
+  static bool upgrade(std::vector<uint8_t>* data, bool* was_current) {
+    Msg m;
+    if (evade::bus::decode(data->data(), data->size(), &m)) {
+      *was_current = !m.auth_sender.empty();  // current but never signed: sign it
+      return true;
+    }
+    const std::vector<uint8_t> fresh = evade::bus::encode(Msg{});
+    std::vector<uint8_t> out(fresh.begin(), fresh.begin() + 8);     // the current fingerprint
+    out.insert(out.end(), data->begin() + 8, data->end());          // the old fields
+    out.insert(out.end(), fresh.end() - (4 + 1 + 8 + 32), fresh.end());  // empty auth fields
+    if (data->size() < 8 || !evade::bus::decode(out.data(), out.size(), &m)) return false;
+    *data = std::move(out);
+    *was_current = false;
+    return true;
+  }
+};
+
+int migrate_auth_sign(std::vector<evade::bus::LogEvent>* events, const std::string& config_path) {
+  namespace bus = evade::bus;
+  const bus::AuthSetup keys = bus::load_auth(evade::config::load_robot_config(config_path));
+  struct Kind {
+    std::string channel, sender;
+    bool (*upgrade)(std::vector<uint8_t>*, bool*);
+    std::unique_ptr<bus::HmacAuth> auth;
+    size_t migrated = 0, current = 0;
+  };
+  std::vector<Kind> kinds;
+  kinds.push_back({"CMD_VEL", "planner", &AuthType<evade::cmd_vel_t>::upgrade, nullptr});
+  kinds.push_back({"ODOMETRY", "base_driver", &AuthType<evade::odometry_t>::upgrade, nullptr});
+  kinds.push_back({"OBSTACLE_PREDICTIONS", "predictor", &AuthType<evade::prediction_list_t>::upgrade, nullptr});
+  kinds.push_back({"ROUTE", "route", &AuthType<evade::path_t>::upgrade, nullptr});
+  for (auto& k : kinds) k.auth = keys.make(k.sender);
+  for (auto& e : *events) {
+    for (auto& k : kinds) {
+      if (e.channel != k.channel) continue;
+      bool current = false;
+      if (!k.upgrade(&e.data, &current)) {
+        std::fprintf(stderr, "log-migrate: a %s of %zu bytes is neither the old nor the current type\n",
+                     e.channel.c_str(), e.data.size());
+        return 1;
+      }
+      if (current) {
+        ++k.current;
+        continue;
+      }
+      k.auth->sign(e.channel, e.timestamp, &e.data);
+      ++k.migrated;
+    }
+  }
+  for (const auto& k : kinds)
+    std::printf("log-migrate: %s: %zu signed as %s, %zu already current\n", k.channel.c_str(), k.migrated,
+                k.sender.c_str(), k.current);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -162,7 +234,12 @@ int main(int argc, char** argv) {
   bool force = false;
   std::vector<std::string> names;
   for (const auto& [n, m] : migrations()) names.push_back(n);
-  app.add_option("migration", name, "odometry-epoch | plan-predictions-utime | sim-truth-returns")->required()->check(CLI::IsMember(names));
+  names.push_back("auth-sign");
+  std::string config_path = evade::config::default_config_path();
+  app.add_option("migration", name, "odometry-epoch | plan-predictions-utime | sim-truth-returns | auth-sign")
+      ->required()
+      ->check(CLI::IsMember(names));
+  app.add_option("--config", config_path, "auth-sign: the configuration naming the key (bus.auth)");
   app.add_option("in", in, "input log")->required()->check(CLI::ExistingFile);
   app.add_option("out", out, "output log")->required();
   app.add_flag("--force", force, "replace OUT if it exists (also IN itself)");
@@ -171,8 +248,23 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "log-migrate: %s exists; refusing to overwrite it without --force\n", out.c_str());
     return 2;
   }
-  const Migration& mig = migrations().at(name);
   std::vector<bus::LogEvent> events = bus::read_log(in);
+  if (name == "auth-sign") {
+    int status = 0;
+    try {
+      status = migrate_auth_sign(&events, config_path);
+    } catch (const std::exception& e) {  // a bad configuration or key
+      std::fprintf(stderr, "log-migrate: %s\n", e.what());
+      return 2;
+    }
+    if (status != 0) return status;
+    const std::string tmp = out + ".migrating";
+    bus::write_log(tmp, events);
+    fs::rename(tmp, out);
+    std::printf("log-migrate: %s -> %s: %zu events\n", in.c_str(), out.c_str(), events.size());
+    return 0;
+  }
+  const Migration& mig = migrations().at(name);
   size_t migrated = 0, already = 0;
   for (auto& e : events) {
     if (e.channel != mig.channel) continue;

@@ -1,8 +1,10 @@
 #include "process_replay.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <memory>
 
+#include "bus/auth.h"
 #include "bus/core.h"
 #include "bus/log_replay.h"
 #include "evade/pointcloud_t.hpp"
@@ -28,7 +30,15 @@ std::vector<bus::LogEvent> only(const std::vector<bus::LogEvent>& in, const std:
   return out;
 }
 
-std::vector<bus::LogEvent> run_core(bus::Core& core, const std::vector<bus::LogEvent>& in) {
+// `keys`: the core signs and checks the authenticated channels as it does
+// live (the golden inputs are signed with the test key, test/data/bus_test.key).
+std::vector<bus::LogEvent> run_core(bus::Core& core, const std::vector<bus::LogEvent>& in,
+                                    const bus::AuthSetup* keys = nullptr) {
+  std::unique_ptr<bus::HmacAuth> auth;
+  if (keys) {
+    auth = keys->make(core.name());
+    core.set_authenticator(auth.get());
+  }
   bus::ReplayOptions opt;
   opt.keep_health = false;
   return bus::replay({&core}, in, opt);
@@ -72,6 +82,17 @@ void thin_points(std::vector<bus::LogEvent>* events) {
   }
 }
 
+// The golden logs are signed with the committed test-only key: that key,
+// unless $EVADE_BUS_KEY names another (its file's mode is not checked: the
+// key is public and signs nothing but test data).
+bus::AuthSetup golden_keys(const config::Node& root) {
+  if (std::getenv("EVADE_BUS_KEY")) return bus::load_auth(root);
+  bus::AuthSetup keys;
+  keys.key = bus::load_key(std::string(EVADE_SOURCE_DIR) + "/test/data/bus_test.key", /*owner_only=*/false);
+  keys.window_s = bus::AuthParams::from_config(root).window_s;
+  return keys;
+}
+
 }  // namespace
 
 const std::vector<ProcessCase>& process_cases() {
@@ -86,14 +107,18 @@ const std::vector<ProcessCase>& process_cases() {
     c.push_back({"elevation_map", {"LIDAR_SCAN", "ODOMETRY"}, tolerances(1e-6, 1e-9),
                  "points decoded from LIDAR_SCAN + logged ODOMETRY; ELEVATION_MAP compared"});
     c.push_back({"tracker", {"ELEVATION_MAP"}, tolerances(1e-6, 1e-9), "logged ELEVATION_MAP; OBSTACLES compared"});
-    c.push_back({"predictor", {"OBSTACLES"}, tolerances(1e-6, 1e-9),
-                 "logged OBSTACLES; OBSTACLE_PREDICTIONS compared"});
+    // An authentication code is a function of the rest of the message: a
+    // difference within the tolerances changes it entirely, so it is not compared.
+    ProcessCase predictor{"predictor", {"OBSTACLES"}, tolerances(1e-6, 1e-9),
+                          "logged OBSTACLES; OBSTACLE_PREDICTIONS compared"};
+    predictor.diff.ignore_fields = {"OBSTACLE_PREDICTIONS.auth_mac"};
+    c.push_back(predictor);
     // The planner's outputs come out of an iterative solver: a last-bit
     // difference can move an iterate, so its tolerance is 1 mm / 1 mrad;
     // solve_time_us is wall time and never compared.
     ProcessCase planner{"planner", {"ODOMETRY", "ROUTE", "OBSTACLES", "OBSTACLE_PREDICTIONS"}, tolerances(1e-3, 1e-6),
                         "logged ODOMETRY, ROUTE, OBSTACLES, OBSTACLE_PREDICTIONS; PLAN and CMD_VEL compared"};
-    planner.diff.ignore_fields = {"PLAN.solve_time_us"};
+    planner.diff.ignore_fields = {"PLAN.solve_time_us", "CMD_VEL.auth_mac"};
     c.push_back(planner);
     return c;
   }();
@@ -103,22 +128,23 @@ const std::vector<ProcessCase>& process_cases() {
 std::vector<bus::LogEvent> run_process(const ProcessCase& pc, const std::vector<bus::LogEvent>& input,
                                        const config::Node& root) {
   std::vector<bus::LogEvent> out;
+  const bus::AuthSetup keys = golden_keys(root);
   if (pc.process == "lidar_driver") {
     out = decode_scans(input, root);
     thin_points(&out);
   } else if (pc.process == "elevation_map") {
     auto points = decode_scans(input, root);
     auto core = mapping::ElevationMapCore::from_config(root);
-    out = run_core(*core, merge(points, only(input, {"ODOMETRY"})));
+    out = run_core(*core, merge(points, only(input, {"ODOMETRY"})), &keys);
   } else if (pc.process == "tracker") {
     auto core = tracking::TrackerCore::from_config(root);
-    out = run_core(*core, only(input, pc.inputs));
+    out = run_core(*core, only(input, pc.inputs), &keys);
   } else if (pc.process == "predictor") {
     prediction::PredictorCore core(prediction::PredictorParams::from_config(root.section("predictor")));
-    out = run_core(core, only(input, pc.inputs));
+    out = run_core(core, only(input, pc.inputs), &keys);
   } else if (pc.process == "planner") {
     planning::PlannerCore core(planning::PlannerParams::from_config(root));
-    out = run_core(core, only(input, pc.inputs));
+    out = run_core(core, only(input, pc.inputs), &keys);
   } else {
     throw std::runtime_error("process-replay: unknown process " + pc.process);
   }

@@ -1,0 +1,82 @@
+#include "teleop/teleop_core.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "evade/cmd_vel_t.hpp"
+#include "evade/estop_t.hpp"
+
+namespace evade::teleop {
+namespace {
+int64_t period_us(double hz) { return std::max<int64_t>(1, std::llround(1e6 / hz)); }
+}  // namespace
+
+TeleopParams TeleopParams::from_config(const config::Node& root) {
+  TeleopParams p;
+  const config::Node s = root.section("teleop");
+  p.rate_hz = s.get_double("rate_hz", 5.0, 100.0);
+  p.linear_step_mps = s.get_double("linear_step_mps", 0.01, 1.0);
+  p.angular_step_radps = s.get_double("angular_step_radps", 0.01, 2.0);
+  p.max_v_mps = s.get_double("max_v_mps", 0.01, 3.0);
+  p.max_omega_radps = s.get_double("max_omega_radps", 0.01, 6.0);
+  p.hold_s = s.get_double("hold_s", 0.1, 2.0);
+  p.estop_rate_hz = s.get_double("estop_rate_hz", 1.0, 100.0);
+  p.estop_repeats = s.get_int("estop_repeats", 1, 1000);
+  s.close();
+  return p;
+}
+
+TeleopCore::TeleopCore(const TeleopParams& params) : bus::Core("teleop"), params_(params) {
+  every(period_us(params.rate_hz), [this] { tick(); });
+}
+
+bool TeleopCore::on_key(char key) {
+  switch (key) {
+    case 'w': v_ += params_.linear_step_mps; break;
+    case 's': v_ -= params_.linear_step_mps; break;
+    case 'a': omega_ += params_.angular_step_radps; break;
+    case 'd': omega_ -= params_.angular_step_radps; break;
+    case ' ':
+    case 'x': v_ = omega_ = 0.0; break;
+    default: return false;
+  }
+  v_ = std::clamp(v_, -params_.max_v_mps, params_.max_v_mps);
+  omega_ = std::clamp(omega_, -params_.max_omega_radps, params_.max_omega_radps);
+  last_key_ = now();
+  send();
+  return true;
+}
+
+void TeleopCore::tick() {
+  if (last_key_ < 0) return;  // nothing pressed yet: silent
+  if (now() - last_key_ > std::llround(params_.hold_s * 1e6)) v_ = omega_ = 0.0;
+  send();
+}
+
+void TeleopCore::stop() {
+  v_ = omega_ = 0.0;
+  send();
+}
+
+void TeleopCore::send() {
+  evade::cmd_vel_t m{};
+  m.utime = now();
+  m.v = v_;
+  m.omega = omega_;
+  publish("CMD_VEL", m);
+}
+
+EstopCore::EstopCore(const TeleopParams& params, bool engaged, std::string reason, bool hold)
+    : bus::Core("estop"), params_(params), engaged_(engaged), reason_(std::move(reason)), hold_(hold) {
+  every(period_us(params.estop_rate_hz), [this] {
+    if (done()) return;
+    evade::estop_t m{};
+    m.utime = now();
+    m.engaged = engaged_;
+    m.reason = reason_;
+    publish("ESTOP", m);
+    ++sent_;
+  });
+}
+
+}  // namespace evade::teleop
