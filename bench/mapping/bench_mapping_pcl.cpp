@@ -4,7 +4,6 @@
 // with BM_BuildElevationMap in bench_mapping, which crops, transforms with
 // per-slice poses, bins, fills holes and computes the obstacle layer.
 #include <benchmark/benchmark.h>
-
 #include <pcl/filters/crop_box.h>
 #include <pcl/filters/passthrough.h>
 #include <pcl/filters/voxel_grid.h>

@@ -29,10 +29,10 @@
 #include "planning/ceres_solver.h"
 #include "planning/detour.h"
 #include "planning/guidance.h"
-#include "planning/topology_planner.h"
 #include "planning/ipopt_solver.h"
 #include "planning/params.h"
 #include "planning/reference.h"
+#include "planning/topology_planner.h"
 #include "test_problems.h"
 
 namespace {
@@ -151,7 +151,8 @@ constexpr int kLoopCycles = 30;
 void BM_CeresClosedLoop(benchmark::State& state) {
   const int k = static_cast<int>(state.range(0));
   SolverOptions opts;
-  if (const char* budget = std::getenv("EVADE_BENCH_MAX_TOTAL_ITERATIONS")) opts.max_total_iterations = std::atoi(budget);
+  if (const char* budget = std::getenv("EVADE_BENCH_MAX_TOTAL_ITERATIONS"))
+    opts.max_total_iterations = std::atoi(budget);
   CeresMpcSolver solver{opts};
   double worst_ms = 0, total_ms = 0;
   int infeasible = 0, cycles = 0, total_iters = 0;
@@ -284,7 +285,13 @@ BENCHMARK(BM_Guidance)->Name("guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(
 BENCHMARK(BM_GuidanceCycle)->Name("cycle/guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Detour)->Name("detour")->Arg(1)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ceres)->Name("solve/ceres")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_CeresWarmMultipliers)->Name("solve/ceres_warm_multipliers")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CeresWarmMultipliers)
+    ->Name("solve/ceres_warm_multipliers")
+    ->Arg(0)
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CeresClosedLoop)->Name("loop/ceres")->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CeresCold)->Name("solve/ceres_cold")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ipopt)->Name("solve/ipopt")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);

@@ -152,7 +152,7 @@ class BaseDriverCore : public bus::Core {
   bool have_system_ = false;
   Twist measured_;
   Pose2 pose_;
-  bool have_motion_ = false;      // integration anchor valid
+  bool have_motion_ = false;  // integration anchor valid
   int64_t last_motion_now_ = 0;
 };
 

@@ -26,10 +26,10 @@ Pose2 integrate_arc(const Pose2& start, double v, double omega, double dt);
 struct VelocityLimits {
   double min_v_mps = 0.0;
   double max_v_mps = 1.0;
-  double max_omega_radps = 0.5;     // symmetric
-  double max_accel_mps2 = 1.0;      // |v| growing
-  double max_decel_mps2 = 1.5;      // |v| shrinking (braking)
-  double max_alpha_radps2 = 3.0;    // yaw acceleration, either way
+  double max_omega_radps = 0.5;   // symmetric
+  double max_accel_mps2 = 1.0;    // |v| growing
+  double max_decel_mps2 = 1.5;    // |v| shrinking (braking)
+  double max_alpha_radps2 = 3.0;  // yaw acceleration, either way
 };
 
 struct Twist {

@@ -188,12 +188,12 @@ double linear_from_percent(int8_t percent) { return percent / 100.0 * kMaxLinear
 double angular_from_percent(int8_t percent) { return percent / 100.0 * kMaxAngularRadps; }
 
 int16_t linear_mm_s(double v_mps) {
-  return static_cast<int16_t>(round_clamp(v_mps * 1e3, std::numeric_limits<int16_t>::min(),
-                                          std::numeric_limits<int16_t>::max()));
+  return static_cast<int16_t>(
+      round_clamp(v_mps * 1e3, std::numeric_limits<int16_t>::min(), std::numeric_limits<int16_t>::max()));
 }
 int16_t angular_mrad_s(double omega_radps) {
-  return static_cast<int16_t>(round_clamp(omega_radps * 1e3, std::numeric_limits<int16_t>::min(),
-                                          std::numeric_limits<int16_t>::max()));
+  return static_cast<int16_t>(
+      round_clamp(omega_radps * 1e3, std::numeric_limits<int16_t>::min(), std::numeric_limits<int16_t>::max()));
 }
 uint16_t battery_decivolts(double volts) {
   return static_cast<uint16_t>(round_clamp(volts * 10.0, 0, std::numeric_limits<uint16_t>::max()));

@@ -178,11 +178,11 @@ inline double battery_volts(const SystemStatus& s) { return s.battery_decivolts 
 // inside a rejected one is still found. Bytes that cannot start a frame are
 // counted as noise. A partial frame at the end of a read waits for the next.
 struct ParserStats {
-  uint64_t frames = 0;          // valid frames delivered
-  uint64_t noise_bytes = 0;     // bytes skipped while hunting for 5A A5
-  uint64_t bad_length = 0;      // header found, length byte != 0A
-  uint64_t bad_checksum = 0;    // header and length fine, checksum wrong
-  uint64_t bad_type = 0;        // checksum fine, type neither 55 nor AA
+  uint64_t frames = 0;        // valid frames delivered
+  uint64_t noise_bytes = 0;   // bytes skipped while hunting for 5A A5
+  uint64_t bad_length = 0;    // header found, length byte != 0A
+  uint64_t bad_checksum = 0;  // header and length fine, checksum wrong
+  uint64_t bad_type = 0;      // checksum fine, type neither 55 nor AA
 };
 
 class StreamParser {

@@ -1,10 +1,9 @@
 #include "base/serial_link.h"
 
 #include <fcntl.h>
+#include <libserial/SerialPort.h>
 #include <termios.h>
 #include <unistd.h>
-
-#include <libserial/SerialPort.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -20,14 +19,22 @@ namespace {
 LibSerial::BaudRate to_libserial_baud(int baud) {
   using B = LibSerial::BaudRate;
   switch (baud) {
-    case 9600: return B::BAUD_9600;
-    case 19200: return B::BAUD_19200;
-    case 38400: return B::BAUD_38400;
-    case 57600: return B::BAUD_57600;
-    case 115200: return B::BAUD_115200;
-    case 230400: return B::BAUD_230400;
-    case 460800: return B::BAUD_460800;
-    default: throw std::invalid_argument("unsupported baud rate " + std::to_string(baud));
+    case 9600:
+      return B::BAUD_9600;
+    case 19200:
+      return B::BAUD_19200;
+    case 38400:
+      return B::BAUD_38400;
+    case 57600:
+      return B::BAUD_57600;
+    case 115200:
+      return B::BAUD_115200;
+    case 230400:
+      return B::BAUD_230400;
+    case 460800:
+      return B::BAUD_460800;
+    default:
+      throw std::invalid_argument("unsupported baud rate " + std::to_string(baud));
   }
 }
 

@@ -200,13 +200,15 @@ std::string perception_markdown_table(const std::vector<GroupSummary>& groups) {
     if (!g.perception) continue;
     const PerceptionPool& p = *g.perception;
     if (s.empty())
-      s = "| family | mode | episodes | MOTA | MOTP (m) | id switches /100 track-s | splits /100 objects | ADE 1 s (m) | "
-          "FDE 2.5 s (m) | walker ADE 1 s (m) | coverage, worst step to 2.5 s |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+      s = "| family | mode | episodes | MOTA | MOTP (m) | id switches /100 track-s | splits /100 objects | ADE 1 s (m) "
+          "| "
+          "FDE 2.5 s (m) | walker ADE 1 s (m) | coverage, worst step to 2.5 s "
+          "|\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     s += "| " + g.family + " | " + g.mode + " | " + std::to_string(p.episodes) + " | " + fmt(p.mota(), "%.3f") + " | " +
          fmt(p.motp_m(), "%.3f") + " | " + fmt(p.id_switches_per_100_track_s(), "%.2f") + " | " +
-         fmt(p.sum.objects ? std::optional<double>(100.0 * p.sum.splits / p.sum.objects) : std::nullopt, "%.2f") + " | " +
-         fmt(p.sum.ade_1s_m, "%.3f") + " | " + fmt(p.sum.fde_2_5s_m, "%.3f") + " | " + fmt(p.sum.walker_ade_1s_m, "%.3f") +
-         " | " + fmt(p.coverage_min(2.5), "%.3f") + " |\n";
+         fmt(p.sum.objects ? std::optional<double>(100.0 * p.sum.splits / p.sum.objects) : std::nullopt, "%.2f") +
+         " | " + fmt(p.sum.ade_1s_m, "%.3f") + " | " + fmt(p.sum.fde_2_5s_m, "%.3f") + " | " +
+         fmt(p.sum.walker_ade_1s_m, "%.3f") + " | " + fmt(p.coverage_min(2.5), "%.3f") + " |\n";
   }
   return s;
 }
@@ -267,7 +269,8 @@ namespace evade::benchmark {
 
 double PerceptionPool::mota() const {
   if (sum.objects == 0) return 1.0;
-  return 1.0 - static_cast<double>(sum.misses + sum.false_positives + sum.id_switches) / static_cast<double>(sum.objects);
+  return 1.0 -
+         static_cast<double>(sum.misses + sum.false_positives + sum.id_switches) / static_cast<double>(sum.objects);
 }
 
 std::optional<double> PerceptionPool::motp_m() const {

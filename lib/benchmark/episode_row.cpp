@@ -14,9 +14,9 @@ const char* const kRequiredBool[] = {"success", "reached_goal", "collided", "at_
 const char* const kRequiredInt[] = {"collisions_at_fault", "collisions_not_at_fault"};
 const char* const kRequiredNumberOrNull[] = {"min_dist_m", "time_to_goal_s", "planner_cycle_ms_p99"};
 // Copied when present.
-const char* const kOptional[] = {"contacts",           "reaction_time_s", "speed_var",
-                                 "path_length_m",      "planner_solve_ms_p99", "solver_failures",
-                                 "final_goal_distance_m"};
+const char* const kOptional[] = {
+    "contacts",        "reaction_time_s",      "speed_var", "path_length_m", "planner_solve_ms_p99",
+    "solver_failures", "final_goal_distance_m"};
 
 Json id_json(const EpisodeId& id) {
   Json j;
@@ -60,10 +60,11 @@ int integer(const Json& j, const char* key) {
 }
 
 // Keys of perception-metrics' JSON that a row carries (they pool).
-const char* const kPerceptionKeys[] = {"objects", "matches", "misses", "false_positives", "splits", "merges", "id_switches",
-                                       "fragmentations", "motp_m", "track_s", "predictions", "ade_1s_m",
-                                       "fde_2_5s_m", "walker_ade_1s_m", "walker_predictions", "step_dt_s",
-                                       "coverage_inside", "coverage_n"};
+const char* const kPerceptionKeys[] = {
+    "objects",     "matches",         "misses",         "false_positives", "splits",
+    "merges",      "id_switches",     "fragmentations", "motp_m",          "track_s",
+    "predictions", "ade_1s_m",        "fde_2_5s_m",     "walker_ade_1s_m", "walker_predictions",
+    "step_dt_s",   "coverage_inside", "coverage_n"};
 
 Json perception_subset(const std::string& text) {
   Json p;
@@ -120,7 +121,8 @@ PerceptionCounts parse_perception(const Json& p) {
   c.step_dt_s = number_or_null(p, "step_dt_s").value_or(0.0);
   c.coverage_inside = counts(p, "coverage_inside");
   c.coverage_n = counts(p, "coverage_n");
-  if (c.coverage_inside.size() != c.coverage_n.size()) throw std::runtime_error("perception coverage lists differ in length");
+  if (c.coverage_inside.size() != c.coverage_n.size())
+    throw std::runtime_error("perception coverage lists differ in length");
   return c;
 }
 

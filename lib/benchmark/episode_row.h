@@ -25,9 +25,10 @@ struct EpisodeId {
 // The counts of an episode's perception-metrics JSON that pool over
 // episodes (lib/metrics/perception_metrics.h).
 struct PerceptionCounts {
-  int64_t objects = 0, matches = 0, misses = 0, false_positives = 0, splits = 0, merges = 0, id_switches = 0, fragmentations = 0;
+  int64_t objects = 0, matches = 0, misses = 0, false_positives = 0, splits = 0, merges = 0, id_switches = 0,
+          fragmentations = 0;
   double centre_error_sum_m = 0, track_s = 0;
-  int64_t predictions = 0;        // with a 2.5 s horizon scored: ade/fde weights
+  int64_t predictions = 0;  // with a 2.5 s horizon scored: ade/fde weights
   std::optional<double> ade_1s_m, fde_2_5s_m, walker_ade_1s_m;
   int64_t walker_predictions = 0;
   double step_dt_s = 0;

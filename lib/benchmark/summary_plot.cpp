@@ -10,10 +10,10 @@
 namespace evade::benchmark {
 namespace {
 
-constexpr int kPanelW = 480;   // px
-constexpr int kPanelH = 360;   // px
-constexpr int kColumns = 3;    // panels per row at most
-constexpr int kLegendH = 50;   // px below the panels
+constexpr int kPanelW = 480;                                      // px
+constexpr int kPanelH = 360;                                      // px
+constexpr int kColumns = 3;                                       // panels per row at most
+constexpr int kLegendH = 50;                                      // px below the panels
 constexpr double kPadL = 56, kPadR = 16, kPadT = 36, kPadB = 64;  // px inside a panel around the axes
 
 struct Panel {

@@ -32,9 +32,8 @@ void put_be(std::vector<uint8_t>* out, uint64_t v, int bytes) {
 }
 bool sender_char(uint8_t c) { return std::isalnum(c) || c == '_' || c == '-' || c == '.'; }
 bool valid_sender(const std::string& s) {
-  return !s.empty() && s.size() <= kMaxSenderChars && std::all_of(s.begin(), s.end(), [](char c) {
-    return sender_char(static_cast<uint8_t>(c));
-  });
+  return !s.empty() && s.size() <= kMaxSenderChars &&
+         std::all_of(s.begin(), s.end(), [](char c) { return sender_char(static_cast<uint8_t>(c)); });
 }
 
 // |a - b| > limit, without overflow for any int64 stamps.
@@ -70,7 +69,8 @@ std::string key_path(const AuthParams& params) {
   if (env && *env) return env;
   if (params.key_file.rfind("~/", 0) == 0) {
     const char* home = std::getenv("HOME");
-    if (!home || !*home) throw KeyError("bus key: " + params.key_file + " names the home directory but $HOME is not set");
+    if (!home || !*home)
+      throw KeyError("bus key: " + params.key_file + " names the home directory but $HOME is not set");
     return std::string(home) + params.key_file.substr(1);
   }
   return params.key_file;
@@ -92,10 +92,12 @@ std::vector<uint8_t> load_key(const std::string& path, bool owner_only) {
   std::string hex;
   for (char c; in.get(c);)
     if (!std::isspace(static_cast<unsigned char>(c))) hex.push_back(c);
-  if (hex.size() % 2 != 0 || !std::all_of(hex.begin(), hex.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); }))
+  if (hex.size() % 2 != 0 ||
+      !std::all_of(hex.begin(), hex.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); }))
     throw KeyError("bus key: " + path + " is not hexadecimal text");
   std::vector<uint8_t> key;
-  for (size_t i = 0; i < hex.size(); i += 2) key.push_back(static_cast<uint8_t>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  for (size_t i = 0; i < hex.size(); i += 2)
+    key.push_back(static_cast<uint8_t>(std::stoi(hex.substr(i, 2), nullptr, 16)));
   if (key.size() < kMinKeyBytes)
     throw KeyError("bus key: " + path + " holds " + std::to_string(key.size()) + " bytes; at least " +
                    std::to_string(kMinKeyBytes) + " are needed");

@@ -32,11 +32,16 @@ void Core::run_measured(const std::function<void()>& fn) {
 
 const char* verdict_name(AuthVerdict v) {
   switch (v) {
-    case AuthVerdict::kOk: return "auth_ok";
-    case AuthVerdict::kUnsigned: return "auth_unsigned";
-    case AuthVerdict::kBadMac: return "auth_bad_mac";
-    case AuthVerdict::kOldSeq: return "auth_old_seq";
-    case AuthVerdict::kOutsideWindow: return "auth_outside_window";
+    case AuthVerdict::kOk:
+      return "auth_ok";
+    case AuthVerdict::kUnsigned:
+      return "auth_unsigned";
+    case AuthVerdict::kBadMac:
+      return "auth_bad_mac";
+    case AuthVerdict::kOldSeq:
+      return "auth_old_seq";
+    case AuthVerdict::kOutsideWindow:
+      return "auth_outside_window";
   }
   return "auth_unknown";
 }
@@ -133,14 +138,15 @@ void Core::publish_health() {
   h.output_rate_hz = elapsed_s > 0.0 ? outputs_since_ / elapsed_s : 0.0;
   h.latency_us_mean = latency_n_ > 0 ? latency_sum_us_ / latency_n_ : 0.0;
   h.latency_us_max = latency_max_us_;
-  for (const auto* inputs : {&inputs_, &external_}) for (const auto& [ch, in] : *inputs) {
-    evade::health_channel_t c;
-    c.channel = ch;
-    c.received = in.received;
-    c.malformed = in.malformed;
-    c.age_us = in.last_now < 0 ? -1 : now_ - in.last_now;
-    h.inputs.push_back(c);
-  }
+  for (const auto* inputs : {&inputs_, &external_})
+    for (const auto& [ch, in] : *inputs) {
+      evade::health_channel_t c;
+      c.channel = ch;
+      c.received = in.received;
+      c.malformed = in.malformed;
+      c.age_us = in.last_now < 0 ? -1 : now_ - in.last_now;
+      h.inputs.push_back(c);
+    }
   h.num_inputs = static_cast<int32_t>(h.inputs.size());
   for (const auto& [name, value] : counters_) {
     evade::health_counter_t c;

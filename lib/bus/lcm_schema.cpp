@@ -20,10 +20,14 @@ const Value* Value::field(const std::string& name) const {
 
 double Value::number() const {
   switch (kind) {
-    case Kind::Int: return static_cast<double>(i);
-    case Kind::Float: return f;
-    case Kind::Bool: return b ? 1.0 : 0.0;
-    default: return std::nan("");
+    case Kind::Int:
+      return static_cast<double>(i);
+    case Kind::Float:
+      return f;
+    case Kind::Bool:
+      return b ? 1.0 : 0.0;
+    default:
+      return std::nan("");
   }
 }
 
@@ -44,8 +48,8 @@ std::vector<std::string> tokenize(const std::string& text) {
       i = (e == std::string::npos) ? n : e + 2;
     } else if (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-') {
       size_t j = i;
-      while (j < n && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_' || text[j] == '.' ||
-                       text[j] == '-'))
+      while (j < n &&
+             (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_' || text[j] == '.' || text[j] == '-'))
         ++j;
       out.push_back(text.substr(i, j - i));
       i = j;
@@ -90,11 +94,21 @@ void json_string(std::ostringstream& os, const std::string& s) {
   os << '"';
   for (unsigned char c : s) {
     switch (c) {
-      case '"': os << "\\\""; break;
-      case '\\': os << "\\\\"; break;
-      case '\n': os << "\\n"; break;
-      case '\t': os << "\\t"; break;
-      case '\r': os << "\\r"; break;
+      case '"':
+        os << "\\\"";
+        break;
+      case '\\':
+        os << "\\\\";
+        break;
+      case '\n':
+        os << "\\n";
+        break;
+      case '\t':
+        os << "\\t";
+        break;
+      case '\r':
+        os << "\\r";
+        break;
       default:
         if (c < 0x20) {
           char buf[8];
@@ -110,8 +124,12 @@ void json_string(std::ostringstream& os, const std::string& s) {
 
 void json(std::ostringstream& os, const Value& v) {
   switch (v.kind) {
-    case Value::Kind::Int: os << v.i; break;
-    case Value::Kind::Bool: os << (v.b ? "true" : "false"); break;
+    case Value::Kind::Int:
+      os << v.i;
+      break;
+    case Value::Kind::Bool:
+      os << (v.b ? "true" : "false");
+      break;
     case Value::Kind::Float:
       if (std::isfinite(v.f)) {
         char buf[32];
@@ -121,7 +139,9 @@ void json(std::ostringstream& os, const Value& v) {
         os << "null";
       }
       break;
-    case Value::Kind::String: json_string(os, v.s); break;
+    case Value::Kind::String:
+      json_string(os, v.s);
+      break;
     case Value::Kind::Array:
       os << '[';
       for (size_t k = 0; k < v.items.size(); ++k) {
@@ -223,8 +243,7 @@ const LcmSchema& LcmSchema::evade() {
   return schema;
 }
 
-bool LcmSchema::decode_field(const std::string& type, const uint8_t* data, size_t size, size_t* pos,
-                             Value* out) const {
+bool LcmSchema::decode_field(const std::string& type, const uint8_t* data, size_t size, size_t* pos, Value* out) const {
   uint64_t u = 0;
   if (type == "int8_t" || type == "byte" || type == "boolean") {
     if (!read_be(data, size, pos, 1, &u)) return false;
@@ -334,10 +353,7 @@ size_t primitive_size(const std::string& t) {
 constexpr int kMaxNesting = 16;
 }  // namespace
 
-
-
-bool LcmSchema::skip_value(const std::string& type, const uint8_t* data, size_t size, size_t* pos,
-                           int depth) const {
+bool LcmSchema::skip_value(const std::string& type, const uint8_t* data, size_t size, size_t* pos, int depth) const {
   if (size_t n = primitive_size(type)) {
     if (*pos + n > size) return false;
     *pos += n;
@@ -365,8 +381,10 @@ bool LcmSchema::skip_struct(const Struct& s, const uint8_t* data, size_t size, s
         uint64_t u = 0;
         size_t p = start;
         read_be(data, size, &p, n, &u);
-        int64_t v = n == 1 ? static_cast<int8_t>(u) : n == 2 ? static_cast<int16_t>(u)
-                  : n == 4 ? static_cast<int32_t>(u) : static_cast<int64_t>(u);
+        int64_t v = n == 1   ? static_cast<int8_t>(u)
+                    : n == 2 ? static_cast<int16_t>(u)
+                    : n == 4 ? static_cast<int32_t>(u)
+                             : static_cast<int64_t>(u);
         if (f.type == "byte") v = static_cast<int64_t>(u);
         ints[f.name] = v;
       }

@@ -23,8 +23,8 @@ struct Value {
   double f = 0.0;
   bool b = false;
   std::string s;
-  std::vector<Value> items;                            // Array
-  std::vector<std::pair<std::string, Value>> fields;   // Struct, in declaration order
+  std::vector<Value> items;                           // Array
+  std::vector<std::pair<std::string, Value>> fields;  // Struct, in declaration order
 
   const Value* field(const std::string& name) const;
   double number() const;  // Int, Float or Bool as double
@@ -52,11 +52,11 @@ class LcmSchema {
  private:
   struct Dim {
     bool is_const;
-    int64_t size;        // const size
-    std::string field;   // variable size: the name of an earlier integer field
+    int64_t size;       // const size
+    std::string field;  // variable size: the name of an earlier integer field
   };
   struct Field {
-    std::string type;   // primitive name or struct name (without package)
+    std::string type;  // primitive name or struct name (without package)
     std::string name;
     std::vector<Dim> dims;
   };
@@ -66,8 +66,8 @@ class LcmSchema {
   };
   bool decode_struct(const Struct& s, const uint8_t* data, size_t size, size_t* pos, Value* out) const;
   bool decode_field(const std::string& type, const uint8_t* data, size_t size, size_t* pos, Value* out) const;
-  bool decode_dims(const Field& f, size_t d, const std::vector<int64_t>& lens, const uint8_t* data,
-                   size_t size, size_t* pos, Value* out) const;
+  bool decode_dims(const Field& f, size_t d, const std::vector<int64_t>& lens, const uint8_t* data, size_t size,
+                   size_t* pos, Value* out) const;
   bool skip_struct(const Struct& s, const uint8_t* data, size_t size, size_t* pos, int depth) const;
   bool skip_value(const std::string& type, const uint8_t* data, size_t size, size_t* pos, int depth) const;
 

@@ -2,12 +2,11 @@
 
 #include <poll.h>
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 
 namespace evade::bus {

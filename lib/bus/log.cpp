@@ -1,7 +1,6 @@
 #include "bus/log.h"
 
 #include <lcm/lcm-cpp.hpp>
-
 #include <stdexcept>
 
 namespace evade::bus {

@@ -34,7 +34,8 @@ void run(const std::vector<Core*>& cores, const ReplayOptions& options, Source&&
 std::vector<LogEvent> replay(const std::vector<Core*>& cores, const std::vector<LogEvent>& input,
                              const ReplayOptions& options) {
   std::vector<LogEvent> out;
-  run(cores, options,
+  run(
+      cores, options,
       [&](auto&& fn) {
         for (const auto& e : input) fn(e);
       },
@@ -46,7 +47,8 @@ int64_t replay_file(const std::vector<Core*>& cores, const std::string& input_lo
                     const ReplayOptions& options) {
   LogWriter writer(output_log);
   int64_t n = 0;
-  run(cores, options, [&](auto&& fn) { for_each_event(input_log, fn); },
+  run(
+      cores, options, [&](auto&& fn) { for_each_event(input_log, fn); },
       [&](LogEvent e) {
         writer.write(e);
         ++n;

@@ -24,7 +24,7 @@ struct ReplayOptions {
 std::vector<LogEvent> replay(const std::vector<Core*>& cores, const std::vector<LogEvent>& input,
                              const ReplayOptions& options = {});
 // File to file, streaming. Returns the number of events written.
-int64_t replay_file(const std::vector<Core*>& cores, const std::string& input_log,
-                    const std::string& output_log, const ReplayOptions& options = {});
+int64_t replay_file(const std::vector<Core*>& cores, const std::string& input_log, const std::string& output_log,
+                    const ReplayOptions& options = {});
 
 }  // namespace evade::bus

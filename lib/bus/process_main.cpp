@@ -1,8 +1,8 @@
 #include "bus/process_main.h"
 
 #include <cstdio>
-#include <filesystem>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include "bus/bus_guard.h"
@@ -68,9 +68,8 @@ bool replay_paths_ok(const std::string& in, const std::string& out, bool force, 
   return true;
 }
 
-int process_main(int argc, char** argv, const std::string& name,
-                 const std::function<void(CLI::App&)>& add_flags, const CoreFactory& make,
-                 const ProcessOptions& options) {
+int process_main(int argc, char** argv, const std::string& name, const std::function<void(CLI::App&)>& add_flags,
+                 const CoreFactory& make, const ProcessOptions& options) {
   CLI::App app{"evade " + name};
   CommonOptions opts;
   add_common_options(app, opts);

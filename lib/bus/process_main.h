@@ -5,7 +5,6 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-
 #include <functional>
 #include <memory>
 #include <string>
@@ -64,8 +63,7 @@ struct ProcessOptions {
 // Parses the command line (flags added by `add_flags` too), builds the core
 // from the configuration and runs it live on LCM, or over a log with
 // --replay. Returns the process exit status.
-int process_main(int argc, char** argv, const std::string& name,
-                 const std::function<void(CLI::App&)>& add_flags, const CoreFactory& make,
-                 const ProcessOptions& options = {});
+int process_main(int argc, char** argv, const std::string& name, const std::function<void(CLI::App&)>& add_flags,
+                 const CoreFactory& make, const ProcessOptions& options = {});
 
 }  // namespace evade::bus

@@ -1,6 +1,5 @@
 #include "closedloop/closed_loop.h"
 
-
 #include <stdexcept>
 
 #include "base/base_driver_core.h"
@@ -120,9 +119,8 @@ ProcessNode* ClosedLoop::Impl::add(bus::Core& core, ProcessNode::ComputeModel mo
   n->set_router([this](const std::string& ch, int64_t t, const Bytes& data) { route(ch, t, data); });
   n->set_cpu(cpu.get());
   if (run.cpu_clock && charged)
-    n->set_profiler(run.cpu_clock, [this, &core](const std::vector<bus::LogEvent>& out, double cpu_s) {
-      profile(core, out, cpu_s);
-    });
+    n->set_profiler(run.cpu_clock,
+                    [this, &core](const std::vector<bus::LogEvent>& out, double cpu_s) { profile(core, out, cpu_s); });
   for (const auto& ch : core.channels()) subscribers[ch].push_back(n);
   return n;
 }
@@ -184,8 +182,8 @@ void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
   planner->set_solve_time_model([lp](int it, double measured_us) { return lp->planner_cycle_us(it, measured_us); });
   others.push_back(mapping::ElevationMapCore::from_config(root));
   others.push_back(tracking::TrackerCore::from_config(root));
-  others.push_back(std::make_unique<prediction::PredictorCore>(
-      prediction::PredictorParams::from_config(root.section("predictor"))));
+  others.push_back(
+      std::make_unique<prediction::PredictorCore>(prediction::PredictorParams::from_config(root.section("predictor"))));
   others.push_back(std::make_unique<route::RoutePublisher>(route_params(root, scenario)));
   RunMonitorParams mp;
   mp.margin_s = params.goal_margin_s;

@@ -35,12 +35,12 @@
 namespace evade::closedloop {
 
 struct LockstepRun {
-  std::optional<uint64_t> seed;  // overrides the scenario's seed (the simulator's sensor noise)
-  std::string planner_mode;      // empty: the configuration's
-  std::string planner_compute;   // empty: the configuration's (fixed | iterations | measured)
+  std::optional<uint64_t> seed;                 // overrides the scenario's seed (the simulator's sensor noise)
+  std::string planner_mode;                     // empty: the configuration's
+  std::string planner_compute;                  // empty: the configuration's (fixed | iterations | measured)
   std::optional<double> cpu_cores;              // overrides lockstep.cpu_cores
   std::optional<double> background_load_cores;  // overrides lockstep.background_load_cores
-  bool quiet = true;             // no progress lines from the run monitor
+  bool quiet = true;                            // no progress lines from the run monitor
   // Channels not written to the log (LIDAR_SCAN holds the packets the
   // point clouds are decoded from, as in a live run_scenario log).
   std::set<std::string> unlogged = {"LIDAR_POINTS"};
@@ -60,15 +60,15 @@ struct CpuSample {
 
 struct ProcessStats {
   int64_t callbacks = 0;
-  double compute_s = 0.0;  // simulated compute time charged
+  double compute_s = 0.0;               // simulated compute time charged
   std::vector<CpuSample> samples;       // profiled callbacks (the planner's PLAN cycles aside)
   std::vector<CpuSample> plan_samples;  // the planner's PLAN cycles, k = iterations
 };
 
 struct LockstepResult {
-  int outcome = -1;     // RunMonitor::kGoal, kDuration (or -1: stopped at the safety cap)
-  double sim_s = 0.0;   // simulated time from start to end
-  int64_t events = 0;   // callbacks run by the event queue
+  int outcome = -1;         // RunMonitor::kGoal, kDuration (or -1: stopped at the safety cap)
+  double sim_s = 0.0;       // simulated time from start to end
+  int64_t events = 0;       // callbacks run by the event queue
   double cpu_work_s = 0.0;  // CPU time the shared cores handed out (0 without contention)
   std::map<std::string, ProcessStats> processes;
 };

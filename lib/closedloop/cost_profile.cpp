@@ -54,7 +54,8 @@ std::string suggested_costs(const LockstepResult& profiled) {
     const CostFit plan = fit_cost(it->second.plan_samples);
     const double callback = fit_cost(it->second.samples).base_s;
     char buf[256];
-    std::snprintf(buf, sizeof buf, "  planner_base_s: %.7f\n  planner_per_iteration_s: %.8f  # %zu PLAN cycles, %.3f s CPU\n",
+    std::snprintf(buf, sizeof buf,
+                  "  planner_base_s: %.7f\n  planner_per_iteration_s: %.8f  # %zu PLAN cycles, %.3f s CPU\n",
                   std::max(0.0, plan.base_s - callback), plan.per_k_s, plan.n, total_s(it->second.plan_samples));
     out += buf;
   }

@@ -5,7 +5,7 @@
 namespace evade::closedloop {
 
 namespace {
-const char* const kProcesses[] = {"lidar_driver", "elevation_map", "tracker", "predictor",
+const char* const kProcesses[] = {"lidar_driver", "elevation_map", "tracker",    "predictor",
                                   "route",        "planner",       "base_driver"};
 }
 
@@ -47,9 +47,12 @@ LockstepParams LockstepParams::from_config(const config::Node& root) {
 
 double LockstepParams::planner_cycle_us(int iterations, double measured_us) const {
   switch (planner_compute) {
-    case PlannerCompute::kFixed: return planner_fixed_s * 1e6;
-    case PlannerCompute::kIterations: return (planner_base_s + planner_per_iteration_s * iterations) * 1e6;
-    case PlannerCompute::kMeasured: return measured_us * planner_measured_scale;
+    case PlannerCompute::kFixed:
+      return planner_fixed_s * 1e6;
+    case PlannerCompute::kIterations:
+      return (planner_base_s + planner_per_iteration_s * iterations) * 1e6;
+    case PlannerCompute::kMeasured:
+      return measured_us * planner_measured_scale;
   }
   return 0.0;
 }

@@ -41,8 +41,8 @@ struct LockstepParams {
   double planner_base_s = 0.0;
   double planner_per_iteration_s = 0.0;
   double planner_measured_scale = 1.0;
-  double cpu_cores = 2.0;              // cores the processes and the simulator share (0: one each)
-  double background_load_cores = 0.0;  // threads of other programs, always runnable, at the stack's weight
+  double cpu_cores = 2.0;                    // cores the processes and the simulator share (0: one each)
+  double background_load_cores = 0.0;        // threads of other programs, always runnable, at the stack's weight
   std::map<std::string, ProcessCost> costs;  // by process name (the evade processes and "sim")
 
   static LockstepParams from_config(const config::Node& root);

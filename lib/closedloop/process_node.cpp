@@ -46,9 +46,15 @@ void ProcessNode::run(Work w) {
   const int64_t t = q_.now();
   const double c0 = clock_ ? clock_() : 0.0;
   switch (w.kind) {
-    case Kind::kMessage: core_.deliver(w.channel, w.data->data(), w.data->size(), t); break;
-    case Kind::kInput: core_.input(t, w.fn, w.channel); break;
-    case Kind::kTimer: core_.fire_next(t); break;
+    case Kind::kMessage:
+      core_.deliver(w.channel, w.data->data(), w.data->size(), t);
+      break;
+    case Kind::kInput:
+      core_.input(t, w.fn, w.channel);
+      break;
+    case Kind::kTimer:
+      core_.fire_next(t);
+      break;
   }
   if (clock_ && profiler_) profiler_(outputs_, clock_() - c0);
   const int64_t d = model_ ? model_(outputs_) : 0;

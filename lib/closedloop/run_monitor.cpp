@@ -13,14 +13,22 @@ namespace {
 
 const char* status_name(int s) {
   switch (s) {
-    case evade::plan_t::STATUS_OK: return "ok";
-    case evade::plan_t::STATUS_FALLBACK: return "fallback";
-    case evade::plan_t::STATUS_STOPPING: return "stopping";
-    case evade::plan_t::STATUS_STALE_INPUT: return "stale";
-    case evade::plan_t::STATUS_NO_ROUTE: return "no-route";
-    case evade::plan_t::STATUS_GOAL: return "goal";
-    case evade::plan_t::STATUS_RECOVERING: return "recover";
-    default: return "?";
+    case evade::plan_t::STATUS_OK:
+      return "ok";
+    case evade::plan_t::STATUS_FALLBACK:
+      return "fallback";
+    case evade::plan_t::STATUS_STOPPING:
+      return "stopping";
+    case evade::plan_t::STATUS_STALE_INPUT:
+      return "stale";
+    case evade::plan_t::STATUS_NO_ROUTE:
+      return "no-route";
+    case evade::plan_t::STATUS_GOAL:
+      return "goal";
+    case evade::plan_t::STATUS_RECOVERING:
+      return "recover";
+    default:
+      return "?";
   }
 }
 
@@ -70,7 +78,8 @@ void RunMonitor::print_progress(const evade::sim_truth_t& t, double to_goal, dou
   const int64_t period = p_.tty ? 200'000 : 2'000'000;
   if (t.utime - last_print_ < period) return;
   last_print_ = t.utime;
-  std::fprintf(stderr, "%s  t %5.1f s  to goal %6.2f m  v %5.2f m/s  clearance %5.2f m (min %5.2f)  plan %-8s %5.2f ms %s",
+  std::fprintf(stderr,
+               "%s  t %5.1f s  to goal %6.2f m  v %5.2f m/s  clearance %5.2f m (min %5.2f)  plan %-8s %5.2f ms %s",
                p_.tty ? "\r" : "", elapsed_s_, to_goal, t.v, clear, min_clear_,
                plan_status_ < 0 ? "-" : status_name(plan_status_), solve_ms_, p_.tty ? "" : "\n");
   std::fflush(stderr);

@@ -1,7 +1,5 @@
 #include "config/config.h"
 
-#include "config/safety.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -9,16 +7,23 @@
 #include <limits>
 #include <sstream>
 
+#include "config/safety.h"
+
 namespace evade::config {
 namespace {
 
 std::string type_name(const YAML::Node& n) {
   switch (n.Type()) {
-    case YAML::NodeType::Null: return "null";
-    case YAML::NodeType::Scalar: return "a scalar";
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Map: return "a map";
-    default: return "undefined";
+    case YAML::NodeType::Null:
+      return "null";
+    case YAML::NodeType::Scalar:
+      return "a scalar";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Map:
+      return "a map";
+    default:
+      return "undefined";
   }
 }
 
@@ -38,13 +43,9 @@ Node::Node(YAML::Node node, std::string file, std::string path)
       path_(std::move(path)),
       used_(std::make_shared<std::set<std::string>>()) {}
 
-std::string Node::key_path(const std::string& key) const {
-  return path_.empty() ? key : path_ + "." + key;
-}
+std::string Node::key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
 
-int Node::line_of(const YAML::Node& n) const {
-  return n.Mark().line >= 0 ? n.Mark().line + 1 : 0;
-}
+int Node::line_of(const YAML::Node& n) const { return n.Mark().line >= 0 ? n.Mark().line + 1 : 0; }
 
 void Node::fail(const std::string& key, const std::string& reason) const {
   int line = line_of(node_);
@@ -113,8 +114,7 @@ int64_t Node::get<int64_t>(const std::string& key) const {
 template <>
 int Node::get<int>(const std::string& key) const {
   int64_t v = get<int64_t>(key);
-  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
-    fail(key, "integer out of range");
+  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) fail(key, "integer out of range");
   return static_cast<int>(v);
 }
 
@@ -262,10 +262,10 @@ Node load_file(const std::string& path) {
 Node load_string(const std::string& text, const std::string& name) { return parse(text, name); }
 
 const std::vector<std::string>& robot_sections() {
-  static const std::vector<std::string> sections = {"robot",   "lidar",       "sim",           "lidar_driver",
-                                                    "base_driver", "elevation_map", "tracker", "predictor",
-                                                    "planner", "route",       "metrics",       "perception_metrics",
-                                                    "lockstep", "health_board", "viz", "bus", "teleop"};
+  static const std::vector<std::string> sections = {
+      "robot",    "lidar",        "sim",     "lidar_driver", "base_driver", "elevation_map",
+      "tracker",  "predictor",    "planner", "route",        "metrics",     "perception_metrics",
+      "lockstep", "health_board", "viz",     "bus",          "teleop"};
   return sections;
 }
 

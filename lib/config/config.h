@@ -40,7 +40,7 @@ class Node {
   int get_int(const std::string& key, int min, int max) const;
   double get_positive(const std::string& key) const;  // > 0
   std::vector<double> get_doubles(const std::string& key, size_t count) const;
-  std::vector<std::string> get_strings(const std::string& key) const;  // a non-empty list of non-empty strings
+  std::vector<std::string> get_strings(const std::string& key) const;         // a non-empty list of non-empty strings
   std::vector<std::vector<double>> get_points(const std::string& key) const;  // [[x, y], ...]
   std::string get_choice(const std::string& key, const std::vector<std::string>& choices) const;
 

@@ -210,8 +210,10 @@ void compute_obstacle_layer(const ElevationMapParams& p, ElevationLayers* L, Obs
             if (!std::isnan(zn)) v = zn, empty = false;
           }
           m[dr + 1][dc + 1] = v;
-          if (!empty) step = std::max(step, std::abs(v - zc));
-          else if (near) step_blind = std::max(step_blind, std::abs(double(zc)));
+          if (!empty)
+            step = std::max(step, std::abs(v - zc));
+          else if (near)
+            step_blind = std::max(step_blind, std::abs(double(zc)));
         }
       }
       if (p.step_includes_cell_extent) step = std::max(step, double(zc - L->z_min[i]));

@@ -19,13 +19,13 @@ struct ElevationMapParams {
   double size_y_m = 16.0;
   double resolution_m = 0.1;
   // crop (exact box test fused with the binning pass, see elevation_map.cpp)
-  double min_z_m = -1.0;             // elevation band kept, above the ground plane of the base
+  double min_z_m = -1.0;  // elevation band kept, above the ground plane of the base
   double max_z_m = 2.0;
-  double min_range_m = 0.4;          // sensor-frame range below which a return is the robot itself
+  double min_range_m = 0.4;  // sensor-frame range below which a return is the robot itself
   double max_range_m = 100.0;
   // motion compensation and odometry
-  int64_t sweep_slice_us = 1000;     // points fired within one slice share one interpolated pose
-  int64_t max_sweep_us = 200000;     // time offsets beyond this are malformed
+  int64_t sweep_slice_us = 1000;  // points fired within one slice share one interpolated pose
+  int64_t max_sweep_us = 200000;  // time offsets beyond this are malformed
   int64_t odometry_history_us = 2000000;
   int64_t max_extrapolation_us = 150000;
   // hole filling: an empty cell with at least this many of its 8 neighbours
@@ -33,9 +33,9 @@ struct ElevationMapParams {
   // (one pass, so only small holes close)
   int hole_fill_min_neighbors = 5;
   // obstacle layer limits (the robot's operating limits)
-  double sobel_max = 0.6;            // S_max, m/m (slope; Sobel normalised by 8 * resolution)
-  double laplace_max_per_m = 15.0;   // L_max, 1/m (Laplacian normalised by resolution^2)
-  double step_max_m = 0.10;          // h_max
+  double sobel_max = 0.6;                 // S_max, m/m (slope; Sobel normalised by 8 * resolution)
+  double laplace_max_per_m = 15.0;        // L_max, 1/m (Laplacian normalised by resolution^2)
+  double step_max_m = 0.10;               // h_max
   bool step_includes_cell_extent = true;  // h_step also counts max - min z inside the cell
   // Within this horizontal distance of the robot no beam reaches the ground
   // (mount height / tan(lowest beam)); there an empty neighbour in the
@@ -81,8 +81,8 @@ struct CloudStats {
   int64_t points_in = 0;
   int64_t points_binned = 0;
   int64_t points_cropped = 0;
-  int64_t points_invalid = 0;      // NaN / inf coordinates, bad time offsets
-  int64_t slices_pose_held = 0;    // sweep slices with no odometry (previous pose reused)
+  int64_t points_invalid = 0;    // NaN / inf coordinates, bad time offsets
+  int64_t slices_pose_held = 0;  // sweep slices with no odometry (previous pose reused)
   int64_t cells_filled = 0;
 };
 

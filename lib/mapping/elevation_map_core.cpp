@@ -50,9 +50,14 @@ void ElevationMapCore::on_odometry(const evade::odometry_t& m) {
   s.v = m.v;
   s.omega = m.omega;
   switch (poses_.add(s)) {
-    case PoseBuffer::AddResult::kAdded: break;
-    case PoseBuffer::AddResult::kOutOfOrder: count("odometry_out_of_order"); break;
-    case PoseBuffer::AddResult::kReset: count("odometry_reset"); break;
+    case PoseBuffer::AddResult::kAdded:
+      break;
+    case PoseBuffer::AddResult::kOutOfOrder:
+      count("odometry_out_of_order");
+      break;
+    case PoseBuffer::AddResult::kReset:
+      count("odometry_reset");
+      break;
   }
 }
 

@@ -36,9 +36,15 @@ SweepCompensator::SweepCompensator(const CloudView& cloud, const PoseBuffer& pos
   const double cr = std::cos(cloud.mount_roll), sr = std::sin(cloud.mount_roll);
   const double cp = std::cos(cloud.mount_pitch), sp = std::sin(cloud.mount_pitch);
   const double cyw = std::cos(cloud.mount_yaw), syw = std::sin(cloud.mount_yaw);
-  const double r[9] = {cyw * cp, cyw * sp * sr - syw * cr, cyw * sp * cr + syw * sr,
-                       syw * cp, syw * sp * sr + cyw * cr, syw * sp * cr - cyw * sr,
-                       -sp,      cp * sr,                  cp * cr};
+  const double r[9] = {cyw * cp,
+                       cyw * sp * sr - syw * cr,
+                       cyw * sp * cr + syw * sr,
+                       syw * cp,
+                       syw * sp * sr + cyw * cr,
+                       syw * sp * cr - cyw * sr,
+                       -sp,
+                       cp * sr,
+                       cp * cr};
   std::copy(r, r + 9, mount_r_);
   mount_t_[0] = cloud.mount_x;
   mount_t_[1] = cloud.mount_y;

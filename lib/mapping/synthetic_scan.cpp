@@ -29,7 +29,10 @@ double hit_ground(const SynthWorld& w, const double o[3], const double d[3]) {
       double lo = prev, hi = t;
       for (int k = 0; k < 30; ++k) {
         const double mid = 0.5 * (lo + hi);
-        if (o[2] + mid * d[2] <= ground_z(w, o[0] + mid * d[0])) hi = mid; else lo = mid;
+        if (o[2] + mid * d[2] <= ground_z(w, o[0] + mid * d[0]))
+          hi = mid;
+        else
+          lo = mid;
       }
       return hi;
     }

@@ -29,7 +29,7 @@ struct SynthScanOptions {
   Pose2 robot_start;            // robot pose at the first firing
   double v = 0.0, omega = 0.0;  // robot motion during the sweep
   double mount_height_m = 0.5;
-  int azimuth_steps = 1800;     // 0.2 deg at 10 Hz, 16 rings -> 28,800 points
+  int azimuth_steps = 1800;  // 0.2 deg at 10 Hz, 16 rings -> 28,800 points
   int64_t sweep_us = 100000;
   double range_noise_std_m = 0.0;
   uint32_t seed = 1;

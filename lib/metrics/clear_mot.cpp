@@ -72,7 +72,8 @@ void ClearMot::count(double t_s, double dt_s, const std::vector<TrueObject>& obj
         });
         if (h.was_tracked) h.gap_after_track = true;
       } else {
-        const Hypothesis& hyp = *std::find_if(hyps.begin(), hyps.end(), [&](const Hypothesis& x) { return x.id == m->second; });
+        const Hypothesis& hyp =
+            *std::find_if(hyps.begin(), hyps.end(), [&](const Hypothesis& x) { return x.id == m->second; });
         ++totals_.matches;
         ++h.matched;
         totals_.centre_error_sum_m += std::hypot(hyp.centre.x - o.centre.x, hyp.centre.y - o.centre.y);
@@ -114,11 +115,16 @@ MotTotals ClearMot::totals() const {
   for (const auto& [id, h] : history_) {
     if (h.scored == 0) continue;
     const double ratio = static_cast<double>(h.matched) / static_cast<double>(h.scored);
-    if (ratio >= 0.8) ++t.mostly_tracked;
-    else if (ratio <= 0.2) ++t.mostly_lost;
-    else ++t.partially_tracked;
-    if (h.first_matched_s) t.time_to_track_s.push_back(*h.first_matched_s - *h.first_scored_s);
-    else ++t.never_tracked;
+    if (ratio >= 0.8)
+      ++t.mostly_tracked;
+    else if (ratio <= 0.2)
+      ++t.mostly_lost;
+    else
+      ++t.partially_tracked;
+    if (h.first_matched_s)
+      t.time_to_track_s.push_back(*h.first_matched_s - *h.first_scored_s);
+    else
+      ++t.never_tracked;
   }
   return t;
 }

@@ -38,8 +38,8 @@ namespace evade::metrics {
 struct TrueObject {
   int id = 0;
   Vec2 centre;
-  double radius = 0.0;         // > 0: a disc
-  OrientedRect box;            // radius == 0: this rectangle
+  double radius = 0.0;  // > 0: a disc
+  OrientedRect box;     // radius == 0: this rectangle
   bool scored = false;
   double distance_to(Vec2 p) const;  // to the shape, 0 inside
 };
@@ -56,7 +56,7 @@ struct MotTotals {
   int64_t merges = 0;  // misses with another object's hypothesis within the gate
   int64_t fragmentations = 0, mostly_tracked = 0, partially_tracked = 0, mostly_lost = 0;
   double centre_error_sum_m = 0.0;
-  double track_s = 0.0;  // sum over scored matches of the frame's duration
+  double track_s = 0.0;                 // sum over scored matches of the frame's duration
   std::vector<double> time_to_track_s;  // per object tracked at all: first scored -> first matched
   int64_t never_tracked = 0;            // scored at some time, never matched
   double mota() const;

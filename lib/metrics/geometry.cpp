@@ -26,8 +26,10 @@ Vec2 closest_on_rect(const OrientedRect& r, Vec2 p) {
   if (std::fabs(l.x) <= hx && std::fabs(l.y) <= hy) {
     // inside: the nearest edge
     double ex = hx - std::fabs(l.x), ey = hy - std::fabs(l.y);
-    if (ex < ey) q.x = std::copysign(hx, l.x);
-    else q.y = std::copysign(hy, l.y);
+    if (ex < ey)
+      q.x = std::copysign(hx, l.x);
+    else
+      q.y = std::copysign(hy, l.y);
   }
   return to_world(r, q);
 }

@@ -131,8 +131,10 @@ TrueObject true_object(const Snapshot& s, size_t i, const PerceptionParams& p) {
   TrueObject t;
   t.id = o.id;
   t.centre = s.to_odom({o.x, o.y});
-  if (o.shape == "box") t.box = OrientedRect{t.centre, s.yaw_to_odom(o.yaw), o.length, o.width};
-  else t.radius = o.radius;
+  if (o.shape == "box")
+    t.box = OrientedRect{t.centre, s.yaw_to_odom(o.yaw), o.length, o.width};
+  else
+    t.radius = o.radius;
   const int32_t returns = i < s.returns.size() ? s.returns[i] : -1;
   const bool visible = returns < 0 || returns >= p.min_returns;  // -1: not recorded, counted visible
   const double range = std::hypot(o.x - s.robot_world.x, o.y - s.robot_world.y);
@@ -148,8 +150,8 @@ using FrameMatches = std::map<int64_t, size_t>;
 namespace {
 
 struct TrackingPass {
-  std::map<int64_t, FrameMatches> frames;   // by the obstacle list's utime
-  std::map<int64_t, int64_t> first_seen;    // track id -> first utime
+  std::map<int64_t, FrameMatches> frames;  // by the obstacle list's utime
+  std::map<int64_t, int64_t> first_seen;   // track id -> first utime
   int64_t untruthful = 0;
 };
 
@@ -192,7 +194,8 @@ struct Displacement {
 // Errors of one track's predicted centres against the truth; false when
 // the truth ends before the horizon does.
 bool score_track(const evade::prediction_list_t& list, const evade::track_prediction_t& tp, size_t object,
-                 const Timeline& tl, std::vector<double>* errors, std::vector<bool>* inside, std::vector<double>* area) {
+                 const Timeline& tl, std::vector<double>* errors, std::vector<bool>* inside,
+                 std::vector<double>* area) {
   for (int k = 0; k < tp.horizon; ++k) {
     Snapshot s;
     if (!tl.at(list.utime + std::llround(k * list.dt * 1e6), &s) || object >= s.obstacles.size()) return false;
@@ -309,15 +312,17 @@ std::string perception_json(const PerceptionMetrics& m, const PerceptionParams& 
   std::ostringstream o;
   o << "{\n  \"frames\": " << t.frames << ",\n  \"objects\": " << t.objects << ",\n  \"matches\": " << t.matches
     << ",\n  \"misses\": " << t.misses << ",\n  \"false_positives\": " << t.false_positives
-    << ",\n  \"splits\": " << t.splits << ",\n  \"merges\": " << t.merges << ",\n  \"id_switches\": " << t.id_switches << ",\n  \"fragmentations\": " << t.fragmentations
-    << ",\n  \"mota\": " << num(t.mota()) << ",\n  \"motp_m\": " << num(t.motp_m())
-    << ",\n  \"track_s\": " << num(t.track_s)
-    << ",\n  \"id_switches_per_100_track_s\": " << num(t.track_s > 0 ? std::optional<double>(100.0 * t.id_switches / t.track_s) : std::nullopt)
+    << ",\n  \"splits\": " << t.splits << ",\n  \"merges\": " << t.merges << ",\n  \"id_switches\": " << t.id_switches
+    << ",\n  \"fragmentations\": " << t.fragmentations << ",\n  \"mota\": " << num(t.mota())
+    << ",\n  \"motp_m\": " << num(t.motp_m()) << ",\n  \"track_s\": " << num(t.track_s)
+    << ",\n  \"id_switches_per_100_track_s\": "
+    << num(t.track_s > 0 ? std::optional<double>(100.0 * t.id_switches / t.track_s) : std::nullopt)
     << ",\n  \"mostly_tracked\": " << t.mostly_tracked << ",\n  \"partially_tracked\": " << t.partially_tracked
     << ",\n  \"mostly_lost\": " << t.mostly_lost << ",\n  \"never_tracked\": " << t.never_tracked
     << ",\n  \"time_to_track_s_mean\": "
     << num(t.time_to_track_s.empty() ? std::nullopt : std::optional<double>(ttt_sum / t.time_to_track_s.size()))
-    << ",\n  \"time_to_track_s_max\": " << num(t.time_to_track_s.empty() ? std::nullopt : std::optional<double>(ttt_max))
+    << ",\n  \"time_to_track_s_max\": "
+    << num(t.time_to_track_s.empty() ? std::nullopt : std::optional<double>(ttt_max))
     << ",\n  \"untruthful_frames\": " << m.untruthful_frames << ",\n  \"predictions\": " << m.predictions
     << ",\n  \"ade_1s_m\": " << num(m.ade_1s_m) << ",\n  \"fde_1s_m\": " << num(m.fde_1s_m)
     << ",\n  \"ade_2_5s_m\": " << num(m.ade_2_5s_m) << ",\n  \"fde_2_5s_m\": " << num(m.fde_2_5s_m)
@@ -327,9 +332,10 @@ std::string perception_json(const PerceptionMetrics& m, const PerceptionParams& 
     << ",\n  \"coverage_n\": " << array(m.steps, [](const StepScore& s) { return std::to_string(s.n); })
     << ",\n  \"coverage_inside\": " << array(m.steps, [](const StepScore& s) { return std::to_string(s.inside); })
     << ",\n  \"coverage_all\": " << array(m.steps, [](const StepScore& s) { return ratio(s.inside_all, s.n_all); })
-    << ",\n  \"coverage_min_2_5s\": " << num(coverage_min)
-    << ",\n  \"mean_error_m\": " << array(m.steps, [](const StepScore& s) { return s.n_all ? num(s.error_sum_m / s.n_all) : std::string("null"); })
-    << ",\n  \"ellipse_area_m2\": " << array(m.steps, [](const StepScore& s) { return s.n_all ? num(s.area_sum_m2 / s.n_all) : std::string("null"); })
+    << ",\n  \"coverage_min_2_5s\": " << num(coverage_min) << ",\n  \"mean_error_m\": "
+    << array(m.steps, [](const StepScore& s) { return s.n_all ? num(s.error_sum_m / s.n_all) : std::string("null"); })
+    << ",\n  \"ellipse_area_m2\": "
+    << array(m.steps, [](const StepScore& s) { return s.n_all ? num(s.area_sum_m2 / s.n_all) : std::string("null"); })
     << ",\n  \"params\": {\"range_m\": " << num(p.range_m) << ", \"min_returns\": " << p.min_returns
     << ", \"match_gate_m\": " << num(p.match_gate_m) << ", \"max_object_size_m\": " << num(p.max_object_size_m)
     << ", \"min_track_age_s\": " << num(p.min_track_age_s) << "}\n}\n";

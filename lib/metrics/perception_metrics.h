@@ -16,28 +16,28 @@
 namespace evade::metrics {
 
 struct PerceptionParams {
-  double range_m = 8.0;              // objects and tracks farther from the robot are not scored
-  int min_returns = 3;               // an object is visible with at least this many LiDAR returns per revolution
-  double match_gate_m = 1.0;         // a track matches an object within this of its shape
-  double max_object_size_m = 6.0;    // larger objects (walls) are not scored as one object
-  double min_track_age_s = 0.5;      // calibration is judged on tracks at least this old
-  double walker_max_radius_m = 0.35; // a walker: a cylinder no wider ...
-  double walker_max_speed_mps = 2.0; // ... and no faster than this
+  double range_m = 8.0;               // objects and tracks farther from the robot are not scored
+  int min_returns = 3;                // an object is visible with at least this many LiDAR returns per revolution
+  double match_gate_m = 1.0;          // a track matches an object within this of its shape
+  double max_object_size_m = 6.0;     // larger objects (walls) are not scored as one object
+  double min_track_age_s = 0.5;       // calibration is judged on tracks at least this old
+  double walker_max_radius_m = 0.35;  // a walker: a cylinder no wider ...
+  double walker_max_speed_mps = 2.0;  // ... and no faster than this
   static PerceptionParams from_config(const config::Node& section);
 };
 
 // Per step of the prediction horizon.
 struct StepScore {
-  int64_t n = 0, inside = 0;          // tracks at least min_track_age_s old
-  int64_t n_all = 0, inside_all = 0;  // every track
+  int64_t n = 0, inside = 0;                    // tracks at least min_track_age_s old
+  int64_t n_all = 0, inside_all = 0;            // every track
   double error_sum_m = 0.0, area_sum_m2 = 0.0;  // over every track
 };
 
 struct PerceptionMetrics {
   MotTotals mot;
-  double dt_s = 0.0;                 // the predictions' step
-  std::vector<StepScore> steps;      // index 0 = now
-  int64_t predictions = 0;           // (prediction list, track) pairs scored
+  double dt_s = 0.0;             // the predictions' step
+  std::vector<StepScore> steps;  // index 0 = now
+  int64_t predictions = 0;       // (prediction list, track) pairs scored
   // Displacement errors (mean over the scored predictions), null when the
   // horizon is shorter.
   std::optional<double> ade_1s_m, fde_1s_m, ade_2_5s_m, fde_2_5s_m, walker_ade_1s_m;

@@ -29,8 +29,8 @@ std::map<int64_t, int64_t> arrivals(const std::vector<bus::LogEvent>& log, std::
 // Empty when no PLAN names a list.
 std::map<int64_t, double> by_plans(const std::vector<bus::LogEvent>& log, const std::map<int64_t, int64_t>& at) {
   std::map<int64_t, double> out;
-  std::set<int64_t> named;                 // lists some plan has named
-  std::optional<evade::plan_t> awaiting;   // the first plan of a list, until its CMD_VEL
+  std::set<int64_t> named;                // lists some plan has named
+  std::optional<evade::plan_t> awaiting;  // the first plan of a list, until its CMD_VEL
   for (const auto& e : log) {
     if (e.channel == "PLAN") {
       evade::plan_t p;

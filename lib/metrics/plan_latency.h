@@ -19,10 +19,10 @@
 namespace evade::metrics {
 
 struct PlanLatency {
-  int64_t lists = 0;          // OBSTACLE_PREDICTIONS messages (a repeated utime counted once)
-  int64_t planned = 0;        // lists with a latency below
-  int64_t unplanned = 0;      // lists no plan's CMD_VEL answered (dropped while busy, stale, log ended)
-  bool by_first_cmd = false;  // the log's PLANs name no list: the first CMD_VEL after arrival
+  int64_t lists = 0;               // OBSTACLE_PREDICTIONS messages (a repeated utime counted once)
+  int64_t planned = 0;             // lists with a latency below
+  int64_t unplanned = 0;           // lists no plan's CMD_VEL answered (dropped while busy, stale, log ended)
+  bool by_first_cmd = false;       // the log's PLANs name no list: the first CMD_VEL after arrival
   std::vector<double> latency_ms;  // per list planned from, in arrival order
   // Linear interpolation between the closest ranks, as metrics.json's
   // planner percentiles; 0 when there is no latency.

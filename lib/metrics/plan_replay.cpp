@@ -34,8 +34,7 @@ bool strip(std::vector<uint8_t>* data, const TrackFilter& remove, List Msg::*lis
 
 bool strip_tracks(std::vector<uint8_t>* data, const TrackFilter& remove) {
   if (is_type<evade::obstacle_list_t>(*data))
-    return !remove ||
-           strip(data, remove, &evade::obstacle_list_t::obstacles, &evade::obstacle_list_t::num_obstacles);
+    return !remove || strip(data, remove, &evade::obstacle_list_t::obstacles, &evade::obstacle_list_t::num_obstacles);
   if (is_type<evade::prediction_list_t>(*data))
     return !remove || strip(data, remove, &evade::prediction_list_t::tracks, &evade::prediction_list_t::num_tracks);
   return false;

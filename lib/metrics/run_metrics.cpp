@@ -304,8 +304,8 @@ void reaction_metrics(const std::vector<bus::LogEvent>& events, const Decoded& d
     r.tracks = owners.tracks_of(tr.id);
     reactions.push_back(r);
   }
-  m->replay_check = counterfactual_reactions(PlanReplay(planner, events), d.plans, owners,
-                                             params.react_plan_diff_m, &reactions);
+  m->replay_check =
+      counterfactual_reactions(PlanReplay(planner, events), d.plans, owners, params.react_plan_diff_m, &reactions);
   double sum = 0;
   int n = 0;
   for (const auto& r : reactions) {
@@ -355,9 +355,8 @@ std::string contacts_json(const std::vector<Contact>& contacts) {
     const Contact& c = contacts[i];
     s += "    {\"obstacle_id\": " + std::to_string(c.obstacle_id) + ", \"t_start_s\": " + num(c.t_start_s) +
          ", \"t_end_s\": " + num(c.t_end_s) + ", \"max_penetration_m\": " + num(c.max_penetration_m) +
-         ", \"robot_speed_mps\": " + num(c.robot_speed_mps) + ", \"approach_speed_mps\": " +
-         num(c.approach_speed_mps) + ", \"at_fault\": " + boolean(c.at_fault) + "}" +
-         (i + 1 < contacts.size() ? ",\n" : "\n");
+         ", \"robot_speed_mps\": " + num(c.robot_speed_mps) + ", \"approach_speed_mps\": " + num(c.approach_speed_mps) +
+         ", \"at_fault\": " + boolean(c.at_fault) + "}" + (i + 1 < contacts.size() ? ",\n" : "\n");
   }
   return s + "  ]";
 }
@@ -371,8 +370,8 @@ std::string reactions_json(const std::vector<ObstacleTrack>& obstacles) {
     s += std::string(s.empty() ? "[\n" : ",\n") + "    {\"obstacle_id\": " + std::to_string(o.id) +
          ", \"t_enter_s\": " + num(*o.t_enter_s) + ", \"t_leave_s\": " + opt(o.t_leave_s) +
          ", \"t_change_s\": " + opt(o.t_change_s) + ", \"t_react_s\": " + opt(o.t_react_s) +
-         ", \"reaction_s\": " + (o.t_react_s ? num(*o.t_react_s - *o.t_enter_s) : "null") + ", \"tracks\": [" +
-         tracks + "]}";
+         ", \"reaction_s\": " + (o.t_react_s ? num(*o.t_react_s - *o.t_enter_s) : "null") + ", \"tracks\": [" + tracks +
+         "]}";
   }
   return s.empty() ? "[]" : s + "\n  ]";
 }

@@ -35,7 +35,7 @@ struct ObstacleTrack {
   std::string shape;
   double radius = 0, length = 0, width = 0;
   bool dynamic = false;
-  std::vector<Vec2> path;        // centre per SIM_TRUTH sample
+  std::vector<Vec2> path;  // centre per SIM_TRUTH sample
   std::vector<double> yaw;
   std::optional<double> t_enter_s;   // since the first SIM_TRUTH: first inside the local map, moving
   std::optional<double> t_leave_s;   // last inside the local map, moving
@@ -67,7 +67,7 @@ struct RunMetrics {
   int solver_failures = 0;
   std::optional<ReplayCheck> replay_check;  // set when the reactions were computed
   int plans = 0;
-  double duration_s = 0.0;  // SIM_TRUTH span
+  double duration_s = 0.0;           // SIM_TRUTH span
   double scenario_duration_s = 0.0;  // the scenario's time limit
   double final_goal_distance_m = 0.0;
 

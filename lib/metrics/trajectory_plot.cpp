@@ -10,12 +10,12 @@
 namespace evade::metrics {
 namespace {
 
-constexpr int kWidth = 1400;          // px
-constexpr int kMarginPx = 60;         // px around the drawing
-constexpr int kLegendPx = 110;        // px below the drawing for text and colour bar
-constexpr double kWorldPadM = 5.0;    // m around the robot's path and route: half the local map
-constexpr double kTimeLabelS = 5.0;   // s between time labels on the robot and the obstacles
-constexpr double kOutlineS = 1.0;     // s between outlines of moving obstacles
+constexpr int kWidth = 1400;         // px
+constexpr int kMarginPx = 60;        // px around the drawing
+constexpr int kLegendPx = 110;       // px below the drawing for text and colour bar
+constexpr double kWorldPadM = 5.0;   // m around the robot's path and route: half the local map
+constexpr double kTimeLabelS = 5.0;  // s between time labels on the robot and the obstacles
+constexpr double kOutlineS = 1.0;    // s between outlines of moving obstacles
 
 struct Rgb {
   double r, g, b;
@@ -233,7 +233,9 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
   char line[512];
   std::snprintf(line, sizeof line, "%s   mode %s   %s%s", m.scenario.c_str(), m.mode.empty() ? "?" : m.mode.c_str(),
                 m.reached_goal ? "goal reached" : "goal NOT reached",
-                !m.collided ? "" : m.at_fault ? ", COLLIDED (at fault)" : ", COLLIDED (not at fault)");
+                !m.collided  ? ""
+                : m.at_fault ? ", COLLIDED (at fault)"
+                             : ", COLLIDED (not at fault)");
   cairo_move_to(cr, kMarginPx, ly);
   cairo_show_text(cr, line);
   cairo_set_font_size(cr, 13);

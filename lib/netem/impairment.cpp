@@ -1,8 +1,7 @@
 #include "netem/impairment.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "netem/lcm_packet.h"
@@ -68,7 +67,8 @@ std::string Impairment::stats_json() const {
                 {"mean_delay_ms", passed > 0 ? 1e3 * s.delay_s_sum / passed : 0.0},
                 {"exempt", p_.exempt.count(name) > 0}};
   }
-  return nlohmann::json{{"loss", p_.loss}, {"delay_s", p_.delay_s}, {"jitter_s", p_.jitter_s}, {"reorder", p_.reorder}, {"channels", ch}}
+  return nlohmann::json{
+      {"loss", p_.loss}, {"delay_s", p_.delay_s}, {"jitter_s", p_.jitter_s}, {"reorder", p_.reorder}, {"channels", ch}}
       .dump(2);
 }
 

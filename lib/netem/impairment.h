@@ -19,9 +19,9 @@
 namespace evade::netem {
 
 struct ImpairmentParams {
-  double loss = 0.05;        // probability a packet is dropped
-  double delay_s = 0.020;    // mean delay
-  double jitter_s = 0.020;   // half-width of the uniform delay
+  double loss = 0.05;       // probability a packet is dropped
+  double delay_s = 0.020;   // mean delay
+  double jitter_s = 0.020;  // half-width of the uniform delay
   uint64_t seed = 1;
   std::set<std::string> exempt = {"SIM_TRUTH"};
   // netem's jitter lets packets overtake one another; false keeps them in
@@ -57,7 +57,7 @@ class Impairment {
   };
   ImpairmentParams p_;
   std::mt19937_64 rng_;
-  double last_release_s_ = 0.0;  // of the impaired packets (for reorder = false)
+  double last_release_s_ = 0.0;                         // of the impaired packets (for reorder = false)
   std::map<std::pair<uint16_t, uint32_t>, Open> open_;  // fragmented messages being seen, by sender port and seqno
   std::map<std::string, ChannelStats> stats_;
 };

@@ -13,12 +13,12 @@
 namespace evade::netem {
 
 struct LcmPacket {
-  uint16_t src_port = 0;   // the sender's socket: with seqno, names the message
+  uint16_t src_port = 0;  // the sender's socket: with seqno, names the message
   uint32_t seqno = 0;
   bool fragmented = false;
-  uint16_t fragment = 0;   // 0 for a short message
+  uint16_t fragment = 0;  // 0 for a short message
   uint16_t fragments = 1;
-  std::string channel;     // empty on fragments after the first
+  std::string channel;  // empty on fragments after the first
 };
 
 // Parses a whole IPv4 packet (as a netfilter queue hands it over). None for

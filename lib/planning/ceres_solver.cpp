@@ -3,7 +3,6 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -35,9 +34,9 @@ constexpr int kWidthBucket = 10;
 // with the prefix sums S_m = sum_{i<m} v_i dt^2 (-sin th_i, cos th_i).
 // All derivatives are zero for j >= k (causality).
 struct Rollout {
-  std::vector<double> states;        // 3 (N + 1): x, y, yaw
+  std::vector<double> states;          // 3 (N + 1): x, y, yaw
   std::vector<double> cos_th, sin_th;  // N: at steps 0..N-1
-  std::vector<double> sx, sy;        // N + 1: prefix sums S_m
+  std::vector<double> sx, sy;          // N + 1: prefix sums S_m
 
   void compute(const Problem& pb, const double* u, bool with_sensitivities) {
     const int N = pb.N;
@@ -77,7 +76,11 @@ class InnerCost : public ceres::CostFunction {
  public:
   InnerCost(const Problem& pb, std::vector<ActiveConstraint> active, const std::vector<double>& lambda, double rho,
             double elastic_penalty, double cost_weight = 1.0, bool compressed = true)
-      : pb_(pb), active_(std::move(active)), lambda_(lambda), rho_(rho), mu_(elastic_penalty),
+      : pb_(pb),
+        active_(std::move(active)),
+        lambda_(lambda),
+        rho_(rho),
+        mu_(elastic_penalty),
         cost_scale_(std::sqrt(cost_weight)) {
     full_rows_ = num_cost_residuals(pb) + static_cast<int>(active_.size());
     set_num_residuals(compressed ? pb.num_controls() + 1 : full_rows_);
@@ -190,8 +193,7 @@ class InnerCost : public ceres::CostFunction {
     const int buckets = (n + kWidthBucket - 1) / kWidthBucket;
     bucket_rows_.assign(buckets, {});
     for (int row = 0; row < full_rows_; ++row)
-      if (live_[row] == kRowDense && width_[row] > 0)
-        bucket_rows_[(width_[row] - 1) / kWidthBucket].push_back(row);
+      if (live_[row] == kRowDense && width_[row] > 0) bucket_rows_[(width_[row] - 1) / kWidthBucket].push_back(row);
     Eigen::MatrixXd D;
     if (A) D.setZero(n, n);
     for (int bk = 0; bk < buckets; ++bk) {
@@ -297,8 +299,10 @@ class InnerCost : public ceres::CostFunction {
         offset = std::sqrt(rho_) * lambda_[j] / rho_;
       }
       residuals[r] = coef == 0 ? 0.0 : coef * g + offset;
-      if (coef == 0) live_[r] = kRowDead;
-      else if (j < R) live_[r] = kRowSparse;
+      if (coef == 0)
+        live_[r] = kRowDead;
+      else if (j < R)
+        live_[r] = kRowSparse;
       if (!jac || coef == 0) continue;
       double* jr = row(r);
       if (j < R) {
@@ -406,9 +410,15 @@ ceres::Solver::Options inner_options(const SolverOptions& o, int max_iterations)
   opt.logging_type = ceres::SILENT;
   opt.num_threads = 1;
   switch (o.line_search) {
-    case LineSearchInterpolation::kBisection: opt.line_search_interpolation_type = ceres::BISECTION; break;
-    case LineSearchInterpolation::kQuadratic: opt.line_search_interpolation_type = ceres::QUADRATIC; break;
-    case LineSearchInterpolation::kCubic: opt.line_search_interpolation_type = ceres::CUBIC; break;
+    case LineSearchInterpolation::kBisection:
+      opt.line_search_interpolation_type = ceres::BISECTION;
+      break;
+    case LineSearchInterpolation::kQuadratic:
+      opt.line_search_interpolation_type = ceres::QUADRATIC;
+      break;
+    case LineSearchInterpolation::kCubic:
+      opt.line_search_interpolation_type = ceres::CUBIC;
+      break;
   }
   return opt;
 }
@@ -618,7 +628,8 @@ bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::ve
     const int nc = num_cost_residuals(pb), na = static_cast<int>(near.size());
     if (na == 0) return false;
     Eigen::VectorXd dg(na);
-    for (int a = 0; a < na; ++a) dg[a] = std::max(0.0, o.projection_target - g[near[a]]);  // violated ones to the margin
+    for (int a = 0; a < na; ++a)
+      dg[a] = std::max(0.0, o.projection_target - g[near[a]]);  // violated ones to the margin
     std::vector<int> free(n);
     for (int i = 0; i < n; ++i) free[i] = i;
     Eigen::VectorXd step;
@@ -792,7 +803,8 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
     // at every step adds up to a visibly cheaper (and less safe) plan.
     if (violation <= opts_.target_violation && complementarity <= opts_.complementarity_tolerance) break;
     for (int j = 0; j < m; ++j) lambda[j] = std::max(0.0, lambda[j] - rho * g[j]);
-    if (violation > opts_.violation_shrink * prev_violation) rho = std::min(rho * opts_.penalty_growth, opts_.penalty_max);
+    if (violation > opts_.violation_shrink * prev_violation)
+      rho = std::min(rho * opts_.penalty_growth, opts_.penalty_max);
     prev_violation = violation;
   }
   res.multipliers = lambda;

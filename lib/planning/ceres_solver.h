@@ -40,52 +40,52 @@ enum class LineSearchInterpolation { kBisection, kQuadratic, kCubic };
 
 struct SolverOptions {
   int max_outer_iterations = 20;
-  int max_inner_iterations = 50;         // an inner solve runs to convergence: multiplier updates
-                                         // from half-solved inner problems measured slower overall
-  int max_total_iterations = 300;       // Ceres iterations of one solve, all outer iterations together
-  double constraint_tolerance = 1e-3;    // m (barriers), m/s and rad/s (rate limits)
-  double target_violation = 1e-4;        // the outer loop stops below this (<= constraint_tolerance)
+  int max_inner_iterations = 50;            // an inner solve runs to convergence: multiplier updates
+                                            // from half-solved inner problems measured slower overall
+  int max_total_iterations = 300;           // Ceres iterations of one solve, all outer iterations together
+  double constraint_tolerance = 1e-3;       // m (barriers), m/s and rad/s (rate limits)
+  double target_violation = 1e-4;           // the outer loop stops below this (<= constraint_tolerance)
   double complementarity_tolerance = 1e-3;  // ... and when no constraint with a multiplier has more
-                                         // slack than this (m; min(g_j, lambda_j / rho))
-  double penalty_initial = 3e4;          // rho at the first outer iteration
-  double warm_penalty_max = 3e4;         // cap on the penalty that comes with warm multipliers
-  double penalty_growth = 3.0;           // rho factor when the violation stalls
+                                            // slack than this (m; min(g_j, lambda_j / rho))
+  double penalty_initial = 3e4;             // rho at the first outer iteration
+  double warm_penalty_max = 3e4;            // cap on the penalty that comes with warm multipliers
+  double penalty_growth = 3.0;              // rho factor when the violation stalls
   double penalty_max = 1e6;
-  double violation_shrink = 0.25;        // violation must shrink by this factor or rho grows
-  double active_margin = 0.3;            // m: constraints with g above this and lambda = 0 are left out
-  double inner_function_tolerance = 1e-5;  // relative cost change that ends an inner solve
-  double inner_parameter_tolerance = 1e-8; // relative step that ends an inner solve
-  double initial_trust_radius = 1e4;     // Ceres' trust region at the first outer iteration
-  double min_trust_radius = 1e-2;        // floor of the trust region carried between outer iterations
-  bool dense_qr = false;                 // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
+  double violation_shrink = 0.25;           // violation must shrink by this factor or rho grows
+  double active_margin = 0.3;               // m: constraints with g above this and lambda = 0 are left out
+  double inner_function_tolerance = 1e-5;   // relative cost change that ends an inner solve
+  double inner_parameter_tolerance = 1e-8;  // relative step that ends an inner solve
+  double initial_trust_radius = 1e4;        // Ceres' trust region at the first outer iteration
+  double min_trust_radius = 1e-2;           // floor of the trust region carried between outer iterations
+  bool dense_qr = false;                    // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
   LineSearchInterpolation line_search = LineSearchInterpolation::kBisection;
-  int projection_iterations = 10;        // Newton steps onto the constraints when the AL loop ends outside them
-  double projection_target = 2e-5;       // m: a projection step aims the constraints below this at this
-  double projection_damping = 1e-5;      // relative ridge of a projection step's normal equations
-  int projection_candidates = 5;         // earlier iterates projected too (the cheapest within ...)
+  int projection_iterations = 10;                // Newton steps onto the constraints when the AL loop ends outside them
+  double projection_target = 2e-5;               // m: a projection step aims the constraints below this at this
+  double projection_damping = 1e-5;              // relative ridge of a projection step's normal equations
+  int projection_candidates = 5;                 // earlier iterates projected too (the cheapest within ...)
   double projection_candidate_violation = 0.01;  // m: ... this violation), besides the last
-  bool estimate_multipliers = true;      // without warm multipliers: estimate them at the warm start
-  double estimate_margin = 1e-3;         // m: constraints with g below this enter the estimate
-  double relax_max_obstacle_speed = 0.2; // m/s: solve_elastic excuses the swelling of obstacles predicted
-                                         // slower than this (mean over the horizon) ...
-  double relax_min_obstacle_age = 1.0;   // s: ... and tracked for this long (a new track reads as
-                                         // static while its velocity is unknown); others only a start
-                                         // inside d_safe
-  double recovery_switch_ratio = 0.8;    // solve_elastic keeps the plan grown from the previous one unless
-                                         // another start's costs less than this fraction of it
+  bool estimate_multipliers = true;              // without warm multipliers: estimate them at the warm start
+  double estimate_margin = 1e-3;                 // m: constraints with g below this enter the estimate
+  double relax_max_obstacle_speed = 0.2;         // m/s: solve_elastic excuses the swelling of obstacles predicted
+                                                 // slower than this (mean over the horizon) ...
+  double relax_min_obstacle_age = 1.0;           // s: ... and tracked for this long (a new track reads as
+                                                 // static while its velocity is unknown); others only a start
+                                                 // inside d_safe
+  double recovery_switch_ratio = 0.8;            // solve_elastic keeps the plan grown from the previous one unless
+                                                 // another start's costs less than this fraction of it
 };
 
 struct SolveResult {
-  std::vector<double> u;        // 2N controls
-  std::vector<double> states;   // 3(N+1)
+  std::vector<double> u;       // 2N controls
+  std::vector<double> states;  // 3(N+1)
   std::vector<double> multipliers;
-  double penalty = 0;           // rho at the end (goes with the multipliers)
-  bool finite = false;          // no NaN / inf anywhere
-  bool feasible = false;        // max_violation <= constraint_tolerance
-  double cost = 0;              // paper's J
+  double penalty = 0;     // rho at the end (goes with the multipliers)
+  bool finite = false;    // no NaN / inf anywhere
+  bool feasible = false;  // max_violation <= constraint_tolerance
+  double cost = 0;        // paper's J
   double max_violation = 0;
   double min_barrier = kNoObstacleBarrier;
-  int iterations = 0;           // inner (Ceres) iterations summed
+  int iterations = 0;  // inner (Ceres) iterations summed
   int outer_iterations = 0;
 };
 

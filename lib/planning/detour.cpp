@@ -43,7 +43,10 @@ void SettledMemory::update(int64_t utime, const std::vector<std::pair<int64_t, S
   for (auto it = entries_.begin(); it != entries_.end();) {
     // expired, or from a later time (the log or the clock jumped back)
     const int64_t age = utime - it->second.last_seen_us;
-    if (age > memory_us_ || age < 0) it = entries_.erase(it); else ++it;
+    if (age > memory_us_ || age < 0)
+      it = entries_.erase(it);
+    else
+      ++it;
   }
 }
 
@@ -250,8 +253,10 @@ DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px,
   // it is. (A squeeze with 0 <= h < margin_m is a way, if a costly one.)
   bool left_start_zone = false;
   for (int c : cells) {
-    if (!inside[static_cast<size_t>(c)]) left_start_zone = true;
-    else if (left_start_zone) return forget(Result::kNoWay);
+    if (!inside[static_cast<size_t>(c)])
+      left_start_zone = true;
+    else if (left_start_zone)
+      return forget(Result::kNoWay);
   }
   // A way that keeps within min_offset_m of the route is the MPC's own
   // swerve: the route stays the reference (a box beside the route whose

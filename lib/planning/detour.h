@@ -49,8 +49,8 @@ struct DetourParams {
   // Slow leaders: a track ahead going the route's way slower than this
   // (faster than max_obstacle_speed_mps)...
   double leader_max_speed_mps = 0.6;
-  double leader_max_angle_rad = 0.5236; // ...within this of the route's heading (config: degrees)...
-  double leader_sweep_s = 2.0;          // ...enters the grid as its ellipse swept this far ahead
+  double leader_max_angle_rad = 0.5236;  // ...within this of the route's heading (config: degrees)...
+  double leader_sweep_s = 2.0;           // ...enters the grid as its ellipse swept this far ahead
   // An oncoming mover (within this of the route's reverse heading) enters
   // the grid swept up to the robot, at most oncoming_sweep_s ahead (0 =
   // off), if its uncertainty inflation at k = 0 is at most
@@ -60,7 +60,7 @@ struct DetourParams {
   double oncoming_max_angle_rad = 0.5236;  // config: degrees
   double oncoming_sweep_s = 4.0;
   double oncoming_max_sigma_m = 0.25;
-  double min_mover_age_s = 0.5;         // a leader or oncoming mover is swept once tracked this long
+  double min_mover_age_s = 0.5;  // a leader or oncoming mover is swept once tracked this long
 };
 
 // A settled obstacle's current ellipse (inflated, as published at k = 0).
@@ -99,10 +99,10 @@ class SettledMemory {
 class DetourPlanner {
  public:
   enum class Result {
-    kClear,     // the route ahead is free: follow it
-    kDetour,    // the way round is in the output
-    kNoWay,     // blocked, but no rejoin point within a grid's reach (or the route's end is blocked), no gap,
-                // or the grid is too large
+    kClear,   // the route ahead is free: follow it
+    kDetour,  // the way round is in the output
+    kNoWay,   // blocked, but no rejoin point within a grid's reach (or the route's end is blocked), no gap,
+              // or the grid is too large
   };
 
   DetourPlanner(DetourParams p, double d_safe) : p_(p), d_safe_(d_safe) {}

@@ -133,9 +133,9 @@ class Lattice {
   std::vector<int> layer_k_;  // MPC step of each layer, layer 0 = step 0
   int ns_ = 0, nd_ = 0, cd_ = 0;
   double ds_ = 0, dd_ = 0;
-  std::vector<std::vector<Edge>> edges_;            // per transition j (1..L), index j
-  std::vector<std::vector<double>> fwd_, bwd_;      // per layer, per node
-  std::vector<std::vector<int>> pred_, succ_;       // per layer, per node (-1 none)
+  std::vector<std::vector<Edge>> edges_;                // per transition j (1..L), index j
+  std::vector<std::vector<double>> fwd_, bwd_;          // per layer, per node
+  std::vector<std::vector<int>> pred_, succ_;           // per layer, per node (-1 none)
   std::vector<std::vector<std::vector<int>>> lf_, lb_;  // labels of the forward / backward tree path
   int start_ = 0;
 };

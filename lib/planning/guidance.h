@@ -28,11 +28,10 @@
 // across it (within +-lateral_max_m), edges no longer than v_max times the
 // layer's time (plus half a cell's diagonal), a node or edge step inside
 // an obstacle's ellipse grown by the footprint's reach and d_safe blocked
-// (checked at every MPC step, the obstacle as the solver sees it). An edge costs the MPC's stage cost (q_xy, terminal p_xy) of
-// its steps against the reference. Forward and backward dynamic
-// programming give, for every node, the cheapest path through it; those
-// paths in order of cost are kept when their class is new, up to
-// max_classes. Deterministic: no sampling, ties broken by node order.
+// (checked at every MPC step, the obstacle as the solver sees it). An edge costs the MPC's stage cost (q_xy, terminal
+// p_xy) of its steps against the reference. Forward and backward dynamic programming give, for every node, the cheapest
+// path through it; those paths in order of cost are kept when their class is new, up to max_classes. Deterministic: no
+// sampling, ties broken by node order.
 #pragma once
 
 #include <cstdint>
@@ -45,13 +44,13 @@ namespace evade::planning {
 
 struct GuidanceParams {
   bool enabled = true;
-  int max_classes = 4;               // guidance classes solved per cycle (besides the previous plan)
-  int threads = 2;                   // local solves run on this many threads
-  int layer_steps = 5;               // MPC steps per lattice layer
-  double lateral_step_m = 0.25;      // lattice spacing across the route
-  double lateral_max_m = 2.5;        // lattice half-width
-  double longitudinal_step_m = 0.25; // lattice spacing along the route
-  double switch_cost_factor = 1.3;   // a plan of another class than last cycle's counts its cost times this
+  int max_classes = 4;                // guidance classes solved per cycle (besides the previous plan)
+  int threads = 2;                    // local solves run on this many threads
+  int layer_steps = 5;                // MPC steps per lattice layer
+  double lateral_step_m = 0.25;       // lattice spacing across the route
+  double lateral_max_m = 2.5;         // lattice half-width
+  double longitudinal_step_m = 0.25;  // lattice spacing along the route
+  double switch_cost_factor = 1.3;    // a plan of another class than last cycle's counts its cost times this
   // When no local solve meets every constraint: the least violating plan
   // (braking among the candidates), or evade's recovery chain (restarts,
   // relaxed problem, escape turn, most clearance; planner_core.h recover).

@@ -3,7 +3,6 @@
 #include <IpIpoptApplication.hpp>
 #include <IpIpoptData.hpp>
 #include <IpTNLP.hpp>
-
 #include <cmath>
 
 namespace evade::planning {
@@ -210,8 +209,8 @@ class MpcNlp : public Ipopt::TNLP {
     return true;
   }
 
-  bool eval_h(Index, const Number* z, bool, Number sigma, Index, const Number* lambda, bool, Index,
-              Index* iRow, Index* jCol, Number* values) override {
+  bool eval_h(Index, const Number* z, bool, Number sigma, Index, const Number* lambda, bool, Index, Index* iRow,
+              Index* jCol, Number* values) override {
     if (values == nullptr) {
       for (size_t e = 0; e < h_rows_.size(); ++e) {
         iRow[e] = h_rows_[e];

@@ -15,11 +15,11 @@
 namespace evade::planning {
 
 struct IpoptResult {
-  bool solved = false;        // IPOPT reported Solve_Succeeded / Solved_To_Acceptable_Level
-  int status = 0;             // Ipopt::ApplicationReturnStatus
-  std::vector<double> u;      // 2N controls
-  double cost = 0;            // paper's J of u (single-shooting rollout)
-  double max_violation = 0;   // of u, as for the Ceres solver
+  bool solved = false;       // IPOPT reported Solve_Succeeded / Solved_To_Acceptable_Level
+  int status = 0;            // Ipopt::ApplicationReturnStatus
+  std::vector<double> u;     // 2N controls
+  double cost = 0;           // paper's J of u (single-shooting rollout)
+  double max_violation = 0;  // of u, as for the Ceres solver
   int iterations = 0;
 };
 

@@ -14,9 +14,9 @@
 namespace evade::planning {
 
 struct SolveStart {
-  std::vector<double> u;                           // 2N controls
+  std::vector<double> u;                             // 2N controls
   const std::vector<double>* multipliers = nullptr;  // optional warm multipliers (num_constraints)
-  double penalty = 0.0;                            // their penalty
+  double penalty = 0.0;                              // their penalty
   // A guide problem (null: none): the start is first solved on it with
   // half the budget, then the shared problem from that plan with the rest.
   const Problem* guide = nullptr;

@@ -14,8 +14,7 @@ const std::vector<ModeSpec>& all_modes() {
       {Mode::kMpc, "mpc", "MPC", S::kObserved, M::kHeld, C::kDistance, G::kPaper, false},
       {Mode::kCbf, "cbf", "MPC-CBF", S::kObserved, M::kHeld, C::kCbf, G::kPaper, false},
       {Mode::kKf, "kf", "MPC-KF", S::kPredicted, M::kPredicted, C::kDistance, G::kPaper, false},
-      {Mode::kCbfCurvefit, "cbf_curvefit", "MPC-CBF-curvefit", S::kObserved, M::kCurveFit, C::kCbf, G::kPaper,
-       false},
+      {Mode::kCbfCurvefit, "cbf_curvefit", "MPC-CBF-curvefit", S::kObserved, M::kCurveFit, C::kCbf, G::kPaper, false},
       {Mode::kDcbf, "dcbf", "MPC-D-CBF", S::kPredicted, M::kPredicted, C::kCbf, G::kPaper, false},
       {Mode::kEvade, "evade", "", S::kPredicted, M::kPredicted, C::kCbf, G::kEvade, true},
   };

@@ -46,7 +46,7 @@ struct ModeSpec {
   ObstacleSource source;
   ObstacleMotion motion;
   ConstraintForm constraint;
-  GammaKey gamma;          // used by kCbf only
+  GammaKey gamma;  // used by kCbf only
   // evade's layers beyond the paper. Reference shaping: the detour round
   // settled obstacles, slow leaders and oncoming movers swept into its grid
   // (detour.h). Recovery when the hard solve fails: swerve restarts, the

@@ -1,7 +1,6 @@
 #include "planning/obstacles.h"
 
 #include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>

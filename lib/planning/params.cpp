@@ -1,7 +1,6 @@
 #include "planning/params.h"
 
 #include <cmath>
-
 #include <stdexcept>
 
 namespace evade::planning {
@@ -27,8 +26,8 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
 
   const config::Node s = root.section("planner");
   p.mode = parse_mode(s.get_choice("mode", mode_names()));
-  p.paper_fallback =
-      s.get_choice("paper_fallback", {"brake", "last_plan"}) == "brake" ? PaperFallback::kBrake : PaperFallback::kLastPlan;
+  p.paper_fallback = s.get_choice("paper_fallback", {"brake", "last_plan"}) == "brake" ? PaperFallback::kBrake
+                                                                                       : PaperFallback::kLastPlan;
   p.rate_hz = s.get_positive("rate_hz");
   p.horizon_steps = s.get_int("horizon_steps", 2, 64);
   p.dt_s = s.get_positive("dt_s");
@@ -142,7 +141,7 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.solver.recovery_switch_ratio = o.get_double("recovery_switch_ratio", 0.0, 1.0);
   p.solver.dense_qr = o.get_choice("linear_solver", {"dense_normal_cholesky", "dense_qr"}) == "dense_qr";
   const std::string ls = o.get_choice("line_search_interpolation", {"bisection", "quadratic", "cubic"});
-  p.solver.line_search = ls == "bisection" ? LineSearchInterpolation::kBisection
+  p.solver.line_search = ls == "bisection"   ? LineSearchInterpolation::kBisection
                          : ls == "quadratic" ? LineSearchInterpolation::kQuadratic
                                              : LineSearchInterpolation::kCubic;
   o.close();

@@ -28,9 +28,9 @@ struct PlannerParams {
   double dt_s = 0.1;
   double gamma = 0.15;       // the paper's D-CBF decay (its Section IV), modes with GammaKey::kPaper
   double evade_gamma = 0.1;  // evade's own (GammaKey::kEvade)
-  double d_safe_m = 0.15;     // margin beyond the footprint's covering discs
-  int footprint_discs = 3;    // discs covering robot.footprint_length_m x footprint_width_m
-  Footprint footprint;        // made from those (problem.h); the default: a point
+  double d_safe_m = 0.15;    // margin beyond the footprint's covering discs
+  int footprint_discs = 3;   // discs covering robot.footprint_length_m x footprint_width_m
+  Footprint footprint;       // made from those (problem.h); the default: a point
   double reference_speed_mps = 0.8;
   double route_end_decel_mps2 = 0.5;
   double goal_tolerance_m = 0.3;
@@ -66,8 +66,8 @@ struct PlannerParams {
   // than standing, every cycle. Then it turns on the spot (h
   // unchanged) towards the heading nearest the route's that moves away.
   bool escape_enabled = true;
-  double escape_min_progress_m = 0.1;       // a relaxed plan ending nearer its start than this makes no headway
-  double escape_near_m = 0.1;               // ...while some obstacle's h at the start is below this (m beyond d_safe)
+  double escape_min_progress_m = 0.1;         // a relaxed plan ending nearer its start than this makes no headway
+  double escape_near_m = 0.1;                 // ...while some obstacle's h at the start is below this (m beyond d_safe)
   double escape_cone_half_angle_rad = 0.785;  // the escape heading is at most this far from the way out (grad h)
 
   // The decay of this mode's constraints: 1 - gamma (its GammaKey) for a

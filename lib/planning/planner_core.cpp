@@ -1,9 +1,9 @@
 #include "planning/planner_core.h"
 
 #include <algorithm>
-#include <limits>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "evade/cmd_vel_t.hpp"
 #include "evade/path_t.hpp"
@@ -151,8 +151,7 @@ void PlannerCore::on_odometry(const evade::odometry_t& odom) {
   last_odometry_ = odom;
   // Perception that has just gone stale is acted on at the odometry rate,
   // not at the next plan cycle: the stop must not wait up to one period.
-  const bool just_stale = input_stale() &&
-                          !(last_plan_ && last_plan_->status == evade::plan_t::STATUS_STALE_INPUT);
+  const bool just_stale = input_stale() && !(last_plan_ && last_plan_->status == evade::plan_t::STATUS_STALE_INPUT);
   // A list that came while the last cycle ran waited for this odometry.
   if (cycle_pending_) {
     count("cycle_on_obstacles");
@@ -183,8 +182,7 @@ void PlannerCore::on_new_obstacle_input() {
 }
 
 bool PlannerCore::predictions_stale() const {
-  return predictions_ ? now() - predictions_rx_ > std::llround(p_.predictions_max_age_s * 1e6)
-                      : p_.require_obstacles;
+  return predictions_ ? now() - predictions_rx_ > std::llround(p_.predictions_max_age_s * 1e6) : p_.require_obstacles;
 }
 
 bool PlannerCore::observed_stale() const {
@@ -223,14 +221,13 @@ bool PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade:
   // the route's heading about where the track is (its arc length ahead of
   // the robot's progress is at most its distance)
   constexpr double kHeadingBaseM = 0.5;  // chord over which the route's heading is taken
-  const double s =
-      std::clamp(route_.progress() + dist, 0.0, std::max(0.0, route_.length() - kHeadingBaseM));
+  const double s = std::clamp(route_.progress() + dist, 0.0, std::max(0.0, route_.length() - kHeadingBaseM));
   double x0, y0, x1, y1;
   route_.position_at(s, &x0, &y0);
   route_.position_at(s + kHeadingBaseM, &x1, &y1);
   const double hx = x1 - x0, hy = y1 - y0, hn = std::hypot(hx, hy);
   if (hn <= 0.0) return false;
-  if (dx * hx + dy * hy <= 0.0) return false;  // behind the robot
+  if (dx * hx + dy * hy <= 0.0) return false;                   // behind the robot
   const double along = (t.vx * hx + t.vy * hy) / (speed * hn);  // cosine to the route's heading
   double sweep_m;
   if (speed <= d.leader_max_speed_mps && along >= std::cos(d.leader_max_angle_rad)) {
@@ -408,8 +405,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
       u = braking_controls(v0, w0);
     }
   }
-  const double measured_us =
-      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  const double measured_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
   const double solve_us = solve_time_model_ ? solve_time_model_(iterations, measured_us) : measured_us;
 
   finish_cycle(odom, status, pb, u, res, solve_us, iterations);

@@ -10,11 +10,10 @@
 // the plan with the most clearance; README).
 #pragma once
 
-#include <functional>
-
 #include <cstdint>
-#include <optional>
+#include <functional>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include "bus/core.h"
@@ -98,8 +97,8 @@ class PlannerCore : public bus::Core {
   bool escape_turn(const Problem& pb, double v0, double omega0, std::vector<double>* u) const;
   // Mode evade with planner.guidance.enabled: the cycle's solves and choice
   // by TopologyPlanner (planner_guidance.cpp), then as plan_cycle's end.
-  void plan_with_guidance(const Problem& pb, const std::vector<double>& warm_u,
-                          const std::vector<double>& warm_lambda, const evade::odometry_t& odom, double v0, double w0);
+  void plan_with_guidance(const Problem& pb, const std::vector<double>& warm_u, const std::vector<double>& warm_lambda,
+                          const evade::odometry_t& odom, double v0, double w0);
   // The end of a cycle: remembers the plan for the next warm start (and a
   // feasible one for the fallback) and publishes it.
   void finish_cycle(const evade::odometry_t& odom, int8_t status, const Problem& pb, const std::vector<double>& u,
@@ -114,15 +113,15 @@ class PlannerCore : public bus::Core {
   SettledMemory settled_;
   CurveFitHistory history_;
   TopologyPlanner topology_;
-  std::map<int64_t, int64_t> first_seen_;  // track id -> utime of its first prediction
+  std::map<int64_t, int64_t> first_seen_;               // track id -> utime of its first prediction
   double track_age_s(int64_t id, int64_t utime) const;  // since first_seen_ (0 for an unknown id)
   std::optional<evade::prediction_list_t> predictions_;
-  int64_t predictions_rx_ = -1;        // bus time the predictions arrived
+  int64_t predictions_rx_ = -1;                     // bus time the predictions arrived
   std::optional<evade::obstacle_list_t> observed_;  // the last OBSTACLES
-  int64_t observed_rx_ = -1;           // bus time they arrived
-  int64_t odometry_rx_ = -1;           // bus time of the last odometry
+  int64_t observed_rx_ = -1;                        // bus time they arrived
+  int64_t odometry_rx_ = -1;                        // bus time of the last odometry
   std::optional<evade::odometry_t> last_odometry_;
-  int64_t last_cycle_now_ = -1;  // bus time of the last planning cycle (the odometry fallback's clock)
+  int64_t last_cycle_now_ = -1;       // bus time of the last planning cycle (the odometry fallback's clock)
   int64_t last_cycle_odometry_ = -1;  // utime of the odometry the last cycle planned from
   bool cycle_pending_ = false;        // a list came with no newer odometry than that: the next one plans
   int64_t period_us_;

@@ -28,8 +28,7 @@ void PlannerCore::plan_with_guidance(const Problem& pb, const std::vector<double
     count("solver_infeasible");
     count(status == evade::plan_t::STATUS_STOPPING ? "stopping" : "least_violating");
   }
-  const double measured_us =
-      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  const double measured_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
   // PLAN.iterations and the compute time follow the busiest thread's
   // iterations, then the recovery's; HEALTH counts every solve's
   const int charged = o.critical_iterations + (iterations - o.iterations);

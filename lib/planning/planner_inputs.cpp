@@ -14,9 +14,14 @@ bool PlannerCore::accept_odometry(const evade::odometry_t& odom) {
   // one is older than odometry_max_age_s. Odometry from the future would
   // hold the rate limiter (and its age) hostage for as long as it claims.
   switch (arrival(now(), odom.utime, std::llround(p_.odometry_max_age_s * 1e6))) {
-    case Arrival::kLate: count("odometry_late"); return false;
-    case Arrival::kFuture: count("odometry_future"); return false;
-    case Arrival::kOnTime: break;
+    case Arrival::kLate:
+      count("odometry_late");
+      return false;
+    case Arrival::kFuture:
+      count("odometry_future");
+      return false;
+    case Arrival::kOnTime:
+      break;
   }
   if (have_epoch_ && odom.epoch != epoch_) {
     start_new_epoch(odom);
@@ -67,9 +72,14 @@ void PlannerCore::start_new_epoch(const evade::odometry_t& odom) {
 
 bool PlannerCore::accept_predictions(const evade::prediction_list_t& m) {
   switch (arrival(now(), m.utime, std::llround(p_.predictions_max_age_s * 1e6))) {
-    case Arrival::kLate: count("predictions_late"); return false;
-    case Arrival::kFuture: count("predictions_future"); return false;
-    case Arrival::kOnTime: break;
+    case Arrival::kLate:
+      count("predictions_late");
+      return false;
+    case Arrival::kFuture:
+      count("predictions_future");
+      return false;
+    case Arrival::kOnTime:
+      break;
   }
   if (epoch_start_utime_ >= 0 && m.utime < epoch_start_utime_) {
     count("predictions_before_epoch");  // perceived in the old odometry frame
@@ -80,9 +90,14 @@ bool PlannerCore::accept_predictions(const evade::prediction_list_t& m) {
 
 bool PlannerCore::accept_observed(const evade::obstacle_list_t& m) {
   switch (arrival(now(), m.utime, std::llround(p_.obstacles_max_age_s * 1e6))) {
-    case Arrival::kLate: count("obstacles_late"); return false;
-    case Arrival::kFuture: count("obstacles_future"); return false;
-    case Arrival::kOnTime: break;
+    case Arrival::kLate:
+      count("obstacles_late");
+      return false;
+    case Arrival::kFuture:
+      count("obstacles_future");
+      return false;
+    case Arrival::kOnTime:
+      break;
   }
   if (epoch_start_utime_ >= 0 && m.utime < epoch_start_utime_) {
     count("obstacles_before_epoch");

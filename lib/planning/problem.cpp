@@ -35,8 +35,7 @@ double max_violation(const Problem& pb, const double* u) {
 double min_barrier(const Problem& pb, const std::vector<double>& states, int first_step) {
   double best = kNoObstacleBarrier;
   for (const auto& o : pb.obstacles)
-    for (int k = first_step; k <= pb.N; ++k)
-      best = std::min(best, barrier_at(pb, o, k, &states[3 * k]).h);
+    for (int k = first_step; k <= pb.N; ++k) best = std::min(best, barrier_at(pb, o, k, &states[3 * k]).h);
   return best;
 }
 

@@ -26,17 +26,17 @@
 namespace evade::planning {
 
 struct Weights {
-  double q_xy = 0, q_yaw = 0;      // stage state weights (Q diagonal)
-  double p_xy = 0, p_yaw = 0;      // terminal state weights (P diagonal)
-  double r_v = 0, r_omega = 0;     // control weights (R diagonal)
-  double s_v = 0, s_omega = 0;     // control-rate weights (S diagonal)
+  double q_xy = 0, q_yaw = 0;   // stage state weights (Q diagonal)
+  double p_xy = 0, p_yaw = 0;   // terminal state weights (P diagonal)
+  double r_v = 0, r_omega = 0;  // control weights (R diagonal)
+  double s_v = 0, s_omega = 0;  // control-rate weights (S diagonal)
 };
 
 struct Limits {
-  double v_min = 0, v_max = 0;     // m/s
-  double omega_max = 0;            // rad/s, symmetric
-  double accel = 0, decel = 0;     // m/s^2, both positive
-  double alpha = 0;                // rad/s^2
+  double v_min = 0, v_max = 0;  // m/s
+  double omega_max = 0;         // rad/s, symmetric
+  double accel = 0, decel = 0;  // m/s^2, both positive
+  double alpha = 0;             // rad/s^2
 };
 
 // One obstacle over the plan's steps k = 0..N (already aligned to the plan's
@@ -69,8 +69,8 @@ struct Footprint {
 struct Problem {
   int N = 0;
   double dt = 0;
-  double x0 = 0, y0 = 0, yaw0 = 0;        // start state (fixed)
-  double v_prev = 0, omega_prev = 0;      // measured controls, for the rate limits at k = 0
+  double x0 = 0, y0 = 0, yaw0 = 0;            // start state (fixed)
+  double v_prev = 0, omega_prev = 0;          // measured controls, for the rate limits at k = 0
   std::vector<double> ref_x, ref_y, ref_yaw;  // N + 1, yaw unwrapped near yaw0
   Weights w;
   Limits lim;
@@ -133,10 +133,10 @@ inline BarrierValue barrier_cs(double px, double py, double cx, double cy, doubl
   const double l = ab * r / s;
   out.h = r - l - d_safe;
   // gradients in the world frame
-  const double rx = dx / r, ry = dy / r;                       // grad r
-  const double sx = (b2 * p * c - a2 * q * s_) / s;            // grad s
+  const double rx = dx / r, ry = dy / r;             // grad r
+  const double sx = (b2 * p * c - a2 * q * s_) / s;  // grad s
   const double sy = (b2 * p * s_ + a2 * q * c) / s;
-  const double lx = ab * (rx * s - r * sx) / (s * s);         // grad l
+  const double lx = ab * (rx * s - r * sx) / (s * s);  // grad l
   const double ly = ab * (ry * s - r * sy) / (s * s);
   out.gx = rx - lx;
   out.gy = ry - ly;
@@ -159,8 +159,8 @@ inline BarrierValue barrier_cs(double px, double py, double cx, double cy, doubl
   return out;
 }
 
-inline BarrierValue barrier(double px, double py, double cx, double cy, double a, double b, double theta,
-                            double d_safe, bool want_hessian = false) {
+inline BarrierValue barrier(double px, double py, double cx, double cy, double a, double b, double theta, double d_safe,
+                            bool want_hessian = false) {
   return barrier_cs(px, py, cx, cy, a, b, std::cos(theta), std::sin(theta), d_safe, want_hessian);
 }
 
@@ -261,7 +261,7 @@ T constraint(const Problem& pb, const T* states, const T* u, int j) {
     const double up = (is_v ? pb.lim.accel : pb.lim.alpha) * pb.dt;
     const double down = (is_v ? pb.lim.decel : pb.lim.alpha) * pb.dt;
     if (which % 2 == 0) return T(up) - (now - prev);  // rate <= up
-    return (now - prev) + T(down);                     // rate >= -down
+    return (now - prev) + T(down);                    // rate >= -down
   }
   const int jj = j - pb.num_rate_constraints();
   const ObstacleTrack& o = pb.obstacles[jj / pb.N];

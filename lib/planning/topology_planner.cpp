@@ -45,8 +45,8 @@ TopologyOutcome TopologyPlanner::plan(const Problem& pb, const SolveStart& previ
       c = check_plan(pb, f, u, s_.constraint_tolerance);
     }
     chosen = least_violating(candidates);
-    out.status = chosen == static_cast<int>(results.size()) ? evade::plan_t::STATUS_STOPPING
-                                                            : evade::plan_t::STATUS_RECOVERING;
+    out.status =
+        chosen == static_cast<int>(results.size()) ? evade::plan_t::STATUS_STOPPING : evade::plan_t::STATUS_RECOVERING;
   }
   const Candidate& c = candidates[chosen];
   out.u = c.u;

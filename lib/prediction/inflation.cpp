@@ -29,9 +29,9 @@ Inflation solve_inflation(double a, double b, double r, double tol) {
   Inflation out;
   if (!(r > 0.0)) return out;  // no uncertainty, no inflation (also catches NaN)
   const double target = r * r;
-  double lo = r;                                         // g(r) <= r^2
-  double hi = r * (a + b) / (2.0 * std::sqrt(a * b));    // g(hi) >= r^2
-  if (hi - lo <= tol) {  // (near-)circle: the root is r itself
+  double lo = r;                                       // g(r) <= r^2
+  double hi = r * (a + b) / (2.0 * std::sqrt(a * b));  // g(hi) >= r^2
+  if (hi - lo <= tol) {                                // (near-)circle: the root is r itself
     out.total = r;
     out.sigma_min = 0.0;
     return out;
@@ -44,7 +44,10 @@ Inflation solve_inflation(double a, double b, double r, double tol) {
     g_and_derivative(a, b, s, &g, &dg);
     const double h = g - target;
     if (h == 0.0) break;
-    if (h < 0.0) lo = s; else hi = s;
+    if (h < 0.0)
+      lo = s;
+    else
+      hi = s;
     double next = s - h / dg;
     if (!(dg > 0.0) || !(next > lo && next < hi)) next = 0.5 * (lo + hi);
     const double step = std::fabs(next - s);
@@ -63,7 +66,10 @@ double normal_two_sided_quantile(double p) {
   double lo = 0.0, hi = 40.0;
   for (int i = 0; i < 200 && hi - lo > 1e-14; ++i) {
     const double mid = 0.5 * (lo + hi);
-    if (std::erf(mid / std::sqrt(2.0)) < p) lo = mid; else hi = mid;
+    if (std::erf(mid / std::sqrt(2.0)) < p)
+      lo = mid;
+    else
+      hi = mid;
   }
   return 0.5 * (lo + hi);
 }

@@ -29,8 +29,8 @@ struct Inflation {
 Inflation solve_inflation(double a, double b, double r, double tol);
 
 // Quantiles of the chi-square distribution used for the confidence radii.
-double chi_square_2dof_quantile(double p);  // exact: -2 ln(1 - p)
-double normal_two_sided_quantile(double p); // z with P(|N(0,1)| <= z) = p
+double chi_square_2dof_quantile(double p);   // exact: -2 ln(1 - p)
+double normal_two_sided_quantile(double p);  // z with P(|N(0,1)| <= z) = p
 
 // r_p: radius of the circle enclosing the position confidence ellipse
 // (covariance [[pxx, pxy], [pxy, pyy]]): sqrt(chi2_2(p) * lambda_max).

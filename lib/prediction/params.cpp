@@ -55,12 +55,10 @@ PredictorParams PredictorParams::from_config(const config::Node& s) {
   p.adaptive.gamma = a.get_positive("gamma");
   p.adaptive.xi_min_m2 = a.get_positive("xi_min_m2");
   p.adaptive.xi_max_m2 = a.get_positive("xi_max_m2");
-  if (p.adaptive.xi_max_m2 <= p.adaptive.xi_min_m2)
-    a.fail("xi_max_m2", "must be greater than xi_min_m2");
+  if (p.adaptive.xi_max_m2 <= p.adaptive.xi_min_m2) a.fail("xi_max_m2", "must be greater than xi_min_m2");
   p.adaptive.r_pos_min_m2 = a.get_positive("r_pos_min_m2");
   p.adaptive.r_pos_max_m2 = a.get_positive("r_pos_max_m2");
-  if (p.adaptive.r_pos_max_m2 < p.adaptive.r_pos_min_m2)
-    a.fail("r_pos_max_m2", "must be at least r_pos_min_m2");
+  if (p.adaptive.r_pos_max_m2 < p.adaptive.r_pos_min_m2) a.fail("r_pos_max_m2", "must be at least r_pos_min_m2");
   a.close();
 
   const config::Node u = s.section("uncertainty");

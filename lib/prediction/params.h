@@ -60,26 +60,26 @@ struct ManeuverParams {
 // move is a manoeuvre, and a manoeuvre ends in steady motion or in a stop.
 struct StationaryParams {
   bool enabled = true;
-  double mean_stationary_s = 30.0;  // expected time standing before starting to move
-  double stop_share = 0.5;          // share of ending manoeuvres that end standing (the rest in steady motion)
-  double position_psd_m2ps = 0.002; // random walk of the centre (the MBE's drift with the view)
+  double mean_stationary_s = 30.0;   // expected time standing before starting to move
+  double stop_share = 0.5;           // share of ending manoeuvres that end standing (the rest in steady motion)
+  double position_psd_m2ps = 0.002;  // random walk of the centre (the MBE's drift with the view)
 };
 
 struct AdaptiveNoiseParams {
-  int window_frames = 10;           // m, frames in the shape-variation window
+  int window_frames = 10;                      // m, frames in the shape-variation window
   std::string shape_variation_source = "own";  // own | tracker
-  double kappa = 5.5;               // Xi_p = kappa * Xi_eta^gamma
+  double kappa = 5.5;                          // Xi_p = kappa * Xi_eta^gamma
   double gamma = 1.3;
-  double xi_min_m2 = 0.0016;        // Xi_min,crit
-  double xi_max_m2 = 0.25;          // Xi_max,crit
-  double r_pos_min_m2 = 0.0016;     // R_p,min
-  double r_pos_max_m2 = 0.25;       // R_p,max
+  double xi_min_m2 = 0.0016;     // Xi_min,crit
+  double xi_max_m2 = 0.25;       // Xi_max,crit
+  double r_pos_min_m2 = 0.0016;  // R_p,min
+  double r_pos_max_m2 = 0.25;    // R_p,max
 };
 
 struct UncertaintyParams {
-  double confidence = 0.95;         // probability mass covered by r_p and r_eta
-  double min_axis_m = 0.05;         // axes are floored at this before inflation
-  double root_tolerance_m = 1e-9;   // sigma_min bracket width at convergence
+  double confidence = 0.95;        // probability mass covered by r_p and r_eta
+  double min_axis_m = 0.05;        // axes are floored at this before inflation
+  double root_tolerance_m = 1e-9;  // sigma_min bracket width at convergence
   // Upper bound of the inflation added to both axes. The paper lets the
   // ellipse grow with k; a constant-acceleration covariance grows like k^4,
   // and unbounded it makes every moving obstacle cover the road by k = 25,
@@ -88,9 +88,9 @@ struct UncertaintyParams {
 };
 
 struct LimitParams {
-  double max_speed_mps = 5.0;       // predicted speed is clipped to this
-  double max_accel_mps2 = 1.5;      // predicted acceleration magnitude is clipped to this
-  double max_accel_time_s = 1.5;    // the acceleration acts for at most this long into the prediction
+  double max_speed_mps = 5.0;     // predicted speed is clipped to this
+  double max_accel_mps2 = 1.5;    // predicted acceleration magnitude is clipped to this
+  double max_accel_time_s = 1.5;  // the acceleration acts for at most this long into the prediction
 };
 
 // A mover's cluster can split (a bicycle's front and side seen apart, a
@@ -110,13 +110,13 @@ struct FragmentParams {
 };
 
 struct PredictorParams {
-  int prediction_steps = 25;        // N (planner horizon); k = 0..N are published
-  double prediction_dt_s = 0.1;     // planner step
-  double max_frame_gap_s = 1.0;     // a longer gap between frames restarts every track
-  double coast_max_s = 1.0;         // a track missing from the list is predicted and published this long, then dropped
-  int coast_min_frames = 3;         // ... if it was seen in at least this many frames (else dropped at its first miss)
+  int prediction_steps = 25;     // N (planner horizon); k = 0..N are published
+  double prediction_dt_s = 0.1;  // planner step
+  double max_frame_gap_s = 1.0;  // a longer gap between frames restarts every track
+  double coast_max_s = 1.0;      // a track missing from the list is predicted and published this long, then dropped
+  int coast_min_frames = 3;      // ... if it was seen in at least this many frames (else dropped at its first miss)
   double max_abs_coordinate_m = 1000.0;  // an obstacle centre beyond this (odometry frame) is malformed
-  double max_axis_m = 50.0;         // a semi-axis beyond this is malformed
+  double max_axis_m = 50.0;              // a semi-axis beyond this is malformed
   FilterParams filter;
   ManeuverParams maneuver;
   StationaryParams stationary;

@@ -16,13 +16,13 @@
 namespace evade::prediction {
 
 struct FrameStats {
-  int created = 0;       // new track ids
-  int dropped = 0;       // ids unseen for longer than coast_max_s (or whose coasting filter diverged)
-  int coasting = 0;      // ids missing from this list, predicted from their filter alone
-  int updated = 0;       // existing tracks updated
-  int malformed = 0;     // obstacles skipped (non-finite, out of range, bad axes, duplicate id)
-  int diverged = 0;      // tracks whose filter went non-finite: restarted from the measurement
-  int inherited = 0;     // new tracks that took an established mover's motion (FragmentParams)
+  int created = 0;         // new track ids
+  int dropped = 0;         // ids unseen for longer than coast_max_s (or whose coasting filter diverged)
+  int coasting = 0;        // ids missing from this list, predicted from their filter alone
+  int updated = 0;         // existing tracks updated
+  int malformed = 0;       // obstacles skipped (non-finite, out of range, bad axes, duplicate id)
+  int diverged = 0;        // tracks whose filter went non-finite: restarted from the measurement
+  int inherited = 0;       // new tracks that took an established mover's motion (FragmentParams)
   bool gap_reset = false;  // frame gap above max_frame_gap_s: all tracks restarted
 };
 
@@ -45,14 +45,14 @@ class Predictor {
   // Shared and immutable: every TrackFilter points at it, so it must not move
   // when the Predictor does.
   std::shared_ptr<const PredictorParams> params_;
-  double chi2_position_ = 0;       // chi-square quantile, 2 dof, at the confidence level
-  double z_shape_ = 0;             // two-sided normal quantile at the confidence level
+  double chi2_position_ = 0;  // chi-square quantile, 2 dof, at the confidence level
+  double z_shape_ = 0;        // two-sided normal quantile at the confidence level
   std::unordered_map<int64_t, TrackFilter> tracks_;
-  std::unordered_map<int64_t, int64_t> seen_;  // scratch: ids of the current frame
+  std::unordered_map<int64_t, int64_t> seen_;             // scratch: ids of the current frame
   std::unordered_map<int64_t, int64_t> last_seen_utime_;  // per track: utime of its last measurement
-  std::vector<int64_t> coasting_;                        // scratch: ids coasting in the current frame
-  std::vector<int64_t> order_;                           // scratch: ids seen in the current frame, in input order
-  std::vector<int64_t> created_;                         // scratch: ids new in the current frame
+  std::vector<int64_t> coasting_;                         // scratch: ids coasting in the current frame
+  std::vector<int64_t> order_;                            // scratch: ids seen in the current frame, in input order
+  std::vector<int64_t> created_;                          // scratch: ids new in the current frame
 
   // FragmentParams: the established mover, if any, whose ellipse (plus the
   // margin) contains the new track's centre; the nearest one.

@@ -3,8 +3,7 @@
 namespace evade::prediction {
 
 PredictorCore::PredictorCore(const PredictorParams& params) : bus::Core("predictor"), predictor_(params) {
-  subscribe<evade::obstacle_list_t>(kObstaclesChannel,
-                                    [this](const evade::obstacle_list_t& m) { on_obstacles(m); });
+  subscribe<evade::obstacle_list_t>(kObstaclesChannel, [this](const evade::obstacle_list_t& m) { on_obstacles(m); });
 }
 
 void PredictorCore::on_obstacles(const evade::obstacle_list_t& msg) {

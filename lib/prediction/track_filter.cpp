@@ -105,7 +105,8 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
   // Position: the noise of one steady MBE (R_p,min); the shape window fills from here.
   P_(kX, kX) = P_(kY, kY) = params.adaptive.r_pos_min_m2;
   P_(kA, kA) = P_(kB, kB) = f.r_axis_m2;
-  P_(kTheta, kTheta) = f.r_theta_rad2 + f.r_axis_m2 / std::pow(std::max(std::fabs(z.a - z.b), f.orientation_min_elongation_m), 2);
+  P_(kTheta, kTheta) =
+      f.r_theta_rad2 + f.r_axis_m2 / std::pow(std::max(std::fabs(z.a - z.b), f.orientation_min_elongation_m), 2);
   P_(kVx, kVx) = P_(kVy, kVy) = f.init_speed_std_mps * f.init_speed_std_mps;
   P_(kAx, kAx) = P_(kAy, kAy) = f.init_accel_std_mps2 * f.init_accel_std_mps2;
   num_modes_ = !params.maneuver.enabled ? 1 : params.stationary.enabled ? 3 : 2;
@@ -271,8 +272,14 @@ double TrackFilter::own_shape_variation() const {
   const size_t m = window_.size();
   if (m < 2) return 0.0;
   double ma = 0, mb = 0, mt = 0;
-  for (const auto& s : window_) { ma += s.a; mb += s.b; mt += s.theta; }
-  ma /= m; mb /= m; mt /= m;
+  for (const auto& s : window_) {
+    ma += s.a;
+    mb += s.b;
+    mt += s.theta;
+  }
+  ma /= m;
+  mb /= m;
+  mt /= m;
   const double elongation = std::fabs(ma - mb);
   double sum = 0;
   for (const auto& s : window_) {
@@ -297,7 +304,9 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
   };
   double ma = z.a, mb = z.b, mt = z.theta;
   if (distance(z.b, z.a, z.theta + 0.5 * kPi) < distance(z.a, z.b, z.theta)) {
-    ma = z.b; mb = z.a; mt = z.theta + 0.5 * kPi;
+    ma = z.b;
+    mb = z.a;
+    mt = z.theta + 0.5 * kPi;
     info.swapped_axes = true;
   }
 
@@ -305,7 +314,10 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
   const Shape aligned{ma, mb, last_theta_ + wrap_half_pi(mt - last_theta_)};
   last_theta_ = aligned.theta;
   const size_t m = static_cast<size_t>(params_->adaptive.window_frames);
-  if (window_.size() < m) window_.push_back(aligned); else window_[window_next_] = aligned;
+  if (window_.size() < m)
+    window_.push_back(aligned);
+  else
+    window_[window_next_] = aligned;
   window_next_ = (window_next_ + 1) % m;
 
   info.xi_eta = use_tracker_variation_ ? std::max(0.0, z.tracker_shape_variation) : own_shape_variation();

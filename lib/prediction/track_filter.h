@@ -53,11 +53,11 @@ struct Measurement {
 
 // What the last update did (for tests and diagnostics).
 struct UpdateInfo {
-  double xi_eta = 0;     // shape variation used
-  double k = 0;          // adaptive exponent
-  double r_position = 0; // R_p, m^2
-  bool swapped_axes = false;  // the measurement was matched as (b, a, theta + pi/2)
-  double maneuver_probability = 0;  // IMM probability of the manoeuvring mode after the update
+  double xi_eta = 0;                  // shape variation used
+  double k = 0;                       // adaptive exponent
+  double r_position = 0;              // R_p, m^2
+  bool swapped_axes = false;          // the measurement was matched as (b, a, theta + pi/2)
+  double maneuver_probability = 0;    // IMM probability of the manoeuvring mode after the update
   double stationary_probability = 0;  // IMM probability of the stationary mode after the update
 };
 
@@ -96,7 +96,9 @@ class TrackFilter {
   double own_shape_variation() const;
 
  private:
-  struct Shape { double a, b, theta; };
+  struct Shape {
+    double a, b, theta;
+  };
   // The IMM's modes, in this order; num_modes_ says how many run.
   enum ModeIndex { kQuiet = 0, kManeuver = 1, kStationary = 2, kMaxModes = 3 };
   struct Mode {
@@ -113,13 +115,13 @@ class TrackFilter {
   const PredictorParams* params_;
   Mode modes_[kMaxModes];
   int num_modes_ = 1;
-  bool cv_maneuver_ = false;  // the manoeuvring mode is constant velocity (ManeuverParams::model "cv")
+  bool cv_maneuver_ = false;                // the manoeuvring mode is constant velocity (ManeuverParams::model "cv")
   double mu_[kMaxModes] = {1.0, 0.0, 0.0};  // mode probabilities
   State x_;
   Covariance P_;
   std::vector<Shape> window_;  // ring buffer of the last m aligned shapes
   size_t window_next_ = 0;
-  double last_theta_ = 0;             // orientation of the newest window entry (unwrapped)
+  double last_theta_ = 0;  // orientation of the newest window entry (unwrapped)
   bool use_tracker_variation_ = false;
   int updates_ = 0;
 };

@@ -28,9 +28,8 @@ int32_t clamp_int32(double v) {
 LidarDecoder::LidarDecoder(const LidarDecoderParams& params, CountFn count)
     : params_(params), count_(std::move(count)), self_filter_(params.self_filter, params.mount) {
   if (!count_) count_ = [](const std::string&, int64_t) {};
-  sensor_ = make_sensor_model(params.model,
-                              RangeBand{params.min_range_m, params.max_range_m, params.vertical_offset_correction},
-                              count_);
+  sensor_ = make_sensor_model(
+      params.model, RangeBand{params.min_range_m, params.max_range_m, params.vertical_offset_correction}, count_);
   returns_.reserve(static_cast<size_t>(vlp16::kBlocksPerPacket * vlp16::kReturnsPerBlock));
   start_revolution();
 }
@@ -101,8 +100,8 @@ void LidarDecoder::feed(const uint8_t* data, size_t size, int64_t receive_utime,
   add_packet_returns(times, data, size, receive_utime, out);
 }
 
-void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* data, size_t size,
-                                      int64_t receive_utime, std::vector<Revolution>* out) {
+void LidarDecoder::add_packet_returns(const PacketTimes& times, const uint8_t* data, size_t size, int64_t receive_utime,
+                                      std::vector<Revolution>* out) {
   bound_pending(out);
   record_packet(data, size, receive_utime);
   bool cut_done = false;

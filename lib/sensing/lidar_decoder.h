@@ -50,8 +50,8 @@ enum class TimeSource { kReceive, kSensor };
 
 struct LidarDecoderParams {
   LidarModel model = LidarModel::kVlp16;
-  double cut_azimuth_deg = 0.0;      // revolutions start when the firing azimuth passes this
-  double min_range_m = 0.0;          // returns outside [min, max] are dropped (counted)
+  double cut_azimuth_deg = 0.0;  // revolutions start when the firing azimuth passes this
+  double min_range_m = 0.0;      // returns outside [min, max] are dropped (counted)
   double max_range_m = 200.0;
   bool vertical_offset_correction = true;  // VLP-16 per-laser beam origin height (vlp16.h)
   TimeSource time_source = TimeSource::kReceive;
@@ -105,7 +105,7 @@ class LidarDecoder {
 
   // the revolution being assembled
   Revolution rev_;
-  std::vector<double> rel_us_;   // point times relative to the anchor
+  std::vector<double> rel_us_;  // point times relative to the anchor
   bool anchored_ = false;
   PacketTimes anchor_{};
   int64_t anchor_time_us_ = 0;

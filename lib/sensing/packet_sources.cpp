@@ -74,16 +74,25 @@ bool PcapUdpReader::next(UdpDatagram* out) {
     size_t off = 0;
     int ethertype = kEtherTypeIpv4;
     if (link_type_ == DLT_EN10MB) {
-      if (caplen < kEthernetHeader) { ++skipped_["short_frames"]; continue; }
+      if (caplen < kEthernetHeader) {
+        ++skipped_["short_frames"];
+        continue;
+      }
       ethertype = be16(frame + 12);
       off = kEthernetHeader;
       if (ethertype == kEtherTypeVlan) {
-        if (caplen < off + kVlanTag) { ++skipped_["short_frames"]; continue; }
+        if (caplen < off + kVlanTag) {
+          ++skipped_["short_frames"];
+          continue;
+        }
         ethertype = be16(frame + off + 2);
         off += kVlanTag;
       }
     } else if (link_type_ == DLT_LINUX_SLL) {
-      if (caplen < kLinuxCookedHeader) { ++skipped_["short_frames"]; continue; }
+      if (caplen < kLinuxCookedHeader) {
+        ++skipped_["short_frames"];
+        continue;
+      }
       ethertype = be16(frame + 14);
       off = kLinuxCookedHeader;
     } else if (link_type_ == DLT_NULL) {
@@ -94,23 +103,44 @@ bool PcapUdpReader::next(UdpDatagram* out) {
     }
     size_t udp = 0;
     if (ethertype == kEtherTypeIpv4) {
-      if (caplen < off + 20 || (frame[off] >> 4) != 4) { ++skipped_["not_ip"]; continue; }
+      if (caplen < off + 20 || (frame[off] >> 4) != 4) {
+        ++skipped_["not_ip"];
+        continue;
+      }
       const size_t ihl = static_cast<size_t>(frame[off] & 0x0F) * 4;
       const int frag = be16(frame + off + 6);
-      if ((frag & 0x2000) || (frag & 0x1FFF)) { ++skipped_["ip_fragments"]; continue; }
-      if (frame[off + 9] != kIpProtoUdp) { ++skipped_["not_udp"]; continue; }
+      if ((frag & 0x2000) || (frag & 0x1FFF)) {
+        ++skipped_["ip_fragments"];
+        continue;
+      }
+      if (frame[off + 9] != kIpProtoUdp) {
+        ++skipped_["not_udp"];
+        continue;
+      }
       udp = off + ihl;
     } else if (ethertype == kEtherTypeIpv6) {
-      if (caplen < off + kIpv6Header) { ++skipped_["not_ip"]; continue; }
-      if (frame[off + 6] != kIpProtoUdp) { ++skipped_["not_udp"]; continue; }
+      if (caplen < off + kIpv6Header) {
+        ++skipped_["not_ip"];
+        continue;
+      }
+      if (frame[off + 6] != kIpProtoUdp) {
+        ++skipped_["not_udp"];
+        continue;
+      }
       udp = off + kIpv6Header;
     } else {
       ++skipped_["not_ip"];
       continue;
     }
-    if (caplen < udp + kUdpHeader) { ++skipped_["short_frames"]; continue; }
+    if (caplen < udp + kUdpHeader) {
+      ++skipped_["short_frames"];
+      continue;
+    }
     const int udp_len = be16(frame + udp + 4);
-    if (udp_len < static_cast<int>(kUdpHeader)) { ++skipped_["bad_udp_length"]; continue; }
+    if (udp_len < static_cast<int>(kUdpHeader)) {
+      ++skipped_["bad_udp_length"];
+      continue;
+    }
     const size_t want = static_cast<size_t>(udp_len) - kUdpHeader;
     const size_t have = caplen - (udp + kUdpHeader);
     out->utime = static_cast<int64_t>(hdr->ts.tv_sec) * 1'000'000 + hdr->ts.tv_usec;

@@ -15,7 +15,7 @@ typedef struct pcap_dumper pcap_dumper_t;
 namespace evade::sensing {
 
 struct UdpDatagram {
-  int64_t utime = 0;      // us: capture time (pcap) or kernel receive time (socket)
+  int64_t utime = 0;  // us: capture time (pcap) or kernel receive time (socket)
   int dst_port = 0;
   bool truncated = false;  // the capture holds fewer bytes than the UDP length
   std::vector<uint8_t> payload;

@@ -70,12 +70,18 @@ void Calibration::update_trig() {
 
 const char* to_string(PacketStatus s) {
   switch (s) {
-    case PacketStatus::kOk: return "ok";
-    case PacketStatus::kWrongSize: return "wrong_size";
-    case PacketStatus::kBadHeader: return "bad_header";
-    case PacketStatus::kBadFlag: return "bad_flag";
-    case PacketStatus::kBadAzimuth: return "bad_azimuth";
-    case PacketStatus::kNoCalibration: return "no_calibration";
+    case PacketStatus::kOk:
+      return "ok";
+    case PacketStatus::kWrongSize:
+      return "wrong_size";
+    case PacketStatus::kBadHeader:
+      return "bad_header";
+    case PacketStatus::kBadFlag:
+      return "bad_flag";
+    case PacketStatus::kBadAzimuth:
+      return "bad_azimuth";
+    case PacketStatus::kNoCalibration:
+      return "no_calibration";
   }
   return "unknown";
 }
@@ -104,8 +110,7 @@ PacketStatus parse_difop(const uint8_t* data, size_t size, Calibration* out) {
   }
   std::array<int, kChannels> order;
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return cal.vertical_deg[a] < cal.vertical_deg[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cal.vertical_deg[a] < cal.vertical_deg[b]; });
   for (int r = 0; r < kChannels; ++r) cal.ring[order[r]] = r;
   cal.update_trig();
   cal.return_mode = data[kDifopReturnModeOffset];
@@ -132,9 +137,8 @@ PacketStatus decode_msop(const uint8_t* data, size_t size, const Calibration& ca
   const uint64_t seconds = read_be(ts, 6), micros = read_be(ts + 6, 4);
   // A 6-byte second count could overflow microseconds in 64 bits; anything
   // past kMaxUtcSeconds or with micros >= 1e6 is not a time.
-  pi.utc_us = (seconds <= kMaxUtcSeconds && micros < 1'000'000u)
-                  ? static_cast<int64_t>(seconds * 1'000'000ull + micros)
-                  : -1;
+  pi.utc_us =
+      (seconds <= kMaxUtcSeconds && micros < 1'000'000u) ? static_cast<int64_t>(seconds * 1'000'000ull + micros) : -1;
 
   const bool dual = cal.return_mode == kDual;
   const int step = dual ? 2 : 1;

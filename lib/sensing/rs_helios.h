@@ -63,9 +63,7 @@ enum ReturnMode : uint8_t { kDual = 0x00, kStrongest = 0x04, kLast = 0x05, kNear
 
 // Time of (block, channel) after the packet's first firing, us (single
 // return; in dual mode use block / 2).
-inline double firing_offset_us(int block, int channel) {
-  return block * kBlockPeriodUs + channel * kChannelIntervalUs;
-}
+inline double firing_offset_us(int block, int channel) { return block * kBlockPeriodUs + channel * kChannelIntervalUs; }
 
 // What a DIFOP packet tells the decoder.
 struct Calibration {
@@ -82,11 +80,11 @@ struct Calibration {
 
 enum class PacketStatus {
   kOk,
-  kWrongSize,       // not 1248 bytes
-  kBadHeader,       // neither MSOP nor DIFOP identifier
-  kBadFlag,         // a block without FF EE
-  kBadAzimuth,      // azimuth >= 360.00 deg
-  kNoCalibration,   // DIFOP with blank (all 00 / FF) calibration, or angles beyond +-90 deg
+  kWrongSize,      // not 1248 bytes
+  kBadHeader,      // neither MSOP nor DIFOP identifier
+  kBadFlag,        // a block without FF EE
+  kBadAzimuth,     // azimuth >= 360.00 deg
+  kNoCalibration,  // DIFOP with blank (all 00 / FF) calibration, or angles beyond +-90 deg
 };
 const char* to_string(PacketStatus s);
 
@@ -106,9 +104,9 @@ struct DecodeOptions {
 inline constexpr uint64_t kMaxUtcSeconds = 9'999'999'999ull;
 
 struct PacketInfo {
-  int64_t utc_us = 0;         // header time of the first firing, us since the epoch; -1 = invalid
-  int firings = 0;            // distinct firings (12 single, 6 dual)
-  int dual_duplicates = 0;    // dual-mode second echoes equal to the first, dropped
+  int64_t utc_us = 0;       // header time of the first firing, us since the epoch; -1 = invalid
+  int firings = 0;          // distinct firings (12 single, 6 dual)
+  int dual_duplicates = 0;  // dual-mode second echoes equal to the first, dropped
   int out_of_range = 0;
 };
 
@@ -127,8 +125,8 @@ struct MsopEncoder {
     uint8_t intensity[kChannels] = {};
   };
   std::array<Block, kBlocksPerPacket> blocks;
-  int64_t utc_us = 0;     // time of the first firing, us since the epoch
-  uint32_t index = 0;     // packet counter
+  int64_t utc_us = 0;  // time of the first firing, us since the epoch
+  uint32_t index = 0;  // packet counter
   std::array<uint8_t, kPacketSize> encode() const;
 };
 

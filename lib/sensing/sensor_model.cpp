@@ -97,9 +97,12 @@ class RsHeliosModel : public SensorModel {
   PacketUse decode(const uint8_t* data, size_t size, int64_t receive_utime, std::vector<LidarReturn>* returns,
                    PacketTimes* times) override {
     switch (rs_helios::classify(data, size)) {
-      case rs_helios::PacketKind::kDifop: return difop(data, size);
-      case rs_helios::PacketKind::kMsop: return msop(data, size, receive_utime, returns, times);
-      case rs_helios::PacketKind::kUnknown: break;
+      case rs_helios::PacketKind::kDifop:
+        return difop(data, size);
+      case rs_helios::PacketKind::kMsop:
+        return msop(data, size, receive_utime, returns, times);
+      case rs_helios::PacketKind::kUnknown:
+        break;
     }
     count_(size != rs_helios::kPacketSize ? "malformed_wrong_size" : "malformed_bad_header", 1);
     return PacketUse::kIgnored;

@@ -47,7 +47,7 @@
 
 namespace evade::sensing::vlp16 {
 
-inline constexpr size_t kPacketSize = 1206;       // UDP payload of a data packet
+inline constexpr size_t kPacketSize = 1206;  // UDP payload of a data packet
 inline constexpr int kDataPort = 2368;
 inline constexpr int kPositionPort = 8308;
 inline constexpr int kBlocksPerPacket = 12;
@@ -55,17 +55,17 @@ inline constexpr size_t kBlockSize = 100;
 inline constexpr int kReturnsPerBlock = 32;
 inline constexpr int kLasers = 16;
 inline constexpr int kSequencesPerBlock = 2;
-inline constexpr uint16_t kBlockFlag = 0xEEFF;    // bytes FF EE read little-endian
+inline constexpr uint16_t kBlockFlag = 0xEEFF;  // bytes FF EE read little-endian
 inline constexpr size_t kTimestampOffset = 1200;
 inline constexpr size_t kReturnModeOffset = 1204;
 inline constexpr size_t kFactoryOffset = 1205;
 inline constexpr double kDistanceUnitM = 0.002;
 inline constexpr double kAzimuthUnitDeg = 0.01;
-inline constexpr uint16_t kAzimuthCount = 36000;  // azimuth values are 0..35999
+inline constexpr uint16_t kAzimuthCount = 36000;     // azimuth values are 0..35999
 inline constexpr double kFiringIntervalUs = 2.304;   // between lasers of a sequence
 inline constexpr double kSequencePeriodUs = 55.296;  // between sequences
 inline constexpr double kBlockPeriodUs = 2.0 * kSequencePeriodUs;
-inline constexpr double kMaxRangeM = 100.0;          // datasheet range
+inline constexpr double kMaxRangeM = 100.0;  // datasheet range
 inline constexpr double kMaxEncodableRangeM = 65535 * kDistanceUnitM;
 inline constexpr uint32_t kMicrosPerHour = 3'600'000'000u;
 
@@ -137,7 +137,7 @@ enum class PacketStatus {
 const char* to_string(PacketStatus s);
 
 struct DecodeOptions {
-  double min_range_m = 0.0;              // returns closer are dropped (0 = keep all but zero)
+  double min_range_m = 0.0;  // returns closer are dropped (0 = keep all but zero)
   double max_range_m = kMaxEncodableRangeM;
   bool vertical_offset_correction = true;
 };
@@ -146,16 +146,16 @@ struct PacketInfo {
   uint32_t timestamp_us_past_hour = 0;
   uint8_t return_mode = 0;
   uint8_t factory = 0;
-  int firings = 0;            // distinct firing sequences (24 single, 12 dual)
-  int dual_duplicates = 0;    // dual-mode second returns equal to the first, dropped
-  int out_of_range = 0;       // non-zero returns outside [min, max] range
+  int firings = 0;          // distinct firing sequences (24 single, 12 dual)
+  int dual_duplicates = 0;  // dual-mode second returns equal to the first, dropped
+  int out_of_range = 0;     // non-zero returns outside [min, max] range
 };
 
 // Decodes one data packet and appends its returns (zero distance dropped)
 // to `out`, in firing order (dual mode: for each firing sequence, block 2k's
 // echoes then block 2k+1's). Validates the whole packet before appending
 // anything, so a bad packet leaves `out` untouched.
-PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions& options,
-                           std::vector<Return>* out, PacketInfo* info);
+PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions& options, std::vector<Return>* out,
+                           PacketInfo* info);
 
 }  // namespace evade::sensing::vlp16

@@ -94,7 +94,8 @@ Packet Vlp16Simulator::make_packet(const WorldAt& world) {
   const double t0 = packet_offset_us(next_packet_);  // us after start_us_
   v::PacketEncoder enc;
   int64_t first_firing_us = start_us_ + std::llround(t0);
-  enc.timestamp_us_past_hour = static_cast<uint32_t>(((first_firing_us % kMicrosPerHour) + kMicrosPerHour) % kMicrosPerHour);
+  enc.timestamp_us_past_hour =
+      static_cast<uint32_t>(((first_firing_us % kMicrosPerHour) + kMicrosPerHour) % kMicrosPerHour);
   enc.return_mode = v::kStrongest;
   enc.factory = v::kFactoryVlp16;
 
@@ -103,7 +104,8 @@ Packet Vlp16Simulator::make_packet(const WorldAt& world) {
   for (int b = 0; b < v::kBlocksPerPacket; ++b)
     count[b] = v::azimuth_to_count(azimuth_at_offset(t0 + b * v::kBlockPeriodUs));
   double gap_deg[v::kBlocksPerPacket];
-  for (int b = 0; b + 1 < v::kBlocksPerPacket; ++b) gap_deg[b] = azimuth_gap(count[b], count[b + 1]) * v::kAzimuthUnitDeg;
+  for (int b = 0; b + 1 < v::kBlocksPerPacket; ++b)
+    gap_deg[b] = azimuth_gap(count[b], count[b + 1]) * v::kAzimuthUnitDeg;
   gap_deg[v::kBlocksPerPacket - 1] = gap_deg[v::kBlocksPerPacket - 2];
 
   WorldSnapshot snap;

@@ -36,9 +36,9 @@
 namespace evade::sim {
 
 struct LidarSimParams {
-  double rate_hz = 10.0;          // rotation rate (scenario lidar.rate_hz)
-  double range_noise_std_m = 0.0; // scenario lidar.range_noise_std
-  double max_range_m = 100.0;     // beyond: no return (zero distance)
+  double rate_hz = 10.0;           // rotation rate (scenario lidar.rate_hz)
+  double range_noise_std_m = 0.0;  // scenario lidar.range_noise_std
+  double max_range_m = 100.0;      // beyond: no return (zero distance)
   // Sensor pose on the base: x, y, yaw, roll, pitch from the robot
   // configuration (lidar.mount), height above the ground from the scenario.
   double mount_x_m = 0.0, mount_y_m = 0.0, mount_height_m = 0.5;
@@ -146,7 +146,7 @@ class Vlp16Simulator : public LidarSimulator {
   int64_t next_packet_ = 0;
   std::mt19937_64 rng_;
   std::normal_distribution<double> noise_{0.0, 1.0};
-  double mount_rot_[3][3];  // sensor -> base rotation (yaw * pitch * roll)
+  double mount_rot_[3][3];                                           // sensor -> base rotation (yaw * pitch * roll)
   std::array<double, sensing::vlp16::kLasers> cos_el_{}, sin_el_{};  // of each laser's elevation
   ReturnCounter returns_;
   int64_t revolution_at(double offset_us) const {

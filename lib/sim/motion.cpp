@@ -46,8 +46,7 @@ ObstacleState along(const std::vector<Vec2>& path, double d, double speed) {
 ObstacleState obstacle_state(const ObstacleSpec& s, double since_start_s) {
   const double t_s = since_start_s - s.start_delay_s;
   if (t_s <= 0.0 || s.motion == MotionKind::kStatic) return ObstacleState{s.x, s.y, 0.0, 0.0};
-  if (s.motion == MotionKind::kConstantVelocity)
-    return ObstacleState{s.x + s.vx * t_s, s.y + s.vy * t_s, s.vx, s.vy};
+  if (s.motion == MotionKind::kConstantVelocity) return ObstacleState{s.x + s.vx * t_s, s.y + s.vy * t_s, s.vx, s.vy};
 
   std::vector<Vec2> path = path_of(s);
   double total = length_of(path);

@@ -26,9 +26,9 @@ struct Ray {
 struct Solid {
   Shape shape = Shape::kCylinder;
   double x = 0.0, y = 0.0, yaw = 0.0;
-  double radius = 0.0;                       // cylinders
-  double length = 0.0, width = 0.0;          // boxes
-  double height = 0.0;                       // both, z in [0, height]
+  double radius = 0.0;               // cylinders
+  double length = 0.0, width = 0.0;  // boxes
+  double height = 0.0;               // both, z in [0, height]
 };
 
 double hit_ground(const Ray& r);

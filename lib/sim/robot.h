@@ -19,9 +19,9 @@
 namespace evade::sim {
 
 struct RobotLimits {
-  double max_accel_mps2 = 1.0;   // speeding up
-  double max_decel_mps2 = 1.5;   // braking (speed magnitude decreasing)
-  double max_alpha_radps2 = 3.0; // yaw acceleration, either way
+  double max_accel_mps2 = 1.0;    // speeding up
+  double max_decel_mps2 = 1.5;    // braking (speed magnitude decreasing)
+  double max_alpha_radps2 = 3.0;  // yaw acceleration, either way
   int64_t command_timeout_us = 500'000;
   int64_t step_us = 1000;
 };

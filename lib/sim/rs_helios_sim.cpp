@@ -23,9 +23,8 @@ int azimuth_gap(int a, int b) {
 }  // namespace
 
 const std::array<double, RsHeliosSimulator::kChannels> RsHeliosSimulator::kElevationDeg = {
-    15.0,  13.0,  11.0,  9.0,   7.0,   5.5,   4.0,   2.67,  1.33,  0.0,   -1.33,
-    -2.67, -4.0,  -5.33, -6.67, -8.0,  -10.0, -16.0, -13.0, -19.0, -22.0, -28.0,
-    -25.0, -31.0, -34.0, -37.0, -40.0, -43.0, -46.0, -49.0, -52.0, -55.0};
+    15.0,  13.0,  11.0,  9.0,   7.0,   5.5,   4.0,   2.67,  1.33,  0.0,   -1.33, -2.67, -4.0,  -5.33, -6.67, -8.0,
+    -10.0, -16.0, -13.0, -19.0, -22.0, -28.0, -25.0, -31.0, -34.0, -37.0, -40.0, -43.0, -46.0, -49.0, -52.0, -55.0};
 
 const std::array<double, RsHeliosSimulator::kChannels> RsHeliosSimulator::kHorizontalDeg = [] {
   std::array<double, kChannels> a{};
@@ -56,9 +55,7 @@ int64_t RsHeliosSimulator::msop_ready_us() const {
 
 bool RsHeliosSimulator::difop_next() const { return difop_due_us() <= msop_ready_us(); }
 
-int64_t RsHeliosSimulator::next_packet_ready_us() const {
-  return difop_next() ? difop_due_us() : msop_ready_us();
-}
+int64_t RsHeliosSimulator::next_packet_ready_us() const { return difop_next() ? difop_due_us() : msop_ready_us(); }
 
 void RsHeliosSimulator::skip_packet() {
   if (difop_next()) {
@@ -130,7 +127,8 @@ Packet RsHeliosSimulator::make_msop(const WorldAt& world) {
   int count[h::kBlocksPerPacket];
   for (int b = 0; b < h::kBlocksPerPacket; ++b) count[b] = azimuth_count(azimuth_at_offset(t0 + b * h::kBlockPeriodUs));
   double gap_deg[h::kBlocksPerPacket];
-  for (int b = 0; b + 1 < h::kBlocksPerPacket; ++b) gap_deg[b] = azimuth_gap(count[b], count[b + 1]) * h::kAzimuthUnitDeg;
+  for (int b = 0; b + 1 < h::kBlocksPerPacket; ++b)
+    gap_deg[b] = azimuth_gap(count[b], count[b + 1]) * h::kAzimuthUnitDeg;
   gap_deg[h::kBlocksPerPacket - 1] = gap_deg[h::kBlocksPerPacket - 2];
 
   WorldSnapshot snap;

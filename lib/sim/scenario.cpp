@@ -57,9 +57,7 @@ ObstacleSpec parse_obstacle(const config::Node& o, int id) {
     if (s.waypoints.empty()) o.fail("waypoints", "needs at least one [x, y] point");
     s.speed = o.get_positive("speed");
     std::string mode = o.get_choice("mode", {"pingpong", "loop", "once"});
-    s.mode = mode == "pingpong" ? WaypointMode::kPingpong
-             : mode == "loop"   ? WaypointMode::kLoop
-                                : WaypointMode::kOnce;
+    s.mode = mode == "pingpong" ? WaypointMode::kPingpong : mode == "loop" ? WaypointMode::kLoop : WaypointMode::kOnce;
   }
   o.close();
   return s;

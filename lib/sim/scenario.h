@@ -56,9 +56,9 @@ struct ObstacleSpec {
 
 struct LidarSpec {
   std::string model = "vlp16";
-  double rate_hz = 10.0;          // rotation rate
-  double height = 0.5;            // m, sensor origin above the ground
-  double range_noise_std = 0.0;   // m, Gaussian noise added to each range
+  double rate_hz = 10.0;         // rotation rate
+  double height = 0.5;           // m, sensor origin above the ground
+  double range_noise_std = 0.0;  // m, Gaussian noise added to each range
 };
 
 enum class ObstaclesStart { kAtStart, kOnRobotMotion };

@@ -110,7 +110,8 @@ void check_rest(const Scenario& sc, const ScenarioCheckParams& p, std::vector<st
     geom::Outline shape = geom::obstacle_outline(o, rest.x, rest.y);
     double c = geom::clearance(at_goal, shape);
     if (c < p.goal_margin_m)
-      out->push_back(obstacle_name(o) + fmt(": rests %.3f m from the robot at the goal (margin %.3f m)", c, p.goal_margin_m));
+      out->push_back(obstacle_name(o) +
+                     fmt(": rests %.3f m from the robot at the goal (margin %.3f m)", c, p.goal_margin_m));
     grid.add(shape);
   }
   Vec2 start{sc.start.x, sc.start.y};

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "sim/scenario_geometry.h"
 #include "sim/scenario_gen_families.h"
+#include "sim/scenario_geometry.h"
 
 namespace evade::sim::gen::detail {
 
@@ -56,13 +56,15 @@ bool is_clear(const Ctx& c, const Draft& d, const ObstacleSpec& o) {
   Vec2 rest;
   if (final_rest(o, &rest)) {
     double half_diagonal = std::hypot(d.sc.footprint_length, d.sc.footprint_width) / 2.0;
-    double gap = geom::clearance(geom::disc(d.sc.goal.x, d.sc.goal.y, half_diagonal), geom::obstacle_outline(o, rest.x, rest.y));
+    double gap =
+        geom::clearance(geom::disc(d.sc.goal.x, d.sc.goal.y, half_diagonal), geom::obstacle_outline(o, rest.x, rest.y));
     if (gap < c.check.goal_margin_m) return false;
   }
   return true;
 }
 
-bool add_all_if_clear(const Ctx& c, Draft& d, const std::vector<ObstacleSpec>& os, const std::vector<std::string>& notes) {
+bool add_all_if_clear(const Ctx& c, Draft& d, const std::vector<ObstacleSpec>& os,
+                      const std::vector<std::string>& notes) {
   for (size_t i = 0; i < os.size(); ++i) {
     if (!is_clear(c, d, os[i])) return false;
     for (size_t j = 0; j < i; ++j)
@@ -134,8 +136,8 @@ std::vector<Vec2> cut_path(const std::vector<Vec2>& path, double cut) {
     double seg = geom::distance(path[i - 1], path[i]);
     if (cut < seg) {
       double f = cut / seg;
-      std::vector<Vec2> out{Vec2{path[i - 1].x + f * (path[i].x - path[i - 1].x),
-                                 path[i - 1].y + f * (path[i].y - path[i - 1].y)}};
+      std::vector<Vec2> out{
+          Vec2{path[i - 1].x + f * (path[i].x - path[i - 1].x), path[i - 1].y + f * (path[i].y - path[i - 1].y)}};
       out.insert(out.end(), path.begin() + static_cast<long>(i), path.end());
       return out;
     }

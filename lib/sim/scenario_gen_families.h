@@ -39,7 +39,8 @@ double arrival_s(const Ctx& c, const Draft& d, double x);
 // obstacle and, resting for good, keeps the goal margin; false otherwise.
 bool add_if_clear(const Ctx& c, Draft& d, const ObstacleSpec& o, const std::string& note);
 // All of them, or none if one of them breaks a margin (a group).
-bool add_all_if_clear(const Ctx& c, Draft& d, const std::vector<ObstacleSpec>& os, const std::vector<std::string>& notes);
+bool add_all_if_clear(const Ctx& c, Draft& d, const std::vector<ObstacleSpec>& os,
+                      const std::vector<std::string>& notes);
 
 // A straight route from (-L/2, 0) to (L/2, 0), L drawn from route_length_m.
 Draft straight_draft(Ctx& c);

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <functional>
 
-#include "sim/scenario_geometry.h"
 #include "sim/scenario_gen_families.h"
+#include "sim/scenario_geometry.h"
 
 namespace evade::sim::gen::detail {
 namespace {

@@ -41,7 +41,8 @@ double share(const config::Node& n, const std::string& key) { return n.get_doubl
 Count read_count(const config::Node& n, const std::string& key, int max) {
   std::vector<double> v = n.get_doubles(key, 2);
   for (double d : v)
-    if (d != static_cast<int>(d) || d < 0 || d > max) n.fail(key, "expected two whole numbers in [0, " + num(max) + "]");
+    if (d != static_cast<int>(d) || d < 0 || d > max)
+      n.fail(key, "expected two whole numbers in [0, " + num(max) + "]");
   if (v[0] > v[1]) n.fail(key, "expected [lo, hi] with lo <= hi");
   return Count{static_cast<int>(v[0]), static_cast<int>(v[1])};
 }
@@ -127,7 +128,7 @@ Shapes read_shapes(const config::Node& root, double min_h) {
 }  // namespace
 
 const std::vector<std::string>& family_names() {
-  static const std::vector<std::string> names = {"crossing", "headon",     "overtaking",     "crowd", "doorway",
+  static const std::vector<std::string> names = {"crossing",  "headon",     "overtaking",     "crowd", "doorway",
                                                  "occlusion", "fast_small", "static_clutter", "mixed"};
   return names;
 }

@@ -7,7 +7,9 @@
 namespace evade::sim::geom {
 namespace {
 
-double cross(const Vec2& o, const Vec2& a, const Vec2& b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
+double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
 
 bool inside_polygon(const Vec2& p, const std::vector<Vec2>& c) {
   for (size_t i = 0; i < c.size(); ++i)

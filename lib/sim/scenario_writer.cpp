@@ -16,9 +16,12 @@ std::string points(const std::vector<Vec2>& ps) {
 
 const char* mode_name(WaypointMode m) {
   switch (m) {
-    case WaypointMode::kPingpong: return "pingpong";
-    case WaypointMode::kLoop: return "loop";
-    case WaypointMode::kOnce: return "once";
+    case WaypointMode::kPingpong:
+      return "pingpong";
+    case WaypointMode::kLoop:
+      return "loop";
+    case WaypointMode::kOnce:
+      return "once";
   }
   return "once";
 }

@@ -199,8 +199,10 @@ void SimCore::on_serial_bytes(const uint8_t* data, size_t size) {
 
 void SimCore::count_parser_errors() {
   const base::ParserStats& s = parser_.stats();
-  if (s.noise_bytes != reported_.noise_bytes) count("scout_noise_bytes", static_cast<int64_t>(s.noise_bytes - reported_.noise_bytes));
-  if (s.bad_length != reported_.bad_length) count("scout_bad_length", static_cast<int64_t>(s.bad_length - reported_.bad_length));
+  if (s.noise_bytes != reported_.noise_bytes)
+    count("scout_noise_bytes", static_cast<int64_t>(s.noise_bytes - reported_.noise_bytes));
+  if (s.bad_length != reported_.bad_length)
+    count("scout_bad_length", static_cast<int64_t>(s.bad_length - reported_.bad_length));
   if (s.bad_checksum != reported_.bad_checksum)
     count("scout_bad_checksum", static_cast<int64_t>(s.bad_checksum - reported_.bad_checksum));
   if (s.bad_type != reported_.bad_type) count("scout_bad_type", static_cast<int64_t>(s.bad_type - reported_.bad_type));

@@ -1,8 +1,7 @@
 #include "soak/live_report.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 
@@ -51,7 +50,8 @@ std::map<std::string, std::map<std::string, int64_t>> last_health(const std::str
       const json msg = json::parse(line).at("msg");
       auto& inputs = out[msg.at("name").get<std::string>()];
       inputs.clear();
-      for (const auto& i : msg.at("inputs")) inputs[i.at("channel").get<std::string>()] = i.at("received").get<int64_t>();
+      for (const auto& i : msg.at("inputs"))
+        inputs[i.at("channel").get<std::string>()] = i.at("received").get<int64_t>();
     } catch (const std::exception& e) {
       throw std::runtime_error("HEALTH line " + std::to_string(n) + ": " + e.what());
     }
@@ -83,8 +83,7 @@ void judge(LiveReport& r) {
     if (is_crash(e))
       r.failures.push_back(e.name + (e.early ? " exited before the run ended" : " ended") + " with exit status " +
                            std::to_string(e.status));
-  if (r.collisions_at_fault > 0)
-    r.failures.push_back(std::to_string(r.collisions_at_fault) + " collision(s) at fault");
+  if (r.collisions_at_fault > 0) r.failures.push_back(std::to_string(r.collisions_at_fault) + " collision(s) at fault");
 }
 
 }  // namespace
@@ -137,17 +136,35 @@ std::string live_report_json(const LiveReport& r) {
   json exits = json::array(), rss = json::array(), channels = json::array();
   for (const auto& e : r.exits) exits.push_back({{"process", e.name}, {"exit_status", e.status}, {"early", e.early}});
   for (const auto& [name, t] : r.rss)
-    rss.push_back({{"process", name}, {"pid", t.pid}, {"start_mib", t.start_mib}, {"max_mib", t.max_mib},
-                   {"end_mib", t.end_mib}, {"span_s", t.span_s}, {"fitted_samples", t.fitted},
+    rss.push_back({{"process", name},
+                   {"pid", t.pid},
+                   {"start_mib", t.start_mib},
+                   {"max_mib", t.max_mib},
+                   {"end_mib", t.end_mib},
+                   {"span_s", t.span_s},
+                   {"fitted_samples", t.fitted},
                    {"growth_mib_per_h", t.growth_mib_per_h ? json(*t.growth_mib_per_h) : json(nullptr)}});
   for (const auto& c : r.channels)
-    channels.push_back({{"channel", c.channel}, {"sent", c.sent}, {"dropped", c.dropped},
-                        {"mean_delay_ms", c.mean_delay_ms}, {"exempt", c.exempt}, {"received", c.received}});
-  return json{{"loss", r.loss}, {"delay_ms", r.delay_ms}, {"jitter_ms", r.jitter_ms}, {"reorder", r.reorder}, {"exits", exits},
-              {"rss", rss}, {"collisions_at_fault", r.collisions_at_fault},
-              {"collisions_not_at_fault", r.collisions_not_at_fault}, {"reached_goal", r.reached_goal},
-              {"min_dist_m", r.min_dist_m}, {"duration_s", r.duration_s}, {"channels", channels},
-              {"failures", r.failures}, {"pass", r.failures.empty()}}
+    channels.push_back({{"channel", c.channel},
+                        {"sent", c.sent},
+                        {"dropped", c.dropped},
+                        {"mean_delay_ms", c.mean_delay_ms},
+                        {"exempt", c.exempt},
+                        {"received", c.received}});
+  return json{{"loss", r.loss},
+              {"delay_ms", r.delay_ms},
+              {"jitter_ms", r.jitter_ms},
+              {"reorder", r.reorder},
+              {"exits", exits},
+              {"rss", rss},
+              {"collisions_at_fault", r.collisions_at_fault},
+              {"collisions_not_at_fault", r.collisions_not_at_fault},
+              {"reached_goal", r.reached_goal},
+              {"min_dist_m", r.min_dist_m},
+              {"duration_s", r.duration_s},
+              {"channels", channels},
+              {"failures", r.failures},
+              {"pass", r.failures.empty()}}
       .dump(2);
 }
 
@@ -165,8 +182,8 @@ std::string live_report_text(const LiveReport& r) {
   o << "  RSS (MiB: start / max / end, growth per hour after the warm-up):\n";
   for (const auto& [name, t] : r.rss)
     o << "    " << name << ": " << fmt("%.1f", t.start_mib) << " / " << fmt("%.1f", t.max_mib) << " / "
-      << fmt("%.1f", t.end_mib) << ", "
-      << (t.growth_mib_per_h ? fmt("%+.1f", *t.growth_mib_per_h) : std::string("-")) << " MiB/h\n";
+      << fmt("%.1f", t.end_mib) << ", " << (t.growth_mib_per_h ? fmt("%+.1f", *t.growth_mib_per_h) : std::string("-"))
+      << " MiB/h\n";
   o << "  bus (messages sent, dropped by netem; received per process from its last HEALTH):\n";
   for (const auto& c : r.channels) {
     o << "    " << c.channel << ": sent " << c.sent << ", dropped " << c.dropped

@@ -17,8 +17,8 @@ namespace evade::soak {
 
 struct ProcessExit {
   std::string name;
-  int status = -1;      // -1: unknown
-  bool early = false;   // had exited before the run ended
+  int status = -1;     // -1: unknown
+  bool early = false;  // had exited before the run ended
 };
 // "name status early" lines ('#' comments skipped); throws naming the line.
 std::vector<ProcessExit> parse_exits(const std::string& text);
@@ -34,7 +34,7 @@ struct LiveFiles {
 
 struct ChannelLoss {
   std::string channel;
-  int64_t sent = 0, dropped = 0;          // messages, as bus-netem saw them
+  int64_t sent = 0, dropped = 0;  // messages, as bus-netem saw them
   double mean_delay_ms = 0.0;
   bool exempt = false;
   std::map<std::string, int64_t> received;  // per receiving process (last HEALTH)

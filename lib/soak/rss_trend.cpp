@@ -16,8 +16,8 @@ std::vector<RssSample> parse_rss_samples(const std::string& text) {
     std::istringstream ls(line);
     RssSample s;
     std::string extra;
-    if (!(ls >> s.t_s >> s.pid >> s.rss_kib >> s.load1) || (ls >> extra) || !std::isfinite(s.t_s) ||
-        s.rss_kib < 0 || !std::isfinite(s.rss_kib))
+    if (!(ls >> s.t_s >> s.pid >> s.rss_kib >> s.load1) || (ls >> extra) || !std::isfinite(s.t_s) || s.rss_kib < 0 ||
+        !std::isfinite(s.rss_kib))
       throw std::runtime_error("line " + std::to_string(n) + ": want 't_s pid rss_kib load1', got '" + line + "'");
     out.push_back(s);
   }

@@ -23,8 +23,8 @@ struct RssTrend {
   int samples = 0;
   double span_s = 0.0;  // first to last sample
   double start_mib = 0.0, max_mib = 0.0, end_mib = 0.0;
-  int fitted = 0;                             // samples at or after the warm-up
-  std::optional<double> growth_mib_per_h;     // none with fewer than 2 fitted samples
+  int fitted = 0;                          // samples at or after the warm-up
+  std::optional<double> growth_mib_per_h;  // none with fewer than 2 fitted samples
 };
 
 // Parses the sampler's file: one "t_s pid rss_kib load1" line per sample,

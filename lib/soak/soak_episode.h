@@ -18,14 +18,13 @@ namespace evade::soak {
 
 // What every episode shares, loaded once. Throws config::ConfigError.
 struct EpisodeInputs {
-  std::string robot_path;   // the robot configuration (checked as a process would)
-  std::string robot_text;   // its text, the base of each episode's run configuration
+  std::string robot_path;  // the robot configuration (checked as a process would)
+  std::string robot_text;  // its text, the base of each episode's run configuration
   sim::gen::RobotFacts robot;
   sim::gen::FamilyParams families;
   metrics::MetricsParams metrics;
   std::string mode;  // planner mode; empty: the configuration's
-  static EpisodeInputs load(const std::string& robot_path, const std::string& families_path,
-                            const std::string& mode);
+  static EpisodeInputs load(const std::string& robot_path, const std::string& families_path, const std::string& mode);
 };
 
 struct EpisodeResult {

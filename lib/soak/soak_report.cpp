@@ -1,9 +1,8 @@
 #include "soak/soak_report.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 
@@ -75,8 +74,8 @@ void judge(SoakReport& r) {
   if (!r.crashes.empty()) r.failures.push_back(std::to_string(r.crashes.size()) + " process crash(es)");
   if (!r.errors.empty()) r.failures.push_back(std::to_string(r.errors.size()) + " episode(s) ended in an error");
   if (!r.at_fault_seeds.empty())
-    r.failures.push_back("collision at fault in " + std::to_string(r.at_fault_seeds.size()) +
-                         " episode(s): seeds " + seed_list(r.at_fault_seeds));
+    r.failures.push_back("collision at fault in " + std::to_string(r.at_fault_seeds.size()) + " episode(s): seeds " +
+                         seed_list(r.at_fault_seeds));
   for (const auto& t : r.settled) {
     if (!t.growth_mib_per_h)
       r.failures.push_back("pid " + std::to_string(t.pid) + ": too few memory samples after the warm-up to fit");
@@ -92,8 +91,8 @@ void judge(SoakReport& r) {
 
 std::string episode_line_json(const EpisodeLine& e) {
   const EpisodeResult& r = e.result;
-  json j = {{"family", r.family}, {"seed", r.seed}, {"wall_s", e.wall_s}, {"pid", e.pid}, {"t_s", e.t_s},
-            {"rss_kib", e.rss_kib}};
+  json j = {{"family", r.family}, {"seed", r.seed}, {"wall_s", e.wall_s},
+            {"pid", e.pid},       {"t_s", e.t_s},   {"rss_kib", e.rss_kib}};
   if (!e.error.empty()) {
     j["error"] = e.error;
     return j.dump();
@@ -165,8 +164,13 @@ std::string report_json(const SoakReport& r) {
   const auto trends = [](const std::vector<RssTrend>& ts) {
     json out = json::array();
     for (const auto& t : ts)
-      out.push_back({{"pid", t.pid}, {"samples", t.samples}, {"span_s", t.span_s}, {"start_mib", t.start_mib},
-                     {"max_mib", t.max_mib}, {"end_mib", t.end_mib}, {"fitted_samples", t.fitted},
+      out.push_back({{"pid", t.pid},
+                     {"samples", t.samples},
+                     {"span_s", t.span_s},
+                     {"start_mib", t.start_mib},
+                     {"max_mib", t.max_mib},
+                     {"end_mib", t.end_mib},
+                     {"fitted_samples", t.fitted},
                      {"growth_mib_per_h", t.growth_mib_per_h ? json(*t.growth_mib_per_h) : json(nullptr)}});
     return out;
   };
@@ -174,40 +178,52 @@ std::string report_json(const SoakReport& r) {
   for (const auto& c : r.crashes) crashes.push_back({{"t_s", c.t_s}, {"seed", c.seed}, {"exit_status", c.status}});
   json errors = json::array();
   for (const auto& e : r.errors) errors.push_back({{"seed", e.result.seed}, {"error", e.error}});
-  json j = {{"family", r.family}, {"episodes", r.episodes}, {"first_seed", r.first_seed},
-            {"last_seed", r.last_seed}, {"goal", r.goal}, {"duration", r.duration}, {"cap", r.cap},
-            {"success", r.success}, {"sim_s", r.sim_s}, {"episode_wall_s", r.episode_wall_s},
-            {"crashes", crashes}, {"episode_errors", errors}, {"at_fault_seeds", r.at_fault_seeds},
-            {"episodes_with_contact_not_at_fault", r.collisions_not_at_fault_episodes}, {"rss_sampled", trends(r.rss)},
+  json j = {{"family", r.family},
+            {"episodes", r.episodes},
+            {"first_seed", r.first_seed},
+            {"last_seed", r.last_seed},
+            {"goal", r.goal},
+            {"duration", r.duration},
+            {"cap", r.cap},
+            {"success", r.success},
+            {"sim_s", r.sim_s},
+            {"episode_wall_s", r.episode_wall_s},
+            {"crashes", crashes},
+            {"episode_errors", errors},
+            {"at_fault_seeds", r.at_fault_seeds},
+            {"episodes_with_contact_not_at_fault", r.collisions_not_at_fault_episodes},
+            {"rss_sampled", trends(r.rss)},
             {"rss_after_episodes", trends(r.settled)},
             {"load1_mean", r.load1_mean ? json(*r.load1_mean) : json(nullptr)},
             {"load1_max", r.load1_max ? json(*r.load1_max) : json(nullptr)},
-            {"max_growth_mib_per_h", r.limits.max_growth_mib_per_h}, {"warmup_s", r.limits.warmup_s},
-            {"failures", r.failures}, {"pass", r.failures.empty()}};
+            {"max_growth_mib_per_h", r.limits.max_growth_mib_per_h},
+            {"warmup_s", r.limits.warmup_s},
+            {"failures", r.failures},
+            {"pass", r.failures.empty()}};
   return j.dump(2);
 }
 
 std::string report_text(const SoakReport& r) {
   std::ostringstream o;
-  o << "soak: " << r.family << ", " << r.episodes << " episodes (seeds " << r.first_seed << "-" << r.last_seed
-    << "), " << fmt("%.0f", r.sim_s) << " s simulated in " << fmt("%.0f", r.episode_wall_s) << " s of episodes\n";
-  o << "  outcomes: goal " << r.goal << ", duration passed " << r.duration << ", safety cap " << r.cap
-    << "; success " << r.success << "\n";
+  o << "soak: " << r.family << ", " << r.episodes << " episodes (seeds " << r.first_seed << "-" << r.last_seed << "), "
+    << fmt("%.0f", r.sim_s) << " s simulated in " << fmt("%.0f", r.episode_wall_s) << " s of episodes\n";
+  o << "  outcomes: goal " << r.goal << ", duration passed " << r.duration << ", safety cap " << r.cap << "; success "
+    << r.success << "\n";
   o << "  crashes: " << r.crashes.size() << " process(es) died, " << r.errors.size() << " episode error(s)\n";
   o << "  collisions at fault: " << r.at_fault_seeds.size() << " episode(s)"
-    << (r.at_fault_seeds.empty() ? "" : " (seeds " + seed_list(r.at_fault_seeds) + ")")
-    << "; contacts not at fault in " << r.collisions_not_at_fault_episodes << "\n";
+    << (r.at_fault_seeds.empty() ? "" : " (seeds " + seed_list(r.at_fault_seeds) + ")") << "; contacts not at fault in "
+    << r.collisions_not_at_fault_episodes << "\n";
   const auto growth = [](const RssTrend& t) {
     return t.growth_mib_per_h ? fmt("%+.2f", *t.growth_mib_per_h) : std::string("-");
   };
   for (const auto& t : r.rss)
     o << "  RSS sampled, pid " << t.pid << ": start " << fmt("%.1f", t.start_mib) << " MiB, max "
-      << fmt("%.1f", t.max_mib) << ", end " << fmt("%.1f", t.end_mib) << " over " << fmt("%.0f", t.span_s)
-      << " s (" << t.samples << " samples; fit " << growth(t) << " MiB/h)\n";
+      << fmt("%.1f", t.max_mib) << ", end " << fmt("%.1f", t.end_mib) << " over " << fmt("%.0f", t.span_s) << " s ("
+      << t.samples << " samples; fit " << growth(t) << " MiB/h)\n";
   for (const auto& t : r.settled)
     o << "  RSS after each episode, pid " << t.pid << ": first " << fmt("%.1f", t.start_mib) << " MiB, max "
-      << fmt("%.1f", t.max_mib) << ", last " << fmt("%.1f", t.end_mib) << "; growth " << growth(t)
-      << " MiB/h (fit of " << t.fitted << " episodes after " << fmt("%.0f", r.limits.warmup_s) << " s; bound "
+      << fmt("%.1f", t.max_mib) << ", last " << fmt("%.1f", t.end_mib) << "; growth " << growth(t) << " MiB/h (fit of "
+      << t.fitted << " episodes after " << fmt("%.0f", r.limits.warmup_s) << " s; bound "
       << fmt("%.2f", r.limits.max_growth_mib_per_h) << ")\n";
   if (r.load1_mean)
     o << "  host load (1-min average): mean " << fmt("%.2f", *r.load1_mean) << ", max " << fmt("%.2f", *r.load1_max)

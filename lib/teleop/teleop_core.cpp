@@ -32,13 +32,24 @@ TeleopCore::TeleopCore(const TeleopParams& params) : bus::Core("teleop"), params
 
 bool TeleopCore::on_key(char key) {
   switch (key) {
-    case 'w': v_ += params_.linear_step_mps; break;
-    case 's': v_ -= params_.linear_step_mps; break;
-    case 'a': omega_ += params_.angular_step_radps; break;
-    case 'd': omega_ -= params_.angular_step_radps; break;
+    case 'w':
+      v_ += params_.linear_step_mps;
+      break;
+    case 's':
+      v_ -= params_.linear_step_mps;
+      break;
+    case 'a':
+      omega_ += params_.angular_step_radps;
+      break;
+    case 'd':
+      omega_ -= params_.angular_step_radps;
+      break;
     case ' ':
-    case 'x': v_ = omega_ = 0.0; break;
-    default: return false;
+    case 'x':
+      v_ = omega_ = 0.0;
+      break;
+    default:
+      return false;
   }
   v_ = std::clamp(v_, -params_.max_v_mps, params_.max_v_mps);
   omega_ = std::clamp(omega_, -params_.max_omega_radps, params_.max_omega_radps);

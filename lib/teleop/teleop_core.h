@@ -15,14 +15,14 @@ namespace evade::teleop {
 
 // The `teleop:` section of the robot configuration.
 struct TeleopParams {
-  double rate_hz = 20.0;              // CMD_VEL while driving
-  double linear_step_mps = 0.1;       // per key press
-  double angular_step_radps = 0.2;    // per key press
-  double max_v_mps = 0.5;             // the keyboard never asks for more
+  double rate_hz = 20.0;            // CMD_VEL while driving
+  double linear_step_mps = 0.1;     // per key press
+  double angular_step_radps = 0.2;  // per key press
+  double max_v_mps = 0.5;           // the keyboard never asks for more
   double max_omega_radps = 1.0;
-  double hold_s = 0.6;                // no key for this long: zero (a held key repeats faster)
-  double estop_rate_hz = 10.0;        // ESTOP repeated at this rate
-  int estop_repeats = 5;              // this many times (UDP may drop one)
+  double hold_s = 0.6;          // no key for this long: zero (a held key repeats faster)
+  double estop_rate_hz = 10.0;  // ESTOP repeated at this rate
+  int estop_repeats = 5;        // this many times (UDP may drop one)
   static TeleopParams from_config(const config::Node& root);
 };
 

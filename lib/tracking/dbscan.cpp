@@ -109,8 +109,10 @@ std::vector<int> kuhn_munkres(const std::vector<double>& cost, int rows, int col
   }
   for (int j = 1; j <= m; ++j) {
     if (!p[j]) continue;
-    if (transposed) result[size_t(j - 1)] = p[j] - 1;
-    else result[size_t(p[j] - 1)] = j - 1;
+    if (transposed)
+      result[size_t(j - 1)] = p[j] - 1;
+    else
+      result[size_t(p[j] - 1)] = j - 1;
   }
   return result;
 }

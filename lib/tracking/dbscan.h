@@ -30,7 +30,7 @@ class GridDbscan {
   };
   std::vector<Offset> offsets_;
   int min_points_;
-  std::vector<int32_t> label_;        // per grid cell: -2 not an obstacle, -1 unlabelled, >= 0 cluster
+  std::vector<int32_t> label_;  // per grid cell: -2 not an obstacle, -1 unlabelled, >= 0 cluster
   std::vector<uint8_t> core_;
   std::vector<int32_t> cells_;
   std::vector<int32_t> queue_;

@@ -18,7 +18,8 @@ double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
 }  // namespace
 
 std::vector<Vec2> convex_hull(std::vector<Vec2> pts) {
-  std::sort(pts.begin(), pts.end(), [](const Vec2& p, const Vec2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); });
+  std::sort(pts.begin(), pts.end(),
+            [](const Vec2& p, const Vec2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); });
   pts.erase(std::unique(pts.begin(), pts.end(), [](const Vec2& p, const Vec2& q) { return p.x == q.x && p.y == q.y; }),
             pts.end());
   if (pts.size() < 3) return pts;

@@ -22,7 +22,7 @@ TrackerParams TrackerParams::from_config(const config::Node& s) {
   p.max_tracks = s.get_int("max_tracks", 1, 100000);
   p.max_cluster_extent_m = s.get_positive("max_cluster_extent_m");
   const std::string policy = s.get_choice("large_cluster", {"keep", "drop", "split"});
-  p.large_cluster = policy == "keep" ? LargeClusterPolicy::kKeep
+  p.large_cluster = policy == "keep"   ? LargeClusterPolicy::kKeep
                     : policy == "drop" ? LargeClusterPolicy::kDrop
                                        : LargeClusterPolicy::kSplit;
   p.split_tile_m = s.get_positive("split_tile_m");
@@ -229,8 +229,10 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
     if (worst == tracks_.end() || worst->missed == 0) break;
     const size_t w = size_t(worst - tracks_.begin());
     for (auto& ni : new_index)
-      if (ni == int(w)) ni = -1;
-      else if (ni > int(w)) --ni;
+      if (ni == int(w))
+        ni = -1;
+      else if (ni > int(w))
+        --ni;
     tracks_.erase(worst);
     ++stats_.tracks_dropped;
   }

@@ -19,16 +19,16 @@ enum class LargeClusterPolicy { kKeep, kDrop, kSplit };
 enum class ThetaVariation { kRaw, kBoundary };
 
 struct TrackerParams {
-  double eps_m = 0.15;         // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
-  int min_points = 3;          // DBSCAN minPts (the cell itself included)
-  double gate_m = 0.8;         // d_max: farthest centre distance accepted as the same obstacle
-  int max_missed_frames = 10;  // K: a track unseen for more frames is dropped
-  int shape_history = 10;      // m: frames in the shape-variation window
-  int max_tracks = 256;        // hard bound on the track table
+  double eps_m = 0.15;                // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
+  int min_points = 3;                 // DBSCAN minPts (the cell itself included)
+  double gate_m = 0.8;                // d_max: farthest centre distance accepted as the same obstacle
+  int max_missed_frames = 10;         // K: a track unseen for more frames is dropped
+  int shape_history = 10;             // m: frames in the shape-variation window
+  int max_tracks = 256;               // hard bound on the track table
   double max_cluster_extent_m = 3.0;  // a cluster whose bounding box side exceeds this is "large"
   LargeClusterPolicy large_cluster = LargeClusterPolicy::kSplit;
-  double split_tile_m = 1.5;   // kSplit: tile size on the odometry-frame lattice
-  MbeOptions mbe;              // tolerance, iterations, min semi-axis
+  double split_tile_m = 1.5;          // kSplit: tile size on the odometry-frame lattice
+  MbeOptions mbe;                     // tolerance, iterations, min semi-axis
   bool predict_with_velocity = true;  // cost = min(distance to predicted centre, to last centre)
   double velocity_smoothing = 0.5;    // weight of the newest centre difference in the velocity estimate
   double max_prediction_gap_s = 1.0;  // beyond this gap the last centre is used as is
@@ -55,7 +55,7 @@ struct TrackedObstacle {
   Ellipse ellipse;
   double shape_variation = 0.0;  // Xi_eta
   int num_cells = 0;
-  int age = 0;                   // frames since birth
+  int age = 0;  // frames since birth
 };
 
 struct TrackerStats {
@@ -94,7 +94,7 @@ class Tracker {
  private:
   struct Track {
     int64_t id;
-    double cx, cy;        // last observed centre
+    double cx, cy;  // last observed centre
     double vx = 0, vy = 0;
     bool has_velocity = false;
     int64_t last_seen_utime;

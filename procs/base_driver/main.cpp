@@ -9,7 +9,6 @@
 // reopened with back-off whenever it is missing or lost (see
 // lib/base/serial_link.h for why a hang-up cannot abort this process).
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -46,7 +45,8 @@ int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
     if (link.leaked_ports() == leaked_reported && link.dropped_tx_bytes() == dropped_reported) return;
     core.input(now, [&] {
       core.count_link_event("serial_ports_leaked", static_cast<int64_t>(link.leaked_ports() - leaked_reported));
-      core.count_link_event("serial_tx_dropped_bytes", static_cast<int64_t>(link.dropped_tx_bytes() - dropped_reported));
+      core.count_link_event("serial_tx_dropped_bytes",
+                            static_cast<int64_t>(link.dropped_tx_bytes() - dropped_reported));
     });
     leaked_reported = link.leaked_ports();
     dropped_reported = link.dropped_tx_bytes();
@@ -67,7 +67,9 @@ int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
     rx.clear();
     std::string why;
     const bool ok = link.read_available(now, &rx, &why);
-    if (!rx.empty()) core.input(now, [&] { core.on_serial_bytes(rx.data(), rx.size()); }, "serial");
+    if (!rx.empty())
+      core.input(
+          now, [&] { core.on_serial_bytes(rx.data(), rx.size()); }, "serial");
     if (!ok) lost(now, why);
   };
 

@@ -11,7 +11,6 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -74,17 +73,20 @@ int run_pcap(LidarDriverCore& core, evade::bus::LiveBus& bus, const std::string&
   if (!reader.error().empty()) std::fprintf(stderr, "%s: %s: %s\n", kName, path.c_str(), reader.error().c_str());
   core.input(last_stamp, [&] { core.flush(); });
   bus.spin_once(0);
-  std::fprintf(stderr, "%s: %s: %lld datagrams, %lld not on the configured ports, %lld truncated, %lld data packets, %lld revolutions\n",
-               kName, path.c_str(), static_cast<long long>(packets), static_cast<long long>(other_ports),
-               static_cast<long long>(truncated), static_cast<long long>(core.counter("data_packets")),
-               static_cast<long long>(core.counter("revolutions")));
+  std::fprintf(
+      stderr,
+      "%s: %s: %lld datagrams, %lld not on the configured ports, %lld truncated, %lld data packets, %lld revolutions\n",
+      kName, path.c_str(), static_cast<long long>(packets), static_cast<long long>(other_ports),
+      static_cast<long long>(truncated), static_cast<long long>(core.counter("data_packets")),
+      static_cast<long long>(core.counter("revolutions")));
   return reader.error().empty() ? 0 : 1;
 }
 
 int run_live(LidarDriverCore& core, evade::bus::LiveBus& bus) {
   const LidarDriverParams& p = core.params();
   std::vector<int> fds;
-  for (int port : p.ports()) fds.push_back(evade::sensing::open_udp_socket(p.bind_address, port, p.socket_receive_buffer_bytes));
+  for (int port : p.ports())
+    fds.push_back(evade::sensing::open_udp_socket(p.bind_address, port, p.socket_receive_buffer_bytes));
   std::vector<uint8_t> buffer(kMaxDatagram);
   evade::sensing::UdpDatagram d;
   for (size_t i = 0; i < fds.size(); ++i) {
@@ -92,11 +94,13 @@ int run_live(LidarDriverCore& core, evade::bus::LiveBus& bus) {
     const std::string source = "udp:" + std::to_string(p.ports()[i]);  // reported in HEALTH with its age
     bus.add_fd(fd, [&core, &buffer, &d, fd, source](int64_t now) {
       while (evade::sensing::receive_datagram(fd, buffer, &d, now)) {
-        core.input(d.utime, [&] { core.on_packet(d.payload.data(), d.payload.size()); }, source);
+        core.input(
+            d.utime, [&] { core.on_packet(d.payload.data(), d.payload.size()); }, source);
       }
     });
   }
-  std::fprintf(stderr, "%s: %s on %s port(s)", kName, evade::sensing::model_name(p.decoder.model), p.bind_address.c_str());
+  std::fprintf(stderr, "%s: %s on %s port(s)", kName, evade::sensing::model_name(p.decoder.model),
+               p.bind_address.c_str());
   for (int port : p.ports()) std::fprintf(stderr, " %d", port);
   std::fprintf(stderr, "\n");
   bus.run(evade::bus::stop_on_signals());

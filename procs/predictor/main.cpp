@@ -6,8 +6,11 @@
 
 int main(int argc, char** argv) {
   using namespace evade;
-  return bus::process_main(argc, argv, "predictor", nullptr, [](const config::Node& root) {
-    const auto params = prediction::PredictorParams::from_config(root.section("predictor"));
-    return std::make_unique<prediction::PredictorCore>(params);
-  }, bus::ProcessOptions{{}, /*publishes_signed=*/true});
+  return bus::process_main(
+      argc, argv, "predictor", nullptr,
+      [](const config::Node& root) {
+        const auto params = prediction::PredictorParams::from_config(root.section("predictor"));
+        return std::make_unique<prediction::PredictorCore>(params);
+      },
+      bus::ProcessOptions{{}, /*publishes_signed=*/true});
 }

@@ -30,7 +30,6 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -73,12 +72,14 @@ class PseudoTerminal {
     ::cfmakeraw(&tio);  // no echo, no newline rewriting: binary frames pass unchanged
     ::cfsetispeed(&tio, B115200);
     ::cfsetospeed(&tio, B115200);
-    if (::tcsetattr(slave_, TCSANOW, &tio) != 0) throw std::runtime_error(std::string("tcsetattr: ") + std::strerror(errno));
+    if (::tcsetattr(slave_, TCSANOW, &tio) != 0)
+      throw std::runtime_error(std::string("tcsetattr: ") + std::strerror(errno));
 
     struct stat st {};
     if (::lstat(link_.c_str(), &st) == 0) {
       // Replace a stale link from an earlier run; never delete a real file or device.
-      if (!S_ISLNK(st.st_mode)) throw std::runtime_error(link_ + " exists and is not a symbolic link; not replacing it");
+      if (!S_ISLNK(st.st_mode))
+        throw std::runtime_error(link_ + " exists and is not a symbolic link; not replacing it");
       ::unlink(link_.c_str());
     }
     if (::symlink(slave_path_.c_str(), link_.c_str()) != 0)
@@ -196,7 +197,8 @@ void warn_on_lidar_mismatch(const evade::config::Node& root, const evade::sim::S
   if (lidar.section("mount").has("z_m")) {
     double z = lidar.section("mount").get<double>("z_m");
     if (std::abs(z - scenario.lidar.height) > 1e-6)
-      std::fprintf(stderr, "sim: warning: scenario lidar height %.3f m differs from lidar.mount.z_m %.3f m in the config\n",
+      std::fprintf(stderr,
+                   "sim: warning: scenario lidar height %.3f m differs from lidar.mount.z_m %.3f m in the config\n",
                    scenario.lidar.height, z);
   }
 }
@@ -234,8 +236,8 @@ int main(int argc, char** argv) {
   }
   if (!device.empty()) params.device_path = device;
   const bool vlp16 = scenario.lidar.model == "vlp16";
-  if (!lidar_dest.empty() &&
-      !parse_dest(lidar_dest, &params.lidar_dest_host, vlp16 ? &params.lidar_dest_port : &params.rs_helios_msop_dest_port))
+  if (!lidar_dest.empty() && !parse_dest(lidar_dest, &params.lidar_dest_host,
+                                         vlp16 ? &params.lidar_dest_port : &params.rs_helios_msop_dest_port))
     die("--lidar-dest '" + lidar_dest + "': expected HOST:PORT", 2);
   warn_on_lidar_mismatch(root, scenario);
 

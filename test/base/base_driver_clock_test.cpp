@@ -81,8 +81,10 @@ TEST(BaseDriverClock, AWallClockStepBackDoesNotStopFramesOrTheWatchdog) {
     }
     live.spin_once(5);
     const auto tx = core.take_tx();
-    if (stepped) frames_after_step += frames_in(tx, elapsed < kLastCmd ? &nonzero_after_step : &unused);
-    else frames_in(tx, &unused);
+    if (stepped)
+      frames_after_step += frames_in(tx, elapsed < kLastCmd ? &nonzero_after_step : &unused);
+    else
+      frames_in(tx, &unused);
     if (tripped_at < 0 && elapsed > kLastCmd && core.watchdog_tripped()) tripped_at = elapsed;
   }
   bus::set_clock(nullptr);

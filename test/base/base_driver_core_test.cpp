@@ -100,7 +100,8 @@ TEST(BaseDriverConfig, UnknownKeyIsAnError) {
       "robot: {max_v_mps: 1.0, min_v_mps: 0.0, max_omega_radps: 0.5, max_accel_mps2: 1.0,\n"
       "        max_decel_mps2: 1.5, max_alpha_radps2: 3.0}\n"
       "base_driver: {device: /dev/ttyUSB0, baud_rate: 115200, command_rate_hz: 50.0,\n"
-      "  watchdog_timeout_s: 0.25, cmd_vel_max_age_s: 0.4, link_timeout_s: 0.5, status_rate_hz: 10.0, max_odometry_gap_s: 0.5,\n"
+      "  watchdog_timeout_s: 0.25, cmd_vel_max_age_s: 0.4, link_timeout_s: 0.5, status_rate_hz: 10.0, "
+      "max_odometry_gap_s: 0.5,\n"
       "  reopen_backoff_min_s: 0.1, reopen_backoff_max_s: 2.0, initial_pose: [0, 0, 0], watchdog_s: 1}\n",
       "test.yaml");
   try {
@@ -193,7 +194,7 @@ TEST(BaseDriverCore, WatchdogStopsAndRecovers) {
   EXPECT_EQ(r.core.commanded().v, 0.0);
   EXPECT_EQ(r.core.counter("watchdog_trips"), 1);
   auto cmds = commands(r.core.take_tx());
-  ASSERT_EQ(cmds.size(), 13u);  // ticks 1..13
+  ASSERT_EQ(cmds.size(), 13u);                               // ticks 1..13
   EXPECT_EQ(cmds[11].linear_percent, linear_percent(0.24));  // ramp at 0.02 m/s per tick
   EXPECT_EQ(cmds[12].linear_percent, 0);
   auto statuses = r.bus.decoded<evade::base_status_t>(kBaseStatusChannel);
@@ -268,9 +269,9 @@ TEST(BaseDriverCore, OdometryFollowsTheExactCircle) {
 
 TEST(BaseDriverCore, OdometryHoldsThePreviousVelocityOverEachInterval) {
   Rig r;
-  r.status(kT0 + 100'000, MotionStatus{1000, 0});   // 1 m/s from here
-  r.status(kT0 + 200'000, MotionStatus{0, 0});      // 0.1 s at 1 m/s -> x = 0.1
-  r.status(kT0 + 300'000, MotionStatus{500, 0});    // 0.1 s at 0 -> still 0.1
+  r.status(kT0 + 100'000, MotionStatus{1000, 0});  // 1 m/s from here
+  r.status(kT0 + 200'000, MotionStatus{0, 0});     // 0.1 s at 1 m/s -> x = 0.1
+  r.status(kT0 + 300'000, MotionStatus{500, 0});   // 0.1 s at 0 -> still 0.1
   auto odo = r.bus.decoded<evade::odometry_t>(kOdometryChannel);
   ASSERT_EQ(odo.size(), 3u);
   EXPECT_DOUBLE_EQ(odo[0].x, 0.0);
@@ -412,7 +413,7 @@ TEST(BaseDriverCore, LateAndFutureCommandsAreIgnored) {
   Rig r;
   r.base_alive = true;
   const int64_t t = kT0 + 5 * kTick - 1;
-  r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, t - 500'000), t);  // 0.5 s old
+  r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, t - 500'000), t);     // 0.5 s old
   r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, t + 10'000'000), t);  // 10 s ahead
   r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, std::numeric_limits<int64_t>::max()), t);
   r.bus.inject(kCmdVelChannel, cmd(0.5, 0.0, std::numeric_limits<int64_t>::min()), t);
@@ -537,9 +538,9 @@ TEST(BaseDriverAuth, ForgedReplayedAndUnsignedCommandsNeverDrive) {
   (void)r.core.take_tx();
   for (int k = 31; k <= 80; ++k) {
     const int64_t t = kT0 + k * kTick - 1;
-    r.bus.inject(kCmdVelChannel, recorded, t);                                                    // replayed
+    r.bus.inject(kCmdVelChannel, recorded, t);                                                              // replayed
     r.bus.inject(kCmdVelChannel, signed_msg(forger, kCmdVelChannel, bus::encode(cmd(1.0, 0.0, t)), t), t);  // forged
-    r.bus.inject(kCmdVelChannel, cmd(1.0, 0.0, t), t);                                            // unsigned
+    r.bus.inject(kCmdVelChannel, cmd(1.0, 0.0, t), t);                                                      // unsigned
     r.run_to(kT0 + k * kTick);
   }
   EXPECT_TRUE(r.core.watchdog_tripped());

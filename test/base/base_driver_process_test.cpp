@@ -5,7 +5,6 @@
 // reconnect at the same path. Waits are generous bounds, never assertions
 // on timing.
 #include <gtest/gtest.h>
-#include <lcm/lcm-cpp.hpp>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -13,11 +12,13 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <sstream>
 #include <thread>
 #include <tuple>
 
+#include "../bus/test_signer.h"
 #include "base/scout_protocol.h"
 #include "bus/core.h"
 #include "bus/log.h"
@@ -26,7 +27,6 @@
 #include "evade/health_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "pty_peer.h"
-#include "../bus/test_signer.h"
 
 namespace evade::base {
 namespace {
@@ -36,7 +36,9 @@ using Clock = std::chrono::steady_clock;
 
 class Listener {
  public:
-  void on_odometry(const lcm::ReceiveBuffer*, const std::string&, const evade::odometry_t* m) { odometry.push_back(*m); }
+  void on_odometry(const lcm::ReceiveBuffer*, const std::string&, const evade::odometry_t* m) {
+    odometry.push_back(*m);
+  }
   void on_status(const lcm::ReceiveBuffer*, const std::string&, const evade::base_status_t* m) { status.push_back(*m); }
   void on_health(const lcm::ReceiveBuffer*, const std::string&, const evade::health_t* m) {
     if (m->name != "base_driver") return;
@@ -95,9 +97,9 @@ class BaseDriverProcess : public ::testing::Test {
         next_send += std::chrono::milliseconds(20);
         if (!std::isnan(cmd_v)) {
           evade::cmd_vel_t c{};
-          c.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                        std::chrono::system_clock::now().time_since_epoch())
-                        .count();  // base_driver ignores late commands
+          c.utime =
+              std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+                  .count();  // base_driver ignores late commands
           c.v = cmd_v;
           const auto data = bus::testing::signed_bytes(planner_, "CMD_VEL", c, c.utime);  // unsigned: ignored
           lcm_.publish("CMD_VEL", data.data(), static_cast<unsigned>(data.size()));

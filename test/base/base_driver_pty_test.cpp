@@ -38,8 +38,8 @@ evade::cmd_vel_t cmd(double v, double omega) {
 // The driver side: core + link, as procs/base_driver/main.cpp wires them,
 // but on bus time chosen by the test.
 struct Driver {
-  Driver(const std::string& device, const VelocityLimits& limits) : core(make_params(device, limits)),
-        link(device, 115200, 0.1, 2.0) {
+  Driver(const std::string& device, const VelocityLimits& limits)
+      : core(make_params(device, limits)), link(device, 115200, 0.1, 2.0) {
     core.set_measure_latency(false);
     bus.add(core);
   }
@@ -108,11 +108,11 @@ TEST(BaseDriverPty, CommandFramesHaveExactBytes) {
     double v, omega;
     const char* bytes;
   } cases[] = {
-      {0.75, -0.2618, "5A A5 0A 55 01 02 00 32 CE 00 00 00 61"},  // 50 %, -50 %
-      {2.0, 1.0, "5A A5 0A 55 01 02 00 43 60 00 00 01 05"},       // clamped: 1.0 m/s = 67 %, 0.5 rad/s = 96 %
-      {-0.3, 0.1, "5A A5 0A 55 01 02 00 EC 13 00 00 02 62"},      // reverse: -20 %, 19.1 % -> 19
-      {-5.0, -5.0, "5A A5 0A 55 01 02 00 BD A0 00 00 03 C1"},     // clamped to -1.0 m/s, -0.5 rad/s
-      {0.0074, -0.001, "5A A5 0A 55 01 02 00 00 00 00 00 04 65"}, // below half a percent: 0
+      {0.75, -0.2618, "5A A5 0A 55 01 02 00 32 CE 00 00 00 61"},   // 50 %, -50 %
+      {2.0, 1.0, "5A A5 0A 55 01 02 00 43 60 00 00 01 05"},        // clamped: 1.0 m/s = 67 %, 0.5 rad/s = 96 %
+      {-0.3, 0.1, "5A A5 0A 55 01 02 00 EC 13 00 00 02 62"},       // reverse: -20 %, 19.1 % -> 19
+      {-5.0, -5.0, "5A A5 0A 55 01 02 00 BD A0 00 00 03 C1"},      // clamped to -1.0 m/s, -0.5 rad/s
+      {0.0074, -0.001, "5A A5 0A 55 01 02 00 00 00 00 00 04 65"},  // below half a percent: 0
   };
   int k = 1;
   for (const Case& c : cases) {
@@ -193,7 +193,7 @@ TEST(BaseDriverPty, HangUpThenReconnectAtTheSamePath) {
   EXPECT_FALSE(d.core.port_open());
   auto odo = d.bus.decoded<evade::odometry_t>(kOdometryChannel);
   ASSERT_EQ(odo.size(), 2u);
-  EXPECT_EQ(odo.back().v, 0.0);  // considered stopped
+  EXPECT_EQ(odo.back().v, 0.0);             // considered stopped
   EXPECT_EQ(odo.back().utime, kT0 + 1000);  // stamped with the last real odometry: not fresh
   EXPECT_FALSE(d.bus.decoded<evade::base_status_t>(kBaseStatusChannel).back().link_ok);
   // libserial could not Close() the hung-up port: the link leaked the object

@@ -4,24 +4,24 @@
 // simulated robot, and base_driver's ODOMETRY must follow SIM_TRUTH.
 // Bounds are physical (centimetres after metres of travel), not timings.
 #include <gtest/gtest.h>
-#include <lcm/lcm-cpp.hpp>
 #include <signal.h>
 #include <sys/wait.h>
 
 #include <chrono>
-#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
 
+#include "../bus/test_signer.h"
 #include "evade/base_status_t.hpp"
 #include "evade/cmd_vel_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "evade/sim_truth_t.hpp"
 #include "pty_peer.h"
-#include "../bus/test_signer.h"
 
 namespace {
 
@@ -48,7 +48,9 @@ void stop(pid_t pid) {
 }
 
 struct Collector {
-  void on_odometry(const lcm::ReceiveBuffer*, const std::string&, const evade::odometry_t* m) { odometry.push_back(*m); }
+  void on_odometry(const lcm::ReceiveBuffer*, const std::string&, const evade::odometry_t* m) {
+    odometry.push_back(*m);
+  }
   void on_truth(const lcm::ReceiveBuffer*, const std::string&, const evade::sim_truth_t* m) { truth.push_back(*m); }
   void on_status(const lcm::ReceiveBuffer*, const std::string&, const evade::base_status_t* m) { status.push_back(*m); }
   std::vector<evade::odometry_t> odometry;
@@ -70,12 +72,11 @@ TEST(BaseSimLoop, OdometryFollowsTheSimulatedRobot) {
   lcm.subscribe("BASE_STATUS", &Collector::on_status, &c);
 
   // The scenario starts the robot at (-10, 0, 0); odometry starts there too.
-  pid_t sim = spawn({bin + "/sim", "--config", config, "--scenario", src + "/config/scenarios/paper_sim.yaml",
-                     "--device", device},
-                    dir + "/sim.log");
-  pid_t driver =
-      spawn({bin + "/base_driver", "--config", config, "--device", device, "--initial-pose", "-10,0,0"},
-            dir + "/base_driver.log");
+  pid_t sim = spawn(
+      {bin + "/sim", "--config", config, "--scenario", src + "/config/scenarios/paper_sim.yaml", "--device", device},
+      dir + "/sim.log");
+  pid_t driver = spawn({bin + "/base_driver", "--config", config, "--device", device, "--initial-pose", "-10,0,0"},
+                       dir + "/base_driver.log");
 
   // Wait for the link, then drive a curve for 3 s at 50 Hz.
   evade::bus::HmacAuth planner = evade::bus::testing::test_signer("planner");
@@ -86,9 +87,9 @@ TEST(BaseSimLoop, OdometryFollowsTheSimulatedRobot) {
       if (send && Clock::now() >= next) {
         next += std::chrono::milliseconds(20);
         evade::cmd_vel_t cmd{};
-        cmd.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                        std::chrono::system_clock::now().time_since_epoch())
-                        .count();  // base_driver ignores late commands
+        cmd.utime =
+            std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+                .count();  // base_driver ignores late commands
         cmd.v = 0.6;
         cmd.omega = 0.3;
         const auto data = evade::bus::testing::signed_bytes(planner, "CMD_VEL", cmd, cmd.utime);  // unsigned: ignored
@@ -97,7 +98,8 @@ TEST(BaseSimLoop, OdometryFollowsTheSimulatedRobot) {
       lcm.handleTimeout(5);
     }
   };
-  until(10.0, [&] { return !c.status.empty() && c.status.back().link_ok && !c.truth.empty(); }, false);
+  until(
+      10.0, [&] { return !c.status.empty() && c.status.back().link_ok && !c.truth.empty(); }, false);
   ASSERT_FALSE(c.status.empty()) << "no BASE_STATUS";
   ASSERT_TRUE(c.status.back().link_ok) << "base_driver never saw the sim's status frames";
   until(3.0, nullptr, true);

@@ -69,7 +69,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const ParserStats& s = parser.stats();
   check(s.frames == delivered);
   check(parser.buffered() < kFrameSize);
-  check(s.frames * kFrameSize + s.noise_bytes + s.bad_length + s.bad_checksum + s.bad_type + parser.buffered() ==
-        size);
+  check(s.frames * kFrameSize + s.noise_bytes + s.bad_length + s.bad_checksum + s.bad_type + parser.buffered() == size);
   return 0;
 }

@@ -25,8 +25,7 @@ class PtyPeer {
   // Creates a pty and points `link_path` at its slave (replacing any link).
   explicit PtyPeer(const std::string& link_path) : link_path_(link_path) {
     char name[256];
-    if (::openpty(&master_, &slave_, name, nullptr, nullptr) != 0)
-      throw std::runtime_error("openpty failed");
+    if (::openpty(&master_, &slave_, name, nullptr, nullptr) != 0) throw std::runtime_error("openpty failed");
     slave_name_ = name;
     termios tio{};
     ::tcgetattr(slave_, &tio);

@@ -17,7 +17,7 @@ Bytes bytes(const FrameBytes& b) { return Bytes(b.begin(), b.end()); }
 
 TEST(ScoutFrame, MotionCommandExactBytes) {
   MotionCommand cmd;
-  cmd.linear_percent = linear_percent(0.75);     // 50 %
+  cmd.linear_percent = linear_percent(0.75);       // 50 %
   cmd.angular_percent = angular_percent(-0.2618);  // -50.01 % -> -50
   EXPECT_EQ(to_hex(encode(cmd, 0)), "5A A5 0A 55 01 02 00 32 CE 00 00 00 61");
 
@@ -42,10 +42,10 @@ TEST(ScoutFrame, StatusExactBytes) {
   EXPECT_EQ(to_hex(encode(mot, 0x10)), "5A A5 0A AA 02 01 F4 FF 06 00 00 10 BF");
 
   MotorStatus motor;
-  motor.motor = 3;                // id 05
-  motor.current_deciamps = 123;   // 12.3 A
-  motor.rpm = -1500;              // 0xFA24
-  motor.temperature_c = -5;       // 0xFB
+  motor.motor = 3;               // id 05
+  motor.current_deciamps = 123;  // 12.3 A
+  motor.rpm = -1500;             // 0xFA24
+  motor.temperature_c = -5;      // 0xFB
   EXPECT_EQ(to_hex(encode(motor, 0xFF)), "5A A5 0A AA 05 00 7B FA 24 FB 00 FF 4B");
 
   LightState light;
@@ -109,7 +109,7 @@ TEST(ScoutFrame, DecodersRejectOtherKinds) {
   MotionCommand mc;
   SystemStatus ss;
   MotorStatus mo;
-  EXPECT_FALSE(from_frame(f, &mc));   // status id 02 is not command id 01
+  EXPECT_FALSE(from_frame(f, &mc));  // status id 02 is not command id 01
   EXPECT_FALSE(from_frame(f, &ss));
   EXPECT_FALSE(from_frame(f, &mo));
   // Command id 01 has the same id as system status but the other type.
@@ -140,12 +140,12 @@ TEST(ScoutUnits, PercentRoundsToNearestAndClamps) {
   EXPECT_EQ(linear_percent(0.008), 1);    // 0.533 %
   EXPECT_EQ(linear_percent(-0.008), -1);  // rounds away from zero like +0.008
   EXPECT_EQ(linear_percent(1.5), 100);
-  EXPECT_EQ(linear_percent(1.0), 67);     // 66.67 %
+  EXPECT_EQ(linear_percent(1.0), 67);  // 66.67 %
   EXPECT_EQ(linear_percent(-1.0), -67);
   EXPECT_EQ(linear_percent(2.0), 100);
   EXPECT_EQ(linear_percent(-1e9), -100);
   EXPECT_EQ(linear_percent(std::nan("")), 0);
-  EXPECT_EQ(angular_percent(0.5), 96);    // 95.51 %
+  EXPECT_EQ(angular_percent(0.5), 96);  // 95.51 %
   EXPECT_EQ(angular_percent(-0.5), -96);
   EXPECT_EQ(angular_percent(0.6), 100);
   EXPECT_DOUBLE_EQ(linear_from_percent(50), 0.75);
@@ -171,7 +171,8 @@ struct Collected {
 Bytes status_stream(int n) {
   Bytes s;
   for (int i = 0; i < n; ++i) {
-    FrameBytes b = encode(MotionStatus{static_cast<int16_t>(i * 10), static_cast<int16_t>(-i)}, static_cast<uint8_t>(i));
+    FrameBytes b =
+        encode(MotionStatus{static_cast<int16_t>(i * 10), static_cast<int16_t>(-i)}, static_cast<uint8_t>(i));
     s.insert(s.end(), b.begin(), b.end());
   }
   return s;

@@ -29,7 +29,8 @@ TEST(BenchmarkSmoke, TwoFamiliesThreeSeedsNoCollisionAtFault) {
     EXPECT_FALSE(e.at_fault);
     EXPECT_EQ(e.collisions_at_fault, 0);
   }
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "see " << out / "summary.md" << " and " << out / "failed";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "see " << out / "summary.md"
+                                    << " and " << out / "failed";
 }
 
 }  // namespace

@@ -1,13 +1,13 @@
-#include <gtest/gtest.h>
+#include "benchmark/benchmark_summary.h"
 
 #include <cairo.h>
+#include <gtest/gtest.h>
 
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "benchmark/benchmark_summary.h"
 #include "benchmark/episode_row.h"
 #include "benchmark/summary_plot.h"
 
@@ -48,7 +48,7 @@ TEST(Percentile, LinearBetweenClosestRanks) {
   EXPECT_DOUBLE_EQ(percentile(v, 0.0), 1.0);
   EXPECT_DOUBLE_EQ(percentile(v, 0.5), 3.0);
   EXPECT_DOUBLE_EQ(percentile(v, 1.0), 5.0);
-  EXPECT_DOUBLE_EQ(percentile(v, 0.05), 1.2);   // position 0.2
+  EXPECT_DOUBLE_EQ(percentile(v, 0.05), 1.2);  // position 0.2
   EXPECT_DOUBLE_EQ(percentile({1, 2}, 0.5), 1.5);
   EXPECT_DOUBLE_EQ(percentile({7}, 0.05), 7.0);
   EXPECT_THROW(percentile({}, 0.5), std::invalid_argument);
@@ -74,9 +74,9 @@ std::string metrics(bool success, bool at_fault, int not_at_fault, bool timed_ou
                     "at_fault": %s, "collisions_at_fault": %d, "collisions_not_at_fault": %d,
                     "timed_out": %s, "contacts": [], "min_dist_m": %.3f, "time_to_goal_s": %s,
                     "reaction_time_s": 0.4, "speed_var": 0.02, "planner_cycle_ms_p99": 15.0})",
-                success ? "true" : "false", timed_out ? "false" : "true",
-                (at_fault || not_at_fault) ? "true" : "false", at_fault ? "true" : "false", at_fault ? 1 : 0,
-                not_at_fault, timed_out ? "true" : "false", min_dist, timed_out ? "null" : time);
+                success ? "true" : "false", timed_out ? "false" : "true", (at_fault || not_at_fault) ? "true" : "false",
+                at_fault ? "true" : "false", at_fault ? 1 : 0, not_at_fault, timed_out ? "true" : "false", min_dist,
+                timed_out ? "null" : time);
   return b;
 }
 
@@ -93,8 +93,8 @@ TEST(Row, CarriesTheContractKeysAndRoundTrips) {
   std::string row = make_row(id("crossing", 7, "evade"), metrics(false, true, 0, false, -0.12));
   EXPECT_EQ(row.find('\n'), std::string::npos);  // one line
   auto j = nlohmann::json::parse(row);
-  for (const char* k : {"family", "seed", "mode", "reached_goal", "collided", "at_fault", "min_dist_m", "time_to_goal_s",
-                        "planner_cycle_ms_p99", "success", "timed_out", "collisions_at_fault",
+  for (const char* k : {"family", "seed", "mode", "reached_goal", "collided", "at_fault", "min_dist_m",
+                        "time_to_goal_s", "planner_cycle_ms_p99", "success", "timed_out", "collisions_at_fault",
                         "collisions_not_at_fault", "scenario_sha256"})
     EXPECT_TRUE(j.contains(k)) << k;
   Episode e = parse_row(row);
@@ -130,12 +130,13 @@ TEST(Row, MissingOrMistypedMetricsKeyIsNamed) {
 std::string perception(int objects, int misses, int fp, int switches, double track_s, double ade, int predictions,
                        int inside1, int n1) {
   char b[1024];
-  std::snprintf(b, sizeof b,
-                R"({"objects": %d, "matches": %d, "misses": %d, "false_positives": %d, "splits": 1, "merges": 2, "id_switches": %d,
+  std::snprintf(
+      b, sizeof b,
+      R"({"objects": %d, "matches": %d, "misses": %d, "false_positives": %d, "splits": 1, "merges": 2, "id_switches": %d,
                     "fragmentations": 1, "mota": 0.5, "motp_m": 0.2, "track_s": %.1f, "predictions": %d,
                     "ade_1s_m": %.2f, "fde_2_5s_m": 1.0, "walker_ade_1s_m": null, "walker_predictions": 0,
                     "step_dt_s": 1.25, "coverage_inside": [%d, %d, 0], "coverage_n": [%d, %d, 0]})",
-                objects, objects - misses, misses, fp, switches, track_s, predictions, ade, n1, inside1, n1, n1);
+      objects, objects - misses, misses, fp, switches, track_s, predictions, ade, n1, inside1, n1, n1);
   return b;
 }
 
@@ -156,7 +157,7 @@ TEST(Row, PerceptionCountsArePooledPerGroup) {
   EXPECT_EQ(pool->sum.merges, 4);
   EXPECT_DOUBLE_EQ(*pool->id_switches_per_100_track_s(), 100.0 * 4.0 / 200.0);
   EXPECT_DOUBLE_EQ(*pool->sum.ade_1s_m, (0.2 * 30 + 0.4 * 10) / 40.0);  // weighted by predictions
-  EXPECT_DOUBLE_EQ(*pool->coverage_min(2.5), 14.0 / 20.0);                // step 1 (1.25 s); step 2 has none
+  EXPECT_DOUBLE_EQ(*pool->coverage_min(2.5), 14.0 / 20.0);              // step 1 (1.25 s); step 2 has none
   const std::string md = perception_markdown_table(summarize({a, b, c}));
   EXPECT_NE(md.find("| crowd | evade | 2 | 0.940 |"), std::string::npos) << md;
   EXPECT_TRUE(perception_markdown_table(summarize({c})).empty());
@@ -210,9 +211,9 @@ TEST(Summary, GroupsByFamilyAndModeThenAll) {
   EXPECT_EQ(ce.at_fault, 0);
   EXPECT_EQ(ce.not_at_fault, 1);
   EXPECT_EQ(ce.timeouts, 1);
-  EXPECT_NEAR(*ce.min_dist_p50_m, 0.35, 1e-12);           // 0.1 0.3 | 0.4 0.5
+  EXPECT_NEAR(*ce.min_dist_p50_m, 0.35, 1e-12);             // 0.1 0.3 | 0.4 0.5
   EXPECT_NEAR(*ce.min_dist_p5_m, 0.1 + 0.15 * 0.2, 1e-12);  // position 0.15
-  EXPECT_NEAR(*ce.mean_time_to_goal_s, 22.0, 1e-12);      // 20, 24, 22 (the timeout has none)
+  EXPECT_NEAR(*ce.mean_time_to_goal_s, 22.0, 1e-12);        // 20, 24, 22 (the timeout has none)
   EXPECT_DOUBLE_EQ(*ce.planner_cycle_ms_p99_max, 15.0);
 
   const GroupSummary& cm = g[1];

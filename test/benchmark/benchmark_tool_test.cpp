@@ -160,8 +160,8 @@ TEST(BenchmarkTool, FailOnAtFaultAndErrors) {
   EXPECT_EQ(run(benchmark(out, "--families crossing --episodes 2 --modes mpc")), 0);
   EXPECT_EQ(run(benchmark(out, "--families crossing --episodes 2 --modes mpc --fail-on-at-fault --force")), 1);
   // Seed 2 alone: no collision at fault.
-  EXPECT_EQ(run(benchmark(out, "--families crossing --episodes 1 --seed-base 2 --modes mpc --fail-on-at-fault --force")),
-            0);
+  EXPECT_EQ(
+      run(benchmark(out, "--families crossing --episodes 1 --seed-base 2 --modes mpc --fail-on-at-fault --force")), 0);
   // An episode without metrics is an error row, kept, and the exit is 1.
   EXPECT_EQ(run(benchmark(out, "--families crossing --episodes 1 --modes crash,mpc --force")), 1);
   auto rows = read_results((out / "results.jsonl").string());
@@ -177,7 +177,7 @@ TEST(BenchmarkTool, FailOnAtFaultAndErrors) {
 
 TEST(BenchmarkTool, UsageErrors) {
   fs::path out = fresh_dir("usage");
-  EXPECT_EQ(run(benchmark(out, "--families crossing")), 2);                          // no --episodes
+  EXPECT_EQ(run(benchmark(out, "--families crossing")), 2);  // no --episodes
   EXPECT_EQ(run(benchmark(out, "--families crossing --episodes 0")), 2);
   EXPECT_EQ(run(benchmark(out, "--families 'a b' --episodes 1")), 2);
   EXPECT_EQ(run(benchmark(out, "--families crossing --episodes 1 --config /nonexistent.yaml")), 2);
@@ -210,9 +210,10 @@ TEST(BenchmarkTool, TwoHostsOverSsh) {
   // Without SHELL (as under some CI runners), which GNU parallel would
   // otherwise use to run the remote jobs.
   std::string env = "env -u SHELL FAKE_SSH_ROOT=" + hosts.string() + " ";
-  ASSERT_EQ(run(env + benchmark(out, "--families crossing,headon --episodes 3 --modes evade,mpc --seed-base 5 "
-                                     "--hosts 1/hostA,1/hostB --ssh " +
-                                         kRoot + "/test/benchmark/fake_ssh")),
+  ASSERT_EQ(run(env + benchmark(out,
+                                "--families crossing,headon --episodes 3 --modes evade,mpc --seed-base 5 "
+                                "--hosts 1/hostA,1/hostB --ssh " +
+                                    kRoot + "/test/benchmark/fake_ssh")),
             0);
   auto rows = read_results((out / "results.jsonl").string());
   ASSERT_EQ(rows.size(), 12u);

@@ -1,9 +1,10 @@
 // Authenticated channels (lib/bus/auth.h): what is signed verifies, and
 // forged, replayed, reordered, stale or unsigned messages never reach a
 // core's handler, each counted in HEALTH.
+#include "bus/auth.h"
+
 #include <gtest/gtest.h>
 #include <sys/stat.h>
-
 #include <unistd.h>
 
 #include <cstdio>
@@ -11,7 +12,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bus/auth.h"
 #include "bus/lcm_schema.h"
 #include "bus/memory_bus.h"
 #include "evade/cmd_vel_t.hpp"
@@ -98,7 +98,7 @@ TEST(Auth, ReplayedAndReorderedMessagesAreRejectedPerSender) {
   auto second = signed_cmd(planner, 2000, 0.2, 2000);
   auto other = signed_cmd(teleop, 1500, 0.3, 1500);
   EXPECT_EQ(receiver.verify("CMD_VEL", second.data(), second.size(), 2000), AuthVerdict::kOk);
-  EXPECT_EQ(receiver.verify("CMD_VEL", first.data(), first.size(), 2000), AuthVerdict::kOldSeq);   // reordered
+  EXPECT_EQ(receiver.verify("CMD_VEL", first.data(), first.size(), 2000), AuthVerdict::kOldSeq);    // reordered
   EXPECT_EQ(receiver.verify("CMD_VEL", second.data(), second.size(), 2000), AuthVerdict::kOldSeq);  // replayed
   // Another sender's sequence is its own.
   EXPECT_EQ(receiver.verify("CMD_VEL", other.data(), other.size(), 2000), AuthVerdict::kOk);
@@ -183,8 +183,8 @@ TEST(Auth, ACoreNeverSeesARejectedMessageAndHealthCountsEachKind) {
   const int64_t t = 10'000'000;
   auto good = signed_cmd(planner, t, 0.4, t);
   bus.inject("CMD_VEL", good, t);
-  bus.inject("CMD_VEL", good, t + 1);                                        // replayed
-  bus.inject("CMD_VEL", signed_cmd(attacker, t + 2, 9.0, t + 2), t + 2);     // forged
+  bus.inject("CMD_VEL", good, t + 1);                                            // replayed
+  bus.inject("CMD_VEL", signed_cmd(attacker, t + 2, 9.0, t + 2), t + 2);         // forged
   bus.inject("CMD_VEL", signed_cmd(planner, t - 5'000'000, 9.0, t + 3), t + 3);  // stale
   evade::cmd_vel_t plain{};
   plain.utime = t + 4;
@@ -220,7 +220,8 @@ TEST(Auth, ACorePublishesSignedWhenItHasAnAuthenticator) {
   HmacAuth receiver(key_a(), "planner", 2.0);
   int ok = 0;
   for (const auto& e : bus.published())
-    if (e.channel == "ROUTE") ok += receiver.verify("ROUTE", e.data.data(), e.data.size(), e.timestamp) == AuthVerdict::kOk;
+    if (e.channel == "ROUTE")
+      ok += receiver.verify("ROUTE", e.data.data(), e.data.size(), e.timestamp) == AuthVerdict::kOk;
   EXPECT_EQ(ok, 3);
   EXPECT_EQ(routes[2].auth_sender, "route");
 }
@@ -290,19 +291,24 @@ TEST_F(KeyFile, ThePathComesFromTheEnvironmentElseTheConfigWithHome) {
   EXPECT_EQ(key_path(p), "/home/robot/.config/evade/bus.key");
   ::setenv("EVADE_BUS_KEY", "/tmp/k", 1);
   EXPECT_EQ(key_path(p), "/tmp/k");
-  if (saved) ::setenv("EVADE_BUS_KEY", keep.c_str(), 1); else ::unsetenv("EVADE_BUS_KEY");
+  if (saved)
+    ::setenv("EVADE_BUS_KEY", keep.c_str(), 1);
+  else
+    ::unsetenv("EVADE_BUS_KEY");
 }
 
 TEST(AuthConfig, TheSectionIsStrict) {
-  auto root = config::load_string("bus:\n  allowed_interfaces: [lo]\n  auth:\n    key_file: /k\n    window_s: 1.5\n", "t.yaml");
+  auto root =
+      config::load_string("bus:\n  allowed_interfaces: [lo]\n  auth:\n    key_file: /k\n    window_s: 1.5\n", "t.yaml");
   auto p = AuthParams::from_config(root);
   EXPECT_EQ(p.key_file, "/k");
   EXPECT_DOUBLE_EQ(p.window_s, 1.5);
   EXPECT_THROW(AuthParams::from_config(config::load_string(
                    "bus:\n  auth:\n    key_file: /k\n    window_s: 1.5\n    channels: [X]\n", "t.yaml")),
                config::ConfigError);
-  EXPECT_THROW(AuthParams::from_config(config::load_string("bus:\n  auth:\n    key_file: /k\n    window_s: 0\n", "t.yaml")),
-               config::ConfigError);
+  EXPECT_THROW(
+      AuthParams::from_config(config::load_string("bus:\n  auth:\n    key_file: /k\n    window_s: 0\n", "t.yaml")),
+      config::ConfigError);
 }
 
 }  // namespace

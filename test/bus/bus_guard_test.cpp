@@ -1,7 +1,8 @@
 // The bus exposure check (lib/bus/bus_guard.h) on kernel tables as text.
+#include "bus/bus_guard.h"
+
 #include <gtest/gtest.h>
 
-#include "bus/bus_guard.h"
 #include "config/config.h"
 
 namespace evade::bus {
@@ -91,8 +92,8 @@ TEST(BusGuard, ConfigNamesTheAllowedInterfaces) {
   }
   EXPECT_THROW(BusGuardParams::from_config(config::load_string("bus:\n  allowed_interfaces: [lo]\n  x: 1\n", "t")),
                config::ConfigError);
-  EXPECT_NO_THROW(BusGuardParams::from_config(config::load_robot_config(std::string(EVADE_SOURCE_DIR) +
-                                                                        "/config/robot.yaml")));
+  EXPECT_NO_THROW(
+      BusGuardParams::from_config(config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml")));
 }
 
 }  // namespace

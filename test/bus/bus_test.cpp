@@ -117,8 +117,10 @@ TEST(MemoryBus, ExternalInputsAppearInHealth) {
   bus.add(d);
   int packets = 0;
   bus.input(d, 1'000'000, [&] { ++packets; });  // unnamed: not reported
-  d.input(1'200'000, [&] { ++packets; }, "udp:2368");
-  d.input(1'300'000, [&] { ++packets; }, "udp:2368");
+  d.input(
+      1'200'000, [&] { ++packets; }, "udp:2368");
+  d.input(
+      1'300'000, [&] { ++packets; }, "udp:2368");
   bus.advance_to(2'000'000);
   auto h = bus.decoded<evade::health_t>("HEALTH").back();
   EXPECT_EQ(packets, 3);
@@ -131,8 +133,7 @@ TEST(MemoryBus, ExternalInputsAppearInHealth) {
 
 TEST(LogReplay, SameOutputsTwiceAndSameAsMemoryBus) {
   std::vector<LogEvent> input;
-  for (int i = 0; i < 50; ++i)
-    input.push_back(LogEvent{1'000'000 + i * 37'000, "ODOMETRY", encode(odom(i, 0.01 * i))});
+  for (int i = 0; i < 50; ++i) input.push_back(LogEvent{1'000'000 + i * 37'000, "ODOMETRY", encode(odom(i, 0.01 * i))});
   input.push_back(LogEvent{2'900'000, "OTHER", {9, 9}});
 
   Doubler a, b;

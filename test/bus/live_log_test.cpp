@@ -140,11 +140,13 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
     std::string msg = "\"type\":\"odometry_t\",\"msg\":{\"utime\":" + std::to_string(o.utime) +
                       ",\"x\":" + fmt("%.17g", o.x) + ",\"y\":" + fmt("%.17g", o.y) +
                       ",\"yaw\":" + fmt("%.17g", o.yaw) + ",\"v\":" + fmt("%.17g", o.v) +
-                      ",\"omega\":" + fmt("%.17g", o.omega) + ",\"epoch\":" + std::to_string(o.epoch) + ",\"auth_sender\":\"\",\"auth_seq\":0,";
+                      ",\"omega\":" + fmt("%.17g", o.omega) + ",\"epoch\":" + std::to_string(o.epoch) +
+                      ",\"auth_sender\":\"\",\"auth_seq\":0,";
     EXPECT_NE(json.find("{\"channel\":\"ECHO_IN\",\"utime\":"), std::string::npos);
     EXPECT_NE(json.find(msg), std::string::npos) << "missing odometry " << i;
     std::string reply = "\"type\":\"cmd_vel_t\",\"msg\":{\"utime\":" + std::to_string(o.utime) +
-                        ",\"v\":" + fmt("%.17g", 2.0 * o.v) + ",\"omega\":" + fmt("%.17g", 2.0 * o.omega) + ",\"auth_sender\":\"\",\"auth_seq\":0,";
+                        ",\"v\":" + fmt("%.17g", 2.0 * o.v) + ",\"omega\":" + fmt("%.17g", 2.0 * o.omega) +
+                        ",\"auth_sender\":\"\",\"auth_seq\":0,";
     EXPECT_NE(json.find(reply), std::string::npos) << "missing reply " << i;
   }
 

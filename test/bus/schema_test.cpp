@@ -16,8 +16,8 @@ namespace {
 
 TEST(LcmSchema, KnowsEveryType) {
   auto types = LcmSchema::evade().types();
-  for (const char* t : {"pointcloud_t", "odometry_t", "grid_map_t", "obstacle_list_t", "prediction_list_t",
-                        "path_t", "plan_t", "cmd_vel_t", "base_status_t", "sim_truth_t", "health_t"})
+  for (const char* t : {"pointcloud_t", "odometry_t", "grid_map_t", "obstacle_list_t", "prediction_list_t", "path_t",
+                        "plan_t", "cmd_vel_t", "base_status_t", "sim_truth_t", "health_t"})
     EXPECT_NE(std::find(types.begin(), types.end(), t), types.end()) << t;
 }
 
@@ -76,8 +76,7 @@ TEST(LcmSchema, RejectsMalformed) {
   pc.ring = {1};
   pc.time_offset = {1};
   auto bytes = encode(pc);
-  for (size_t cut = 0; cut < bytes.size(); ++cut)
-    EXPECT_FALSE(LcmSchema::evade().decode(bytes.data(), cut)) << cut;
+  for (size_t cut = 0; cut < bytes.size(); ++cut) EXPECT_FALSE(LcmSchema::evade().decode(bytes.data(), cut)) << cut;
   bytes.push_back(0);
   EXPECT_FALSE(LcmSchema::evade().decode(bytes.data(), bytes.size()));
   std::vector<uint8_t> junk(64, 0xAB);

@@ -1,6 +1,8 @@
 // The shared cores of a lockstep run (Cpu, processor sharing): jobs that
 // outnumber the cores stretch, a background load slows every job by the
 // stated factor, and the same jobs give the same times.
+#include "closedloop/cpu.h"
+
 #include <gtest/gtest.h>
 
 #include <map>
@@ -9,7 +11,6 @@
 #include <vector>
 
 #include "bus/core.h"
-#include "closedloop/cpu.h"
 #include "closedloop/event_queue.h"
 #include "closedloop/process_node.h"
 #include "evade/cmd_vel_t.hpp"

@@ -123,9 +123,8 @@ TEST(Lockstep, ThePlannerIsChargedByItsIterations) {
   LockstepRun options;
   options.planner_compute = "iterations";
   const LoopRun r = run_once("iterations", options);
-  expect_plans_charged(r, [&](const evade::plan_t& p) {
-    return static_cast<int64_t>((base + per * p.iterations) * 1e6);
-  });
+  expect_plans_charged(r,
+                       [&](const evade::plan_t& p) { return static_cast<int64_t>((base + per * p.iterations) * 1e6); });
 }
 
 TEST(Lockstep, AFixedPlannerComputeTimeIsChargedForEveryCycle) {

@@ -1,10 +1,10 @@
+#include "config/config.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <fstream>
 #include <sstream>
-
-#include "config/config.h"
 
 namespace evade::config {
 namespace {
@@ -77,7 +77,9 @@ TEST(Config, NonScalarKeyIsAConfigError) {
 TEST(Config, RangeAndChoice) {
   Node root = load_string("v: -1\nmode: fast\n", "r.yaml");
   EXPECT_EQ(error_of([&] { root.get_double("v", 0, 2); }), "r.yaml:1: key 'v': value -1 outside [0, 2]");
-  EXPECT_EQ(error_of([&] { root.get_choice("mode", {"dcbf", "mpc"}); }),
+  EXPECT_EQ(error_of([&] {
+              root.get_choice("mode", {"dcbf", "mpc"});
+            }),
             "r.yaml:2: key 'mode': 'fast' is not one of: dcbf, mpc");
 }
 

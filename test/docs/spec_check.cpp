@@ -77,15 +77,21 @@ std::string strip_comments(const std::string& t) {
     const char c = t[i], n = i + 1 < t.size() ? t[i + 1] : '\0';
     switch (st) {
       case kCode:
-        if (c == '"') st = kString;
-        else if (c == '\'') st = kChar;
-        else if (c == '/' && n == '/') st = kLine;
-        else if (c == '/' && n == '*') st = kBlock;
+        if (c == '"')
+          st = kString;
+        else if (c == '\'')
+          st = kChar;
+        else if (c == '/' && n == '/')
+          st = kLine;
+        else if (c == '/' && n == '*')
+          st = kBlock;
         break;
       case kString:
       case kChar:
-        if (c == '\\') ++i;
-        else if (c == (st == kString ? '"' : '\'')) st = kCode;
+        if (c == '\\')
+          ++i;
+        else if (c == (st == kString ? '"' : '\''))
+          st = kCode;
         break;
       case kLine:
         if (c == '\n') st = kCode;
@@ -109,7 +115,7 @@ int line_of(const std::string& text, size_t pos) {
 }
 
 struct Resolved {
-  std::map<std::string, std::set<std::string>> where;  // channel -> file:line
+  std::map<std::string, std::set<std::string>> where;              // channel -> file:line
   std::map<std::string, std::map<std::string, std::string>> type;  // channel -> subscribed type -> file:line
 };
 

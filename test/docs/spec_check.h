@@ -40,11 +40,11 @@ struct ChannelUse {
 
 struct Code {
   std::vector<ChannelUse> uses;
-  std::map<std::string, std::string> constants;            // kFooChannel -> "FOO"
+  std::map<std::string, std::string> constants;           // kFooChannel -> "FOO"
   std::map<std::string, std::set<std::string>> channels;  // constants and comparisons: channel -> file:line
-  std::set<std::string> types;                             // lcmtypes/: package.struct
-  std::set<std::string> binaries;                          // procs/*/CMakeLists.txt add_executable
-  std::set<std::string> tools;                             // executable files directly in tools/
+  std::set<std::string> types;                            // lcmtypes/: package.struct
+  std::set<std::string> binaries;                         // procs/*/CMakeLists.txt add_executable
+  std::set<std::string> tools;                            // executable files directly in tools/
 };
 
 Spec parse_spec(const std::string& markdown);

@@ -17,7 +17,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   auto serial = [&](fuzz::Bytes& b, int64_t) {
     const uint8_t kind = b.u8() % 3;
     if (kind == 0) {
-      base::FrameBytes f = base::encode(base::MotionStatus{static_cast<int16_t>(b.u16()), static_cast<int16_t>(b.u16())}, b.u8());
+      base::FrameBytes f =
+          base::encode(base::MotionStatus{static_cast<int16_t>(b.u16()), static_cast<int16_t>(b.u16())}, b.u8());
       core.on_serial_bytes(f.data(), f.size());
     } else if (kind == 1) {
       base::SystemStatus s;
@@ -34,10 +35,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       core.on_serial_bytes(noise, n);
     }
   };
-  fuzz::run_sequence(core, {{"CMD_VEL", fuzz::cmd_vel}, {"ESTOP", fuzz::estop}}, in, 64,
-                     {serial, serial, [&](fuzz::Bytes&, int64_t) { core.on_link_opened(); },
-                      [&](fuzz::Bytes&, int64_t) { core.on_link_lost("fuzz"); },
-                      [&](fuzz::Bytes&, int64_t) { core.stop(); }});
+  fuzz::run_sequence(
+      core, {{"CMD_VEL", fuzz::cmd_vel}, {"ESTOP", fuzz::estop}}, in, 64,
+      {serial, serial, [&](fuzz::Bytes&, int64_t) { core.on_link_opened(); },
+       [&](fuzz::Bytes&, int64_t) { core.on_link_lost("fuzz"); }, [&](fuzz::Bytes&, int64_t) { core.stop(); }});
   const std::vector<uint8_t> tx = core.take_tx();
   base::StreamParser parser;
   parser.feed(tx.data(), tx.size(), [&](const base::Frame& f) {

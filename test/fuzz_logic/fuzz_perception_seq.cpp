@@ -11,13 +11,15 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace evade;
   static const config::Node root = config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
-  static const prediction::PredictorParams predictor = prediction::PredictorParams::from_config(root.section("predictor"));
+  static const prediction::PredictorParams predictor =
+      prediction::PredictorParams::from_config(root.section("predictor"));
   fuzz::Bytes in(data, size);
   switch (in.u8() % 3) {
     case 0: {
       auto core = mapping::ElevationMapCore::from_config(root);
-      fuzz::run_sequence(*core, {{"ODOMETRY", fuzz::odometry}, {"ODOMETRY", fuzz::odometry}, {"LIDAR_POINTS", fuzz::pointcloud}},
-                         in, 24);
+      fuzz::run_sequence(
+          *core, {{"ODOMETRY", fuzz::odometry}, {"ODOMETRY", fuzz::odometry}, {"LIDAR_POINTS", fuzz::pointcloud}}, in,
+          24);
       break;
     }
     case 1: {

@@ -11,15 +11,15 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace evade;
   static const planning::PlannerParams params = [] {
-    planning::PlannerParams p =
-        planning::PlannerParams::from_config(config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
+    planning::PlannerParams p = planning::PlannerParams::from_config(
+        config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
     p.max_cycle_iterations = std::min(p.max_cycle_iterations, 200);  // bounded time per cycle under the sanitizers
     return p;
   }();
   fuzz::Bytes in(data, size);
   planning::PlannerParams p = params;
-  static const planning::Mode modes[] = {planning::Mode::kEvade, planning::Mode::kDcbf, planning::Mode::kMpc, planning::Mode::kCbf,
-                                         planning::Mode::kKf, planning::Mode::kCbfCurvefit};
+  static const planning::Mode modes[] = {planning::Mode::kEvade, planning::Mode::kDcbf, planning::Mode::kMpc,
+                                         planning::Mode::kCbf,   planning::Mode::kKf,   planning::Mode::kCbfCurvefit};
   p.mode = modes[in.u8() % 6];
   planning::PlannerCore core(p);
   static const std::vector<uint8_t> straight = [] {
@@ -30,10 +30,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     r.y = {0.0, 0.0};
     return bus::encode(r);
   }();
-  fuzz::run_sequence(core,
-                     {{"ODOMETRY", fuzz::odometry},
-                      {"ROUTE", fuzz::route},
-                      {"OBSTACLE_PREDICTIONS", [](fuzz::Bytes& b, int64_t now) { return fuzz::predictions(b, now, 64); }}},
-                     in, 24, {}, {{"ROUTE", straight}});
+  fuzz::run_sequence(
+      core,
+      {{"ODOMETRY", fuzz::odometry},
+       {"ROUTE", fuzz::route},
+       {"OBSTACLE_PREDICTIONS", [](fuzz::Bytes& b, int64_t now) { return fuzz::predictions(b, now, 64); }}},
+      in, 24, {}, {{"ROUTE", straight}});
   return 0;
 }

@@ -40,15 +40,20 @@ class Bytes {
   // Mostly within [lo, hi]; one in 16 something a broken sender could send.
   double value(double lo, double hi) {
     if (!chance(16)) return range(lo, hi);
-    static const double odd[] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
-                                 -std::numeric_limits<double>::infinity(), 1e300, -1e300, 0.0, 1e-300};
+    static const double odd[] = {std::numeric_limits<double>::quiet_NaN(),
+                                 std::numeric_limits<double>::infinity(),
+                                 -std::numeric_limits<double>::infinity(),
+                                 1e300,
+                                 -1e300,
+                                 0.0,
+                                 1e-300};
     return odd[u8() % (sizeof odd / sizeof odd[0])];
   }
   // A message timestamp: half the time `now`, mostly on time (0.2 s late to
   // 0.05 s early), else
   // 2 s late to 0.5 s early, now and then far off or extreme.
   int64_t utime(int64_t now) {
-    if (chance(2)) return now;                                                // stamped as it arrives
+    if (chance(2)) return now;                                            // stamped as it arrives
     if (!chance(3)) return now + static_cast<int64_t>(range(-2e5, 5e4));  // on time
     if (!chance(12)) return now + static_cast<int64_t>(range(-2e6, 5e5));
     static const int64_t odd[] = {std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::min(), 0, -1};
@@ -84,8 +89,7 @@ class FiniteSink : public bus::Sink {
   int64_t published = 0;
 
  private:
-  static void check(const bus::Value& v, const std::string& channel, const std::string& type,
-                    const std::string& path) {
+  static void check(const bus::Value& v, const std::string& channel, const std::string& type, const std::string& path) {
     switch (v.kind) {
       case bus::Value::Kind::Float:
         if (!std::isfinite(v.f)) {

@@ -218,10 +218,10 @@ TEST(ObstacleLayer, VerticalSurfaceInsideOneCellCountsOnlyWithCellExtent) {
 
 TEST(HoleFilling, ClosesSingleCellsNotGaps) {
   auto L = terrain(20, 20, 0.1, [](double x, double) { return 0.1 * x; });
-  L.z_max[L.index(5, 5)] = L.z_min[L.index(5, 5)] = kNaN;       // a single hole
+  L.z_max[L.index(5, 5)] = L.z_min[L.index(5, 5)] = kNaN;  // a single hole
   for (int r = 0; r < 20; ++r)
     for (int c = 12; c < 15; ++c) L.z_max[L.index(r, c)] = L.z_min[L.index(r, c)] = kNaN;  // a 3-wide gap
-  L.z_max[L.index(15, 5)] = L.z_min[L.index(15, 5)] = kNaN;   // a hole next to a 0.5 m pole: an edge
+  L.z_max[L.index(15, 5)] = L.z_min[L.index(15, 5)] = kNaN;  // a hole next to a 0.5 m pole: an edge
   L.z_max[L.index(15, 6)] = L.z_min[L.index(15, 6)] = 0.5f;
   const int64_t filled = fill_holes(&L, 5, 0.15);
   EXPECT_EQ(filled, 1);
@@ -306,8 +306,8 @@ TEST(Builder, AnObjectBesideTheRobotWhereNoGroundIsSeenIsAnObstacle) {
   };
   std::printf("[figures] bin 0.3 m beside the robot: obstacle cells %d with the ground plane, %d without\n",
               near_bin(with), near_bin(without));
-  EXPECT_GE(near_bin(with), 3);  // a cluster for the tracker (dbscan_min_points)
-  EXPECT_GT(near_bin(with), near_bin(without));  // at step_max_m 0.15: 6 against 0
+  EXPECT_GE(near_bin(with), 3);                        // a cluster for the tracker (dbscan_min_points)
+  EXPECT_GT(near_bin(with), near_bin(without));        // at step_max_m 0.15: 6 against 0
   EXPECT_EQ(count_obstacles(with.L), near_bin(with));  // nothing else
   SynthWorld ramp;
   ramp.ground_slope_x = 0.05;
@@ -347,7 +347,7 @@ TEST(Builder, AFootballAheadIsAnObstacleOutToFourMetres) {
     };
     std::printf("[figures] ball %.2f m ahead: %d obstacle cells at h_max %.2f, %d at 0.15\n", d, near_ball(b),
                 p.step_max_m, near_ball(h));
-    EXPECT_GE(near_ball(b), 3) << d << " m";  // a cluster for the tracker (dbscan_min_points)
+    EXPECT_GE(near_ball(b), 3) << d << " m";                     // a cluster for the tracker (dbscan_min_points)
     EXPECT_EQ(count_obstacles(b.L), near_ball(b)) << d << " m";  // nothing else
     missed_high += near_ball(h) < 3;
   }
@@ -406,8 +406,8 @@ TEST(Builder, StepAboveHmaxIsObstacleAlongItsEdge) {
     for (int c = 0; c < b.L.width; ++c) {
       if (!b.L.obstacle[b.L.index(r, c)]) continue;
       const double x = b.L.origin_x + (c + 0.5) * 0.1, y = b.L.origin_y + (r + 0.5) * 0.1;
-      const bool near_edge = (std::abs(x - 2.5) < 0.25 && std::abs(y) < 3.05) ||
-                             (x > 2.3 && std::abs(std::abs(y) - 3.0) < 0.25);
+      const bool near_edge =
+          (std::abs(x - 2.5) < 0.25 && std::abs(y) < 3.05) || (x > 2.3 && std::abs(std::abs(y) - 3.0) < 0.25);
       (near_edge ? edge : elsewhere) += 1;
     }
   EXPECT_GT(edge, 40);  // most of the 6 m front edge
@@ -442,8 +442,10 @@ TEST(Builder, CylinderIsObstacleAndNothingElseIs) {
     for (int c = 0; c < b.L.width; ++c) {
       if (!b.L.obstacle[b.L.index(row, c)]) continue;
       const double x = b.L.origin_x + (c + 0.5) * 0.1, y = b.L.origin_y + (row + 0.5) * 0.1;
-      if (std::hypot(x - 3.5, y - 1.0) < 0.25 + 0.25) ++near1;
-      else if (std::hypot(x + 2.0, y + 3.0) < 0.3 + 0.25) ++near2;
+      if (std::hypot(x - 3.5, y - 1.0) < 0.25 + 0.25)
+        ++near1;
+      else if (std::hypot(x + 2.0, y + 3.0) < 0.3 + 0.25)
+        ++near2;
       else {
         ++far;
         ADD_FAILURE() << "obstacle at " << x << "," << y << " z " << b.L.z_max[b.L.index(row, c)] << " min "
@@ -693,8 +695,12 @@ TEST(Core, HostileInputNeitherCrashesNorPoisonsLaterMaps) {
   bus.add(core);
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> wild(-1e6f, 1e6f);
-  const float specials[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
-                            -std::numeric_limits<float>::infinity(), 3.4e38f, -3.4e38f, 0.0f};
+  const float specials[] = {std::numeric_limits<float>::quiet_NaN(),
+                            std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(),
+                            3.4e38f,
+                            -3.4e38f,
+                            0.0f};
   for (int k = 0; k < 200; ++k) {
     evade::odometry_t o{};
     o.utime = 1'000'000 + k * 20'000 - (k % 7 == 0 ? 5'000'000 : 0);  // some go back in time

@@ -117,7 +117,7 @@ TEST(RunMetrics, SpeedVarianceWhileADynamicObstacleIsNear) {
     evade::sim_truth_t s;
     ASSERT_TRUE(bus::decode(e.data.data(), e.data.size(), &s));
     s.obstacles[1].x = 2.0;
-    s.obstacles[1].y = 30.0;  // far, then ...
+    s.obstacles[1].y = 30.0;                // far, then ...
     if (s.x > 0.0) s.obstacles[1].y = 3.0;  // ... inside the map once the robot passes x = 0
     s.v = s.x > 0.0 && s.x < 5.0 ? (std::fmod(s.x, 1.0) < 0.5 ? 0.8 : 1.2) : s.v;
     e.data = bus::encode(s);
@@ -258,9 +258,7 @@ TEST(Contacts, PointVelocityIncludesTheTurn) {
   EXPECT_NEAR(point_velocity_along(s, p, {-1, 0}), 0.21, 1e-12);
 }
 
-TEST(RunMetrics, NoTruthIsAnError) {
-  EXPECT_THROW(compute_metrics({}, MetricsParams{}), std::runtime_error);
-}
+TEST(RunMetrics, NoTruthIsAnError) { EXPECT_THROW(compute_metrics({}, MetricsParams{}), std::runtime_error); }
 
 }  // namespace
 }  // namespace evade::metrics

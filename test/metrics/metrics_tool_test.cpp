@@ -35,11 +35,28 @@ Result run(const std::string& args) {
 TEST(MetricsTool, WritesEveryKeyOfTheContract) {
   const auto r = run(kLog + " --config " + kSource + "/config/robot.yaml");
   ASSERT_EQ(r.status, 0) << r.out;
-  for (const char* key :
-       {"reached_goal", "collided", "at_fault", "success", "timed_out", "collisions_at_fault",
-        "collisions_not_at_fault", "contacts", "min_dist_m", "time_to_goal_s", "reaction_time_s", "reaction_missed",
-        "reactions", "replay_plans_compared", "replay_plans_differing", "replay_max_plan_diff_m", "speed_var",
-        "path_length_m", "planner_solve_ms_p50", "planner_solve_ms_p99", "planner_cycle_ms_p99", "solver_failures"})
+  for (const char* key : {"reached_goal",
+                          "collided",
+                          "at_fault",
+                          "success",
+                          "timed_out",
+                          "collisions_at_fault",
+                          "collisions_not_at_fault",
+                          "contacts",
+                          "min_dist_m",
+                          "time_to_goal_s",
+                          "reaction_time_s",
+                          "reaction_missed",
+                          "reactions",
+                          "replay_plans_compared",
+                          "replay_plans_differing",
+                          "replay_max_plan_diff_m",
+                          "speed_var",
+                          "path_length_m",
+                          "planner_solve_ms_p50",
+                          "planner_solve_ms_p99",
+                          "planner_cycle_ms_p99",
+                          "solver_failures"})
     EXPECT_NE(r.out.find(std::string("\"") + key + "\": "), std::string::npos) << key << "\n" << r.out;
   // the golden window: a head-on mover is reacted to
   EXPECT_EQ(r.out.find("\"reaction_time_s\": null"), std::string::npos) << r.out;

@@ -1,5 +1,7 @@
 // CLEAR MOT and the perception metrics on hand-made logs whose scores are
 // known, and ReturnCounter; the tool on the golden log.
+#include "metrics/perception_metrics.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,7 +16,6 @@
 #include "evade/prediction_list_t.hpp"
 #include "evade/sim_truth_t.hpp"
 #include "metrics/clear_mot.h"
-#include "metrics/perception_metrics.h"
 #include "sim/return_counter.h"
 
 namespace evade::metrics {
@@ -31,7 +32,8 @@ TrueObject disc(int id, double x, double y, bool scored = true) {
 
 TEST(ClearMot, PerfectTrackingScoresOne) {
   ClearMot mot(1.0);
-  for (int f = 0; f < 10; ++f) mot.add_frame(f * 0.1, 0.1, {disc(0, f * 0.1, 0), disc(1, 5, 5)}, {{7, {f * 0.1 + 0.05, 0}}, {8, {5, 5}}});
+  for (int f = 0; f < 10; ++f)
+    mot.add_frame(f * 0.1, 0.1, {disc(0, f * 0.1, 0), disc(1, 5, 5)}, {{7, {f * 0.1 + 0.05, 0}}, {8, {5, 5}}});
   MotTotals t = mot.totals();
   EXPECT_EQ(t.objects, 20);
   EXPECT_EQ(t.matches, 20);
@@ -44,9 +46,9 @@ TEST(ClearMot, PerfectTrackingScoresOne) {
 TEST(ClearMot, MissesFalsePositivesSwitchesAndFragmentations) {
   ClearMot mot(1.0);
   mot.add_frame(0.0, 0.1, {disc(0, 0, 0)}, {{1, {0, 0}}});
-  mot.add_frame(0.1, 0.1, {disc(0, 0, 0)}, {});                   // miss
-  mot.add_frame(0.2, 0.1, {disc(0, 0, 0)}, {{2, {0, 0}}});        // tracked again by another id: switch + fragmentation
-  mot.add_frame(0.3, 0.1, {disc(0, 0, 0)}, {{2, {0, 0}}, {3, {3, 3}}});  // a false positive
+  mot.add_frame(0.1, 0.1, {disc(0, 0, 0)}, {});             // miss
+  mot.add_frame(0.2, 0.1, {disc(0, 0, 0)}, {{2, {0, 0}}});  // tracked again by another id: switch + fragmentation
+  mot.add_frame(0.3, 0.1, {disc(0, 0, 0)}, {{2, {0, 0}}, {3, {3, 3}}});    // a false positive
   mot.add_frame(0.4, 0.1, {disc(0, 0, 0)}, {{2, {0, 0}}, {5, {0.3, 0}}});  // a split: two tracks on one object
   MotTotals t = mot.totals();
   EXPECT_EQ(t.objects, 5);
@@ -199,9 +201,10 @@ TEST(PerceptionMetricsTool, ScoresTheGoldenLog) {
   const int objects = j["objects"].get<int>(), matches = j["matches"].get<int>();
   EXPECT_GT(matches, 0);
   EXPECT_EQ(matches + j["misses"].get<int>(), objects);
-  EXPECT_NEAR(j["mota"].get<double>(),
-              1.0 - double(j["misses"].get<int>() + j["false_positives"].get<int>() + j["id_switches"].get<int>()) / objects,
-              1e-5);
+  EXPECT_NEAR(
+      j["mota"].get<double>(),
+      1.0 - double(j["misses"].get<int>() + j["false_positives"].get<int>() + j["id_switches"].get<int>()) / objects,
+      1e-5);
   EXPECT_LT(j["motp_m"].get<double>(), 0.3);
   EXPECT_EQ(j["coverage"].size(), j["ellipse_area_m2"].size());
   EXPECT_FALSE(j["ade_1s_m"].is_null());

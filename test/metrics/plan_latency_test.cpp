@@ -1,12 +1,13 @@
 // plan_latency (lib/metrics/plan_latency.h): from a prediction list's
 // arrival to the CMD_VEL of the plan made from it, on hand-made logs.
+#include "metrics/plan_latency.h"
+
 #include <gtest/gtest.h>
 
 #include "bus/core.h"
 #include "evade/cmd_vel_t.hpp"
 #include "evade/plan_t.hpp"
 #include "evade/prediction_list_t.hpp"
-#include "metrics/plan_latency.h"
 
 namespace evade::metrics {
 namespace {

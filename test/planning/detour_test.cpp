@@ -2,12 +2,13 @@
 // are left alone, a blocked one is gone round with the planner's own
 // barrier above the margin, the side is kept against a small change, a
 // blocked route end gives no way, and the settled memory expires.
+#include "planning/detour.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "config/config.h"
-#include "planning/detour.h"
 #include "planning/params.h"
 #include "planning/problem.h"
 #include "planning/reference.h"
@@ -207,7 +208,7 @@ TEST(SettledMemory, KeepsEachTracksLastEllipseForItsMemoryThenForgetsIt) {
   ASSERT_EQ(m.size(), 2u);
   const auto now = m.obstacles();
   ASSERT_EQ(now.size(), 2u);
-  EXPECT_DOUBLE_EQ(now[0].x, 1.1);  // id 1 updated
+  EXPECT_DOUBLE_EQ(now[0].x, 1.1);                  // id 1 updated
   m.update(4'500'000, {{1, circle(1.2, 1, 0.5)}});  // 2 last seen 3.5 s ago
   ASSERT_EQ(m.size(), 1u);
   EXPECT_DOUBLE_EQ(m.obstacles()[0].x, 1.2);

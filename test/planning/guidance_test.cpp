@@ -1,6 +1,8 @@
 // Guidance (distinct ways through the predicted obstacles), the local
 // solves side by side, and the choice among them (lib/planning/guidance.h,
 // local_solves.h, selection.h, topology_planner.h).
+#include "planning/guidance.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include <string>
 
 #include "evade/plan_t.hpp"
-#include "planning/guidance.h"
 #include "planning/local_solves.h"
 #include "planning/selection.h"
 #include "planning/topology_planner.h"
@@ -88,7 +89,7 @@ TEST(Guidance, TwoTrajectoriesOfTheSameClassAreOneClass) {
   EXPECT_TRUE(same_class(near_left, far_left));
   EXPECT_FALSE(same_class(near_left, right));
   EXPECT_FALSE(same_class(short_of_it, right));  // waiting is a way of its own...
-  EXPECT_TRUE(compatible(short_of_it, right));    // ...that either side may follow
+  EXPECT_TRUE(compatible(short_of_it, right));   // ...that either side may follow
   EXPECT_TRUE(compatible(short_of_it, near_left));
   EXPECT_FALSE(compatible(near_left, right));
 }
@@ -194,7 +195,7 @@ TEST(Selection, CheapestFeasibleWithASwitchingPenalty) {
   EXPECT_EQ(select_plan(c, std::nullopt, 1.3), 1);  // no previous class: the cheapest
   Signature left;
   left.labels = {{1, 1}};
-  EXPECT_EQ(select_plan(c, left, 1.3), 0);  // 9 x 1.3 > 10: keep the side
+  EXPECT_EQ(select_plan(c, left, 1.3), 0);   // 9 x 1.3 > 10: keep the side
   EXPECT_EQ(select_plan(c, left, 1.05), 1);  // 9 x 1.05 < 10: the other side is cheaper enough
   EXPECT_EQ(select_plan({candidate(1, false, 1, 0.2), candidate(1, false, 1, 0.1)}, left, 1.3), -1);
   EXPECT_EQ(least_violating({candidate(1, false, 1, 0.2), candidate(1, false, 1, 0.1)}), 1);

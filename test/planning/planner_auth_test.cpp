@@ -110,7 +110,7 @@ TEST(PlannerAuth, EmptyPredictionsFromAnAttackerDoNotKeepADeadChainFresh) {
     Rig r(authenticated);
     for (int k = 1; k <= 10; ++k) r.step(k, true);
     const auto driving = r.last_cmd_since(kT0);
-    EXPECT_GT(driving.v, 0.05);  // planned and drove while the predictor lived
+    EXPECT_GT(driving.v, 0.05);                       // planned and drove while the predictor lived
     for (int k = 11; k <= 30; ++k) r.step(k, false);  // predictor dead for 2 s
     const auto last = r.last_cmd_since(kT0 + 25 * kPeriod);
     ASSERT_GE(last.v, 0.0) << "no CMD_VEL in the last 0.5 s";

@@ -3,6 +3,8 @@
 // head-on and crossing movers avoided (mode evade, the default), the
 // paper's modes built as the paper says and reading their own inputs,
 // stale input and missing route handled, never NaN.
+#include "planning/planner_core.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,7 +21,6 @@
 #include "evade/prediction_list_t.hpp"
 #include "planning/obstacles.h"
 #include "planning/params.h"
-#include "planning/planner_core.h"
 #include "planning/reference.h"
 
 namespace evade::planning {
@@ -95,7 +96,7 @@ double footprint_h(const PlannerParams& p, double x, double y, double yaw, doubl
 }
 
 struct RunResult {
-  double min_h = 1e9;            // true clearance of the footprint's discs beyond d_safe over the run
+  double min_h = 1e9;  // true clearance of the footprint's discs beyond d_safe over the run
   double final_x = 0, final_y = 0;
   double max_abs_y = 0;
   int plans = 0, ok = 0, nan = 0;
@@ -103,7 +104,7 @@ struct RunResult {
   int64_t detour_movers = 0;     // HEALTH counter detour_movers at the end
   int64_t detour = 0;            // HEALTH counter detour at the end
   std::vector<evade::plan_t> plan_log;
-  std::vector<double> robot_y;   // per plan
+  std::vector<double> robot_y;  // per plan
 };
 
 // Closed loop: odometry at 50 Hz, OBSTACLES and their predictions at 10 Hz,
@@ -169,7 +170,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
 TEST(PlannerCore, StaticObstacleOnThePathIsPassedWithPositiveBarrier) {
   RunResult r = run(default_params(), {{4.0, 0.1, 0.0, 0.0, 0.3}}, 14.0);
   EXPECT_EQ(r.nan, 0);
-  EXPECT_GT(r.final_x, 6.0);                // passed the obstacle
+  EXPECT_GT(r.final_x, 6.0);                 // passed the obstacle
   EXPECT_GE(r.min_h, -0.01) << "clearance";  // h >= 0 at every step (1 cm for the 50 Hz sim vs 10 Hz plans)
   EXPECT_GT(r.ok, r.plans * 8 / 10);
 }
@@ -598,7 +599,7 @@ TEST(PlannerCore, AListWithNoOdometrySinceTheLastCycleWaitsForTheNext) {
   o.utime = t0;
   bus.inject("ODOMETRY", o, t0);  // the first odometry plans
   o.utime = t0 + 20'000;
-  bus.inject("ODOMETRY", o, t0 + 20'000);  // within the period: no cycle
+  bus.inject("ODOMETRY", o, t0 + 20'000);                                               // within the period: no cycle
   bus.inject("OBSTACLE_PREDICTIONS", predictions(obs, t0 + 30'000, 0.0), t0 + 30'000);  // at once
   ASSERT_EQ(bus.decoded<evade::plan_t>("PLAN").size(), 2u);
   EXPECT_EQ(bus.decoded<evade::plan_t>("PLAN")[1].utime, t0 + 20'000);
@@ -753,8 +754,8 @@ TEST(Modes, InvalidObservedEllipsesAreCountedAndSkipped) {
   // beyond obstacle_consider_radius_m: counted and skipped (issue 20: near
   // the robot, or of unknown position, they make it brake instead, test
   // PlannerInputs.ObservedObstaclesLateOrBrokenAreNotUsed)
-  const std::vector<SimObstacle> three = {{2.0, 0.05, 0.0, 0.0, 0.3}, {20.0, 0.0, 0.0, 0.0, 0.3},
-                                         {30.0, 0.0, 0.0, 0.0, 0.3}};
+  const std::vector<SimObstacle> three = {
+      {2.0, 0.05, 0.0, 0.0, 0.3}, {20.0, 0.0, 0.0, 0.0, 0.3}, {30.0, 0.0, 0.0, 0.0, 0.3}};
   evade::obstacle_list_t m = observed(three, 1'000'000, 0.0);
   m.obstacles[1].a = std::nan("");
   m.obstacles[2].b = 0.0;
@@ -931,7 +932,7 @@ TEST(Reference, HeadingFromTheTangentUnwrappedNearTheRobot) {
   f.update_progress(0, 0, 3.0);
   std::vector<double> rx, ry, ryaw;
   f.reference(0.0, 0.0, -3.0, 25, 0.1, 0.8, 0.5, &rx, &ry, &ryaw);  // robot yaw -3.0 ~ -pi
-  EXPECT_NEAR(ryaw[0], -M_PI, 1e-9);                      // unwrapped next to -3.0, not +pi
+  EXPECT_NEAR(ryaw[0], -M_PI, 1e-9);                                // unwrapped next to -3.0, not +pi
   EXPECT_NEAR(rx[1], -0.08, 1e-9);
   EXPECT_NEAR(rx[25], -2.0, 1e-9);
 }

@@ -181,7 +181,8 @@ TEST(CeresSolver, FromRestThePlanAcceleratesAtTheLimit) {
     const SolveResult r = CeresMpcSolver(o).solve(pb, std::vector<double>(2 * pb.N, 0.0));
     ASSERT_TRUE(r.feasible) << static_cast<int>(ls);
     for (int k = 0; k < 7; ++k)
-      EXPECT_NEAR(r.u[2 * k], pb.lim.accel * pb.dt * (k + 1), 5e-3) << "line search " << static_cast<int>(ls) << ", step " << k;
+      EXPECT_NEAR(r.u[2 * k], pb.lim.accel * pb.dt * (k + 1), 5e-3)
+          << "line search " << static_cast<int>(ls) << ", step " << k;
   }
 }
 
@@ -226,8 +227,8 @@ TEST(CeresSolver, StartInsideSafeDistanceElasticPlanIncreasesH) {
   EXPECT_TRUE(r.feasible);  // for the shifted barrier
   const std::vector<double> h = barriers_along(pb, pb.obstacles[0], r);
   for (int k = 1; k <= pb.N; ++k) EXPECT_GE(h[k], h[k - 1] - 1e-3) << k;  // h never shrinks
-  EXPECT_GT(h[5], h0);                                                     // it grows early
-  EXPECT_GT(h.back(), 0.0);                                                // out of d_safe by the end
+  EXPECT_GT(h[5], h0);                                                    // it grows early
+  EXPECT_GT(h.back(), 0.0);                                               // out of d_safe by the end
 }
 
 TEST(CeresSolver, RelaxationOfAStartInsideDSafeKeepsHFromFalling) {
@@ -242,7 +243,7 @@ TEST(CeresSolver, RelaxationOfAStartInsideDSafeKeepsHFromFalling) {
   for (int j = 0; j < R; ++j) EXPECT_EQ(relax[j], 0.0);
   for (int k = 0; k < pb.N; ++k) {
     EXPECT_NEAR(relax[R + k], -(1.0 - 0.9) * h0, 1e-12) << k;  // h may not fall below its start
-    EXPECT_EQ(relax[R + pb.N + k], 0.0) << k;                   // standing meets it
+    EXPECT_EQ(relax[R + pb.N + k], 0.0) << k;                  // standing meets it
   }
 }
 
@@ -343,8 +344,9 @@ TEST(CeresSolver, ColdStartBesideAnObstacleDoesNotReturnTheStart) {
   const std::vector<double> rest(2 * pb.N, 0.0);
   const double standing = objective(pb, rest.data());
   const SolveResult r = CeresMpcSolver(opts()).solve(pb, rest);
-  std::printf("[figures] cold start beside an obstacle: cost %.1f (standing %.1f), x_N %.2f m, %d iterations, %d outer\n", r.cost, standing,
-              r.states[3 * pb.N], r.iterations, r.outer_iterations);
+  std::printf(
+      "[figures] cold start beside an obstacle: cost %.1f (standing %.1f), x_N %.2f m, %d iterations, %d outer\n",
+      r.cost, standing, r.states[3 * pb.N], r.iterations, r.outer_iterations);
   ASSERT_TRUE(r.feasible);
   EXPECT_LT(r.cost, 0.85 * standing);
   EXPECT_GT(r.states[3 * pb.N], 0.3);  // driving on, not creeping

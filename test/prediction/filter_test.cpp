@@ -17,8 +17,10 @@ constexpr double kPi = 3.14159265358979323846;
 // The paper's printed A, for ITS state order (x, y, vx, vy, ax, ay, a, b, theta).
 Covariance paper_printed_A(double T) {
   Covariance A = Covariance::Identity();
-  A(0, 2) = T; A(0, 4) = T * T / 2;
-  A(1, 3) = T; A(1, 5) = T * T / 2;
+  A(0, 2) = T;
+  A(0, 4) = T * T / 2;
+  A(1, 3) = T;
+  A(1, 5) = T * T / 2;
   A(2, 4) = T;
   A(3, 5) = T;
   return A;
@@ -58,9 +60,9 @@ TEST(Filter, SparsePropagationEqualsDenseProducts) {
 TEST(Filter, ProcessNoiseScalesWithTheInterval) {
   FilterParams fp;
   const Covariance q1 = process_noise(fp, 0.1, 0.05), q2 = process_noise(fp, 0.2, 0.05);
-  EXPECT_NEAR(q2(kVx, kVx) / q1(kVx, kVx), 8.0, 1e-12);   // dt^3 / 3
-  EXPECT_NEAR(q2(kX, kX) / q1(kX, kX), 32.0, 1e-12);      // dt^5 / 20
-  EXPECT_NEAR(q2(kA, kA) / q1(kA, kA), 2.0, 1e-12);       // random walk
+  EXPECT_NEAR(q2(kVx, kVx) / q1(kVx, kVx), 8.0, 1e-12);  // dt^3 / 3
+  EXPECT_NEAR(q2(kX, kX) / q1(kX, kX), 32.0, 1e-12);     // dt^5 / 20
+  EXPECT_NEAR(q2(kA, kA) / q1(kA, kA), 2.0, 1e-12);      // random walk
   EXPECT_EQ(q1(kX, kY), 0.0);
 }
 
@@ -103,7 +105,11 @@ TEST(Filter, AdaptivePositionVarianceFollowsThePaper) {
 
 Measurement mbe(double x, double y, double a, double b, double theta) {
   Measurement z;
-  z.x = x; z.y = y; z.a = a; z.b = b; z.theta = theta;
+  z.x = x;
+  z.y = y;
+  z.a = a;
+  z.b = b;
+  z.theta = theta;
   return z;
 }
 
@@ -132,7 +138,8 @@ TEST(Filter, AxisSwapOfTheSameEllipseIsNotAShapeChange) {
   TrackFilter f(params, mbe(1, 2, 0.41, 0.39, 0.2));
   for (int i = 0; i < 30; ++i) {
     f.predict(0.1);
-    const UpdateInfo info = (i % 2) ? f.update(mbe(1, 2, 0.41, 0.39, 0.2)) : f.update(mbe(1, 2, 0.39, 0.41, 0.2 - kPi / 2));
+    const UpdateInfo info =
+        (i % 2) ? f.update(mbe(1, 2, 0.41, 0.39, 0.2)) : f.update(mbe(1, 2, 0.39, 0.41, 0.2 - kPi / 2));
     EXPECT_EQ(info.swapped_axes, i % 2 == 0);
     EXPECT_LT(info.xi_eta, 1e-6);
     EXPECT_NEAR(f.state()(kA), 0.41, 1e-3);
@@ -193,12 +200,15 @@ TEST(Filter, ManeuverProbabilityRisesOnlyWhenTheMotionChanges) {
   std::mt19937 rng(5);
   std::normal_distribution<double> noise(0.0, 0.03);
   Measurement z;
-  z.a = 0.4; z.b = 0.3; z.theta = 0.1;
+  z.a = 0.4;
+  z.b = 0.3;
+  z.theta = 0.1;
   TrackFilter f(params, z);
   double x = 0, y = 0;
   for (int i = 1; i <= 40; ++i) {  // 4 s straight at 1 m/s
     x += 0.1;
-    z.x = x + noise(rng); z.y = y + noise(rng);
+    z.x = x + noise(rng);
+    z.y = y + noise(rng);
     f.predict(0.1);
     f.update(z);
   }
@@ -206,7 +216,8 @@ TEST(Filter, ManeuverProbabilityRisesOnlyWhenTheMotionChanges) {
   double peak = 0;
   for (int i = 1; i <= 5; ++i) {  // abrupt turn to +y at 1 m/s
     y += 0.1;
-    z.x = x + noise(rng); z.y = y + noise(rng);
+    z.x = x + noise(rng);
+    z.y = y + noise(rng);
     f.predict(0.1);
     peak = std::max(peak, f.update(z).maneuver_probability);
   }
@@ -220,7 +231,8 @@ TEST(Filter, SingleFilterWhenTheImmIsOff) {
   PredictorParams params = testing::default_params();
   params.maneuver.enabled = false;
   Measurement z;
-  z.a = 0.4; z.b = 0.3;
+  z.a = 0.4;
+  z.b = 0.3;
   TrackFilter f(params, z);
   for (int i = 1; i <= 10; ++i) {
     z.x = 0.2 * i;

@@ -1,10 +1,10 @@
 // sigma_min: satisfies the paper's equation, is monotone in r, gives the exact
 // Minkowski sum for a circle and a tight bound for elongated ellipses.
+#include "prediction/inflation.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "prediction/inflation.h"
 
 namespace evade::prediction {
 namespace {

@@ -1,10 +1,11 @@
 // The predictor end to end on synthetic MBE streams with realistic noise:
 // velocity accuracy, interval jitter, 2.5 s prediction error, the adaptive
 // position noise, track life cycle, output format, caps, and the bus core.
+#include "prediction/predictor.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,26 +13,25 @@
 
 #include "bus/memory_bus.h"
 #include "config/config.h"
-#include "prediction/predictor.h"
 #include "prediction/predictor_core.h"
 #include "scenario.h"
 
 namespace evade::prediction {
 namespace {
 
+using testing::default_params;
 using testing::Frame;
+using testing::make_frames;
 using testing::Noise;
 using testing::Truth;
-using testing::default_params;
-using testing::make_frames;
 
 struct RunStats {
-  double rms_rel_speed_err = 0;   // RMS over frames with t >= t_from of |v_est - v_true| / |v_true|
+  double rms_rel_speed_err = 0;  // RMS over frames with t >= t_from of |v_est - v_true| / |v_true|
   double max_rel_speed_err = 0;
-  double mean_speed_err = 0;      // signed mean of |v_est| - |v_true| (bias), m/s
-  double rms_pred_err_2_5s = 0;   // RMS centre error of the 2.5 s-ahead prediction, m
-  double rms_pos_err = 0;         // RMS error of the index-0 centre, m
-  double rms_step_jitter = 0;     // RMS of (estimated - true) centre change between frames, m
+  double mean_speed_err = 0;        // signed mean of |v_est| - |v_true| (bias), m/s
+  double rms_pred_err_2_5s = 0;     // RMS centre error of the 2.5 s-ahead prediction, m
+  double rms_pos_err = 0;           // RMS error of the index-0 centre, m
+  double rms_step_jitter = 0;       // RMS of (estimated - true) centre change between frames, m
   double ls_rms_rel_speed_err = 0;  // same metric for a growing-window least-squares quadratic fit
   int samples = 0;
   int pred_samples = 0;
@@ -54,8 +54,8 @@ double ls_quadratic_velocity(const std::vector<double>& t, const std::vector<dou
 }
 
 // Runs a set of seeds through a fresh Predictor each and pools the errors over t >= t_from.
-RunStats run(const PredictorParams& params, const Truth& truth, const Noise& noise, double duration_s,
-             double t_from, int seeds) {
+RunStats run(const PredictorParams& params, const Truth& truth, const Noise& noise, double duration_s, double t_from,
+             int seeds) {
   RunStats st;
   double sum_rel2 = 0, sum_bias = 0, sum_pred2 = 0, sum_pos2 = 0, sum_ls2 = 0, sum_step2 = 0;
   const double horizon_s = params.prediction_steps * params.prediction_dt_s;
@@ -78,8 +78,8 @@ RunStats run(const PredictorParams& params, const Truth& truth, const Noise& noi
       const double tvx = truth.vx + truth.ax * f.t, tvy = truth.vy + truth.ay * f.t;
       const double rel = std::hypot(tr.vx - tvx, tr.vy - tvy) / std::hypot(tvx, tvy);
       sum_rel2 += rel * rel;
-      const double ls_rel = std::hypot(ls_quadratic_velocity(ts, xs) - tvx, ls_quadratic_velocity(ts, ys) - tvy) /
-                            std::hypot(tvx, tvy);
+      const double ls_rel =
+          std::hypot(ls_quadratic_velocity(ts, xs) - tvx, ls_quadratic_velocity(ts, ys) - tvy) / std::hypot(tvx, tvy);
       sum_ls2 += ls_rel * ls_rel;
       st.max_rel_speed_err = std::max(st.max_rel_speed_err, rel);
       sum_bias += std::hypot(tr.vx, tr.vy) - std::hypot(tvx, tvy);
@@ -92,7 +92,8 @@ RunStats run(const PredictorParams& params, const Truth& truth, const Noise& noi
       ++st.samples;
       if (f.t + horizon_s <= duration_s) {
         const int last = tr.horizon - 1;
-        sum_pred2 += std::pow(tr.x[last] - truth.x(f.t + horizon_s), 2) + std::pow(tr.y[last] - truth.y(f.t + horizon_s), 2);
+        sum_pred2 +=
+            std::pow(tr.x[last] - truth.x(f.t + horizon_s), 2) + std::pow(tr.y[last] - truth.y(f.t + horizon_s), 2);
         ++st.pred_samples;
       }
     }
@@ -107,20 +108,21 @@ RunStats run(const PredictorParams& params, const Truth& truth, const Noise& noi
 }
 
 void report(const char* name, const RunStats& s) {
-  std::printf("[figures] %-34s velocity err RMS %.2f%% max %.2f%% (LS quadratic bound %.2f%%) speed bias %+.4f m/s | "
-              "centre RMS %.3f m | 2.5 s prediction RMS %.3f m (%d samples)\n",
-              name, 100 * s.rms_rel_speed_err, 100 * s.max_rel_speed_err, 100 * s.ls_rms_rel_speed_err, s.mean_speed_err,
-              s.rms_pos_err, s.rms_pred_err_2_5s, s.pred_samples);
+  std::printf(
+      "[figures] %-34s velocity err RMS %.2f%% max %.2f%% (LS quadratic bound %.2f%%) speed bias %+.4f m/s | "
+      "centre RMS %.3f m | 2.5 s prediction RMS %.3f m (%d samples)\n",
+      name, 100 * s.rms_rel_speed_err, 100 * s.max_rel_speed_err, 100 * s.ls_rms_rel_speed_err, s.mean_speed_err,
+      s.rms_pos_err, s.rms_pred_err_2_5s, s.pred_samples);
 }
 
 constexpr int kSeeds = 30;
 
 Noise mbe_noise() {
   Noise n;
-  n.centre_std_m = 0.04;   // 4 cm white centre noise
-  n.axis_std_m = 0.03;     // 3 cm semi-axis jitter
+  n.centre_std_m = 0.04;  // 4 cm white centre noise
+  n.axis_std_m = 0.03;    // 3 cm semi-axis jitter
   n.theta_std_rad = 0.05;
-  n.coupled_shift = 0.5;   // and the centre shift that jitter causes
+  n.coupled_shift = 0.5;  // and the centre shift that jitter causes
   return n;
 }
 
@@ -205,8 +207,8 @@ TEST(Predictor, JitteringShapeDampsPositionJitter) {
   truth.vx = 0.8;
   Noise noise;
   noise.centre_std_m = 0.02;
-  noise.axis_std_m = 0.15;        // a badly jittering major axis ...
-  noise.coupled_shift = 0.5;      // ... that drags the centre by half of it
+  noise.axis_std_m = 0.15;    // a badly jittering major axis ...
+  noise.coupled_shift = 0.5;  // ... that drags the centre by half of it
   const PredictorParams adaptive = default_params();
   PredictorParams fixed = adaptive;
   fixed.adaptive.r_pos_max_m2 = fixed.adaptive.r_pos_min_m2;
@@ -262,8 +264,10 @@ TEST(Predictor, StationaryNewTrackHasNoVelocitySpike) {
       ++n;
     }
   }
-  std::printf("[figures] stationary new track, first 1 s: speed RMS %.3f m/s (max %.3f), two-point differences RMS %.3f m/s (max %.3f)\n",
-              std::sqrt(filter2 / n), filter_max, std::sqrt(naive2 / n), naive_max);
+  std::printf(
+      "[figures] stationary new track, first 1 s: speed RMS %.3f m/s (max %.3f), two-point differences RMS %.3f m/s "
+      "(max %.3f)\n",
+      std::sqrt(filter2 / n), filter_max, std::sqrt(naive2 / n), naive_max);
   EXPECT_LT(std::sqrt(filter2 / n), 0.4 * std::sqrt(naive2 / n));
   EXPECT_LT(filter_max, 0.6 * naive_max);
 }
@@ -299,13 +303,21 @@ TurnErrors turn_errors(const PredictorParams& params) {
   const double v = 1.2, t_turn = 4.0, turn_s = 1.0, radius = v * turn_s / (kPi / 2);
   auto truth = [&](double t, double* x, double* y, double* vx, double* vy) {
     if (t < t_turn) {
-      *x = v * t; *y = 0; *vx = v; *vy = 0;
+      *x = v * t;
+      *y = 0;
+      *vx = v;
+      *vy = 0;
     } else if (t < t_turn + turn_s) {
       const double ph = (t - t_turn) / turn_s * (kPi / 2);
-      *x = v * t_turn + radius * std::sin(ph); *y = radius * (1 - std::cos(ph));
-      *vx = v * std::cos(ph); *vy = v * std::sin(ph);
+      *x = v * t_turn + radius * std::sin(ph);
+      *y = radius * (1 - std::cos(ph));
+      *vx = v * std::cos(ph);
+      *vy = v * std::sin(ph);
     } else {
-      *x = v * t_turn + radius; *y = radius + v * (t - t_turn - turn_s); *vx = 0; *vy = v;
+      *x = v * t_turn + radius;
+      *y = radius + v * (t - t_turn - turn_s);
+      *vx = 0;
+      *vy = v;
     }
   };
   double e[3] = {0, 0, 0};
@@ -337,9 +349,10 @@ TEST(Predictor, TurnIsFollowedWithinAFewSeconds) {
   single.maneuver.enabled = false;
   const TurnErrors imm = turn_errors(default_params());
   const TurnErrors one = turn_errors(single);
-  std::printf("[figures] 90 deg turn at 1.2 m/s, velocity error RMS (turn + 1 s | 1-3 s after | 3-5 s after): "
-              "IMM %.3f | %.3f | %.3f m/s, single filter %.3f | %.3f | %.3f m/s\n",
-              imm.during, imm.after1, imm.after2, one.during, one.after1, one.after2);
+  std::printf(
+      "[figures] 90 deg turn at 1.2 m/s, velocity error RMS (turn + 1 s | 1-3 s after | 3-5 s after): "
+      "IMM %.3f | %.3f | %.3f m/s, single filter %.3f | %.3f | %.3f m/s\n",
+      imm.during, imm.after1, imm.after2, one.during, one.after1, one.after2);
   EXPECT_LT(imm.after1, 0.5 * one.after1);
   EXPECT_LT(imm.after1, 0.25);
   EXPECT_LT(imm.after2, 0.1);
@@ -380,8 +393,10 @@ TEST(Predictor, ACornerTurnedAtOnceIsNotOvershot) {
     return worst;
   };
   const double cv = error_after_corner("cv"), ca = error_after_corner("ca");
-  std::printf("[figures] 1 m/s walker turning a corner at once: largest mean velocity error 0.5-2 s after it, "
-              "manoeuvring mode cv %.3f m/s, ca %.3f m/s\n", cv, ca);
+  std::printf(
+      "[figures] 1 m/s walker turning a corner at once: largest mean velocity error 0.5-2 s after it, "
+      "manoeuvring mode cv %.3f m/s, ca %.3f m/s\n",
+      cv, ca);
   EXPECT_LT(cv, 0.15);
   EXPECT_GT(ca, 0.4);  // the overshoot this is about
 }
@@ -487,9 +502,10 @@ TEST(Predictor, AMoverMissedForAFewFramesKeepsItsVelocity) {
   };
   const auto [coasting_vx, coasting_after] = walk(0.5);
   const auto [dropping_vx, dropping_after] = walk(0.0);
-  std::printf("[figures] walker at 1.2 m/s, 3 frames unseen: vx while unseen %.3f, when seen again %.3f m/s "
-              "(dropped at the first miss: %.3f, %.3f)\n",
-              coasting_vx, coasting_after, dropping_vx, dropping_after);
+  std::printf(
+      "[figures] walker at 1.2 m/s, 3 frames unseen: vx while unseen %.3f, when seen again %.3f m/s "
+      "(dropped at the first miss: %.3f, %.3f)\n",
+      coasting_vx, coasting_after, dropping_vx, dropping_after);
   EXPECT_NEAR(coasting_vx, 1.2, 0.1);
   EXPECT_NEAR(coasting_after, 1.2, 0.1);
   EXPECT_EQ(dropping_vx, 0.0);     // not published while unseen
@@ -505,7 +521,8 @@ TEST(Predictor, AMoverMissedForAFewFramesKeepsItsVelocity) {
 // its velocity but is back near rest within 0.5 s.
 TEST(Predictor, ANewTrackBornInsideAMoverTakesItsMotion) {
   struct Seen {
-    double body_vx = 99, far_vx = 99, beside_static_vx = 99, static_piece_speed_after = 99, static_piece_vx_at_birth = 99;
+    double body_vx = 99, far_vx = 99, beside_static_vx = 99, static_piece_speed_after = 99,
+           static_piece_vx_at_birth = 99;
   };
   auto run = [](bool enabled) {
     PredictorParams params = default_params();
@@ -544,9 +561,10 @@ TEST(Predictor, ANewTrackBornInsideAMoverTakesItsMotion) {
     return seen;
   };
   const Seen with = run(true), without = run(false);
-  std::printf("[figures] body of a 1.8 m/s mover born as a new id: vx %.2f m/s (without: %.2f); static object born "
-              "beside it: vx %.2f at birth, speed %.2f m/s 0.5 s later\n",
-              with.body_vx, without.body_vx, with.static_piece_vx_at_birth, with.static_piece_speed_after);
+  std::printf(
+      "[figures] body of a 1.8 m/s mover born as a new id: vx %.2f m/s (without: %.2f); static object born "
+      "beside it: vx %.2f at birth, speed %.2f m/s 0.5 s later\n",
+      with.body_vx, without.body_vx, with.static_piece_vx_at_birth, with.static_piece_speed_after);
   EXPECT_NEAR(with.body_vx, -1.8, 0.1);
   EXPECT_NEAR(without.body_vx, 0.0, 1e-9);
   EXPECT_NEAR(with.far_vx, 0.0, 1e-9);
@@ -601,7 +619,10 @@ TEST(Predictor, RandomInputNeverPublishesNonFinite) {
     const int n = count(rng);
     for (int i = 0; i < n; ++i) {
       auto o = ob(ids(rng), coord(rng), coord(rng));
-      if (rng() % 2) { o.x = 0.01 * (rng() % 100); o.y = 0.0; }  // mostly near: tracks live on
+      if (rng() % 2) {
+        o.x = 0.01 * (rng() % 100);
+        o.y = 0.0;
+      }  // mostly near: tracks live on
       o.a = axis(rng);
       o.b = (rng() % 3 == 0) ? 0.0 : axis(rng);
       o.theta = angle(rng);
@@ -676,8 +697,10 @@ TEST(Predictor, AStaticTargetsPredictionSwellsLessWithTheStationaryMode) {
       speed[i] += std::hypot(out.tracks[0].vx, out.tracks[0].vy) / seeds;
     }
   }
-  std::printf("[figures] static target, 4 cm noise, 10 s: semi-axis growth over 2.5 s %.3f m (without the stationary "
-              "mode %.3f m), speed %.4f m/s (%.4f)\n", growth[0], growth[1], speed[0], speed[1]);
+  std::printf(
+      "[figures] static target, 4 cm noise, 10 s: semi-axis growth over 2.5 s %.3f m (without the stationary "
+      "mode %.3f m), speed %.4f m/s (%.4f)\n",
+      growth[0], growth[1], speed[0], speed[1]);
   // The rest of the swelling is the shape random walk (r_eta) and the small
   // probability the IMM keeps on a manoeuvre starting (its jerk weighs in).
   EXPECT_LT(growth[0], 0.85 * growth[1]);
@@ -759,8 +782,8 @@ TEST(Predictor, AccelerationActsOnlyUpToItsTimeLimit) {
   const double step_before = tr.x[hold] - tr.x[hold - 1];
   const double step_after = tr.x[hold + 1] - tr.x[hold];
   const double step_last = tr.x[tr.horizon - 1] - tr.x[tr.horizon - 2];
-  EXPECT_GT(step_before, tr.x[1] - tr.x[0]);               // accelerating up to the limit
-  EXPECT_NEAR(step_last, step_after, 1e-9);                 // constant velocity after it
+  EXPECT_GT(step_before, tr.x[1] - tr.x[0]);  // accelerating up to the limit
+  EXPECT_NEAR(step_last, step_after, 1e-9);   // constant velocity after it
   EXPECT_NEAR(step_after, step_before + 0.5 * tr.ax * params.prediction_dt_s * params.prediction_dt_s, 1e-6);
 }
 

@@ -23,11 +23,11 @@ struct Truth {
 };
 
 struct Noise {
-  double centre_std_m = 0.04;      // white centre noise
-  double axis_std_m = 0.03;        // shape jitter of each semi-axis
-  double theta_std_rad = 0.05;     // orientation jitter
-  double coupled_shift = 0.0;      // centre shift per metre of major-axis change (0.5 = one side fixed)
-  double min_interval_s = 0.1;     // frame interval drawn uniformly in [min, max]
+  double centre_std_m = 0.04;   // white centre noise
+  double axis_std_m = 0.03;     // shape jitter of each semi-axis
+  double theta_std_rad = 0.05;  // orientation jitter
+  double coupled_shift = 0.0;   // centre shift per metre of major-axis change (0.5 = one side fixed)
+  double min_interval_s = 0.1;  // frame interval drawn uniformly in [min, max]
   double max_interval_s = 0.1;
 };
 
@@ -48,7 +48,7 @@ inline std::vector<Frame> make_frames(const Truth& truth, const Noise& noise, do
     const double da = noise.axis_std_m * n01(rng);
     const double db = noise.axis_std_m * n01(rng);
     const double dth = noise.theta_std_rad * n01(rng);
-    const double side = (rng() & 1u) ? 1.0 : -1.0;  // which end of the major axis moved
+    const double side = (rng() & 1u) ? 1.0 : -1.0;         // which end of the major axis moved
     const double shift = noise.coupled_shift * da * side;  // one end fixed: the centre moves by da / 2
     evade::obstacle_t o{};
     o.id = id;

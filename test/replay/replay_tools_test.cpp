@@ -2,7 +2,6 @@
 // own input or onto an existing file, and process-replay --cut onto an
 // existing case, are refused without --force (the input never).
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -67,8 +66,8 @@ TEST_F(ReplayTools, CutOntoAnExistingCaseNeedsForce) {
   const fs::path logs = dir_ / "logs";
   fs::create_directories(logs / "mine" / "refs");
   std::ofstream(logs / "mine" / "input.lcmlog") << "a golden case";
-  const std::string cut = kBin + "/process-replay --logs " + logs.string() + " --cut " +
-                          (dir_ / "in.lcmlog").string() + " --start-s 0 --duration-s 1 --case mine --process tracker";
+  const std::string cut = kBin + "/process-replay --logs " + logs.string() + " --cut " + (dir_ / "in.lcmlog").string() +
+                          " --start-s 0 --duration-s 1 --case mine --process tracker";
   EXPECT_EQ(run(cut), 2);
   EXPECT_EQ(text_of(logs / "mine" / "input.lcmlog"), "a golden case");
   EXPECT_EQ(run(cut + " --force"), 0);
@@ -97,7 +96,7 @@ TEST_F(ReplayTools, LogMigrateAddsUnknownLidarReturnsToOldSimTruth) {
   t.lidar_returns = {7, 9};
   std::vector<uint8_t> current = evade::bus::encode(t);
   std::vector<uint8_t> old(current.begin(), current.end() - 8);  // without the two int32
-  old[0] ^= 0x5a;                                                 // another fingerprint
+  old[0] ^= 0x5a;                                                // another fingerprint
   const fs::path in = dir_ / "old.lcmlog", out = dir_ / "migrated.lcmlog";
   evade::bus::write_log(in.string(), {{1, "SIM_TRUTH", old}, {2, "SIM_TRUTH", current}});
   ASSERT_EQ(run(kBin + "/log-migrate sim-truth-returns " + in.string() + " " + out.string()), 0);

@@ -7,11 +7,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <thread>
 #include <vector>
@@ -48,9 +47,7 @@ struct Bus {
   lcm::LCM lcm{evade::bus::default_lcm_url()};
   std::vector<evade::path_t> routes;
   bool odometry = true;
-  Bus() {
-    lcm.subscribe("ROUTE", &Bus::on_route, this);
-  }
+  Bus() { lcm.subscribe("ROUTE", &Bus::on_route, this); }
   void on_route(const lcm::ReceiveBuffer* rbuf, const std::string&) {
     evade::path_t p;
     if (evade::bus::decode(static_cast<const uint8_t*>(rbuf->data), rbuf->data_size, &p)) routes.push_back(p);

@@ -12,8 +12,8 @@ namespace evade::route {
 namespace {
 
 TEST(Route, PublishesTheConfiguredPathPeriodically) {
-  auto root = config::load_string("route:\n  waypoints: [[-10, 0], [0, 1], [9, 0]]\n  publish_period_s: 0.5\n",
-                                  "robot.yaml");
+  auto root =
+      config::load_string("route:\n  waypoints: [[-10, 0], [0, 1], [9, 0]]\n  publish_period_s: 0.5\n", "robot.yaml");
   RoutePublisher core(RouteParams::from_config(root.section("route")));
   bus::MemoryBus bus;
   bus.add(core);
@@ -37,8 +37,8 @@ TEST(Route, RejectsBadRoutes) {
   } catch (const config::ConfigError& e) {
     EXPECT_STREQ(e.what(), "r.yaml:2: key 'route.waypoints': points 0 and 1 coincide");
   }
-  auto extra = config::load_string("route:\n  waypoints: [[0, 0], [1, 0]]\n  publish_period_s: 1\n  speed: 2\n",
-                                   "r.yaml");
+  auto extra =
+      config::load_string("route:\n  waypoints: [[0, 0], [1, 0]]\n  publish_period_s: 1\n  speed: 2\n", "r.yaml");
   EXPECT_THROW(RouteParams::from_config(extra.section("route")), config::ConfigError);
 }
 

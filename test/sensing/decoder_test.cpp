@@ -329,7 +329,7 @@ TEST(SelfFilter, TheDecoderDropsReturnsOnTheRobotsBody) {
   std::map<std::string, int64_t> with, without;
   auto kept = run_once(true, &with);
   auto all = run_once(false, &without);
-  EXPECT_EQ(all.size(), 2u * 36u);     // 36 firings, two returns each
+  EXPECT_EQ(all.size(), 2u * 36u);  // 36 firings, two returns each
   ASSERT_EQ(kept.size(), 36u);
   rs_helios::Calibration cal;
   ASSERT_EQ(rs_helios::parse_difop(difop_bytes.data(), difop_bytes.size(), &cal), rs_helios::PacketStatus::kOk);

@@ -1,7 +1,7 @@
 // libFuzzer target: capture files. The input is a pcap file in memory; every
 // UDP datagram the reader finds goes through a VLP-16 and an RS-Helios
-// decoder (with the footprint self-filter), as in `lidar_driver --pcap`. Malformed headers, link types, IP/UDP lengths and
-// truncated records must be skipped, never crash.
+// decoder (with the footprint self-filter), as in `lidar_driver --pcap`. Malformed headers, link types, IP/UDP lengths
+// and truncated records must be skipped, never crash.
 #include <cstdio>
 #include <stdexcept>
 #include <vector>

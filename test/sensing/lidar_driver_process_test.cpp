@@ -2,22 +2,20 @@
 // (NETNS): UDP packets on 127.0.0.1 -> LIDAR_POINTS on LCM; --pcap mode
 // flushes and exits; --replay of the recorded LIDAR_SCAN reproduces the
 // LIDAR_POINTS byte for byte.
-#include <gtest/gtest.h>
-
 #include <arpa/inet.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <lcm/lcm-cpp.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -89,7 +87,8 @@ int wait_exit(pid_t pid, double timeout_s, const std::function<void()>& meanwhil
   auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
   while (Clock::now() < end) {
     int status = 0;
-    if (::waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    if (::waitpid(pid, &status, WNOHANG) == pid)
+      return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     if (meanwhile)
       meanwhile();
     else

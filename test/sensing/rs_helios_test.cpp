@@ -1,12 +1,13 @@
 // RS-Helios MSOP/DIFOP: byte layout, calibration, known geometry per
 // channel, dual return, and no output before the first DIFOP.
+#include "sensing/rs_helios.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
 
 #include "sensing/lidar_decoder.h"
-#include "sensing/rs_helios.h"
 
 namespace h = evade::sensing::rs_helios;
 
@@ -98,7 +99,7 @@ TEST_P(RsHeliosPerChannel, KnownGeometry) {
   for (double az : {0.0, 90.0, 200.0, 315.5}) {
     h::MsopEncoder m;
     for (auto& blk : m.blocks) blk.azimuth_deg = az;  // no rotation: no interpolation
-    const double range = 4.0 + 0.5 * ch;                // exact in 2.5 mm units
+    const double range = 4.0 + 0.5 * ch;              // exact in 2.5 mm units
     m.blocks[7].distance_m[ch] = range;
     m.blocks[7].intensity[ch] = static_cast<uint8_t>(ch);
     auto b = m.encode();

@@ -2,7 +2,6 @@
 // 84 data packets (factory byte 0x21, VLP-16 data), 16 position packets on
 // port 8308, azimuth 250.35 deg -> wrap after packet 23 -> 286.4 deg.
 #include <gtest/gtest.h>
-
 #include <sys/stat.h>
 
 #include <array>
@@ -58,8 +57,8 @@ Decoded decode_sample(double max_range_m) {
   mb.input(core, d.utime, [&] { core.flush(); });
   out.clouds = mb.decoded<evade::pointcloud_t>(kLidarPointsChannel);
   out.scans = mb.decoded<evade::lidar_scan_t>(kLidarScanChannel);
-  for (const char* name : {"data_packets", "position_packets", "factory_byte_0x21", "revolutions", "out_of_range",
-                           "malformed_wrong_size"})
+  for (const char* name :
+       {"data_packets", "position_packets", "factory_byte_0x21", "revolutions", "out_of_range", "malformed_wrong_size"})
     out.counters[name] = core.counter(name);
   return out;
 }

@@ -12,7 +12,7 @@ namespace evade::sensing::testing {
 
 struct SyntheticPacket {
   std::array<uint8_t, vlp16::kPacketSize> bytes;
-  int64_t sensor_utime;   // absolute time of the packet's first firing
+  int64_t sensor_utime;  // absolute time of the packet's first firing
 };
 
 struct SyntheticVlp16 {
@@ -23,9 +23,7 @@ struct SyntheticVlp16 {
   uint8_t return_mode = vlp16::kStrongest;
 
   double degrees_per_block() const { return 360.0 * rate_hz * vlp16::kBlockPeriodUs * 1e-6; }
-  double packet_period_us() const {
-    return vlp16::kBlockPeriodUs * (return_mode == vlp16::kDual ? 6 : 12);
-  }
+  double packet_period_us() const { return vlp16::kBlockPeriodUs * (return_mode == vlp16::kDual ? 6 : 12); }
 
   SyntheticPacket packet(int k) const {
     vlp16::PacketEncoder enc;

@@ -1,10 +1,10 @@
 // VLP-16 packet encoder/decoder: hand-built packets with known geometry.
+#include "sensing/vlp16.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <set>
-
-#include "sensing/vlp16.h"
 
 namespace v = evade::sensing::vlp16;
 
@@ -143,11 +143,11 @@ TEST(Vlp16Decoder, DualReturnPairsShareFiringAndDropDuplicates) {
     enc.blocks[2 * k].azimuth_deg = 100.0 + 0.4 * k;
     enc.blocks[2 * k + 1].azimuth_deg = 100.0 + 0.4 * k;
     for (int l = 0; l < 16; ++l) {
-      enc.blocks[2 * k].distance_m[0][l] = 30.0;        // last return
+      enc.blocks[2 * k].distance_m[0][l] = 30.0;  // last return
       enc.blocks[2 * k].reflectivity[0][l] = 5;
-      enc.blocks[2 * k + 1].distance_m[0][l] = 12.0;    // strongest, nearer
+      enc.blocks[2 * k + 1].distance_m[0][l] = 12.0;  // strongest, nearer
       enc.blocks[2 * k + 1].reflectivity[0][l] = 200;
-      enc.blocks[2 * k].distance_m[1][l] = 8.0;          // single echo: both equal
+      enc.blocks[2 * k].distance_m[1][l] = 8.0;  // single echo: both equal
       enc.blocks[2 * k].reflectivity[1][l] = 50;
       enc.blocks[2 * k + 1].distance_m[1][l] = 8.0;
       enc.blocks[2 * k + 1].reflectivity[1][l] = 50;

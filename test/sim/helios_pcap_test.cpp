@@ -4,17 +4,15 @@
 // whole, on the sensor's 32-ring table, and every point lies on the true
 // ground, cylinder or box surface (within the 2.5 mm distance unit).
 #include <gtest/gtest.h>
-
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <lcm/lcm-cpp.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <set>
 #include <sstream>
 #include <string>
@@ -54,8 +52,10 @@ int run(std::vector<std::string> args, lcm::LCM* lcm) {
   int status = 0;
   while (Clock::now() < end) {
     if (::waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -2;
-    if (lcm) lcm->handleTimeout(10);
-    else ::usleep(10000);
+    if (lcm)
+      lcm->handleTimeout(10);
+    else
+      ::usleep(10000);
   }
   ::kill(pid, SIGKILL);
   ::waitpid(pid, &status, 0);

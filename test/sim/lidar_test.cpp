@@ -57,7 +57,8 @@ struct Decoded {
 };
 
 // Makes `n` packets and decodes them with the driver's decoder.
-std::vector<Decoded> run(Vlp16Simulator& sim, int n, const WorldAt& world, std::vector<v::PacketInfo>* infos = nullptr) {
+std::vector<Decoded> run(Vlp16Simulator& sim, int n, const WorldAt& world,
+                         std::vector<v::PacketInfo>* infos = nullptr) {
   std::vector<Decoded> out;
   for (int i = 0; i < n; ++i) {
     double start = kStartUs + Vlp16Simulator::packet_offset_us(sim.packets_made());
@@ -185,7 +186,8 @@ TEST(LidarSim, RangeNoiseHasTheScenarioStd) {
   for (const auto& d : pts) {
     const v::Laser& l = v::kLaserTable[d.ret.laser];
     ASSERT_LT(l.elevation_deg, 0.0);
-    double range = std::sqrt(d.ret.x * d.ret.x + d.ret.y * d.ret.y + (d.ret.z - l.vertical_offset_m) * (d.ret.z - l.vertical_offset_m));
+    double range = std::sqrt(d.ret.x * d.ret.x + d.ret.y * d.ret.y +
+                             (d.ret.z - l.vertical_offset_m) * (d.ret.z - l.vertical_offset_m));
     double truth = (0.5 + l.vertical_offset_m) / std::sin(-l.elevation_deg * M_PI / 180.0);
     double e = range - truth;
     sum += e;
@@ -246,7 +248,8 @@ HeliosRun run_helios(RsHeliosSimulator& sim, int64_t until_us, const WorldAt& wo
     EXPECT_EQ(h::decode_msop(p.data(), p.size(), r.cal, {}, &rets, &info), h::PacketStatus::kOk);
     r.msop_utc_us.push_back(info.utc_us);
     for (const auto& ret : rets)
-      r.points.push_back(HeliosDecoded{ret, static_cast<double>(info.utc_us) + static_cast<double>(ret.time_offset_us)});
+      r.points.push_back(
+          HeliosDecoded{ret, static_cast<double>(info.utc_us) + static_cast<double>(ret.time_offset_us)});
   }
   return r;
 }
@@ -306,9 +309,11 @@ TEST(RsHeliosSim, RingElevationsAreTheHelios5515s) {
     const int c = d.ret.laser;
     ASSERT_LT(RsHeliosSimulator::kElevationDeg[static_cast<size_t>(c)], 0.0) << "an upward channel hit the ground";
     EXPECT_NEAR(d.ret.z, -0.5, 0.002);
-    const double horizontal = std::hypot(d.ret.x - h::kOpticalCentreOffsetM * std::cos(d.ret.firing_azimuth_deg * M_PI / 180),
-                                         d.ret.y + h::kOpticalCentreOffsetM * std::sin(d.ret.firing_azimuth_deg * M_PI / 180));
-    EXPECT_NEAR(std::atan2(d.ret.z, horizontal) * 180 / M_PI, RsHeliosSimulator::kElevationDeg[static_cast<size_t>(c)], 0.2);
+    const double horizontal =
+        std::hypot(d.ret.x - h::kOpticalCentreOffsetM * std::cos(d.ret.firing_azimuth_deg * M_PI / 180),
+                   d.ret.y + h::kOpticalCentreOffsetM * std::sin(d.ret.firing_azimuth_deg * M_PI / 180));
+    EXPECT_NEAR(std::atan2(d.ret.z, horizontal) * 180 / M_PI, RsHeliosSimulator::kElevationDeg[static_cast<size_t>(c)],
+                0.2);
     per_channel[c]++;
   }
   for (int c = 0; c < h::kChannels; ++c) {
@@ -376,7 +381,7 @@ TEST(RsHeliosSim, RevolutionsThroughTheDriversDecoder) {
     const auto& c = revs[i].cloud;
     EXPECT_EQ(c.sensor_model, "rs_helios");
     EXPECT_NEAR(c.packets, 150, 1);  // 100 ms / 666.72 us
-    EXPECT_GT(c.n, 22 * 1790);  // the 22 downward channels, 1800 firings each
+    EXPECT_GT(c.n, 22 * 1790);       // the 22 downward channels, 1800 firings each
     std::set<int> rings(c.ring.begin(), c.ring.end());
     EXPECT_EQ(rings.size(), 22u);  // the downward rings 0..21 (flat ground, nothing else)
     EXPECT_EQ(*rings.begin(), 0);

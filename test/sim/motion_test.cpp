@@ -1,10 +1,11 @@
 // Obstacle motion models against their definitions, and the robot's
 // kinematics (exact arc, acceleration limits, command timeout).
+#include "sim/motion.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "sim/motion.h"
 #include "sim/robot.h"
 
 namespace evade::sim {

@@ -1,9 +1,9 @@
 // Ray casting against analytic answers.
+#include "sim/raycast.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "sim/raycast.h"
 
 namespace evade::sim {
 namespace {
@@ -19,8 +19,8 @@ TEST(Raycast, GroundPlane) {
   double el = -15.0 * M_PI / 180.0;
   Ray r = ray(0, 0, 0.5, std::cos(el), 0, std::sin(el));
   EXPECT_NEAR(hit_ground(r), 0.5 / std::sin(15.0 * M_PI / 180.0), kTol);
-  EXPECT_EQ(hit_ground(ray(0, 0, 0.5, 1, 0, 0)), kNoHit);      // horizontal
-  EXPECT_EQ(hit_ground(ray(0, 0, 0.5, 1, 0, 0.1)), kNoHit);    // upward
+  EXPECT_EQ(hit_ground(ray(0, 0, 0.5, 1, 0, 0)), kNoHit);    // horizontal
+  EXPECT_EQ(hit_ground(ray(0, 0, 0.5, 1, 0, 0.1)), kNoHit);  // upward
 }
 
 TEST(Raycast, CylinderSide) {
@@ -68,9 +68,7 @@ TEST(Raycast, BoxRotated) {
   EXPECT_NEAR(hit_box(ray(0, 1.5, 0.5, 1, 0, 0), 4, 0, M_PI / 2, 4, 0.5, 1), 3.75, 1e-9);
 }
 
-TEST(Raycast, BoxFromInsideHitsItsWall) {
-  EXPECT_NEAR(hit_box(ray(4, 0, 0.5, 1, 0, 0), 4, 0, 0, 2, 1, 1), 1.0, kTol);
-}
+TEST(Raycast, BoxFromInsideHitsItsWall) { EXPECT_NEAR(hit_box(ray(4, 0, 0.5, 1, 0, 0), 4, 0, 0, 2, 1, 1), 1.0, kTol); }
 
 TEST(Raycast, CastTakesTheNearestWithinRange) {
   std::vector<Solid> solids(2);
@@ -83,7 +81,7 @@ TEST(Raycast, CastTakesTheNearestWithinRange) {
   EXPECT_NEAR(cast(r, {}, 100.0), 0.5 / std::sin(1.0 * M_PI / 180.0), 1e-9);  // 28.6 m
   EXPECT_EQ(cast(r, {}, 20.0), kNoHit);
   EXPECT_NEAR(cast(ray(0, 0, 0.5, 1, 0, 0.01), solids, 100.0), 3.5 * std::sqrt(1.0 + 1e-4), kTol);  // slightly up
-  EXPECT_EQ(cast(ray(0, 0, 0.5, -1, 0, 0.01), solids, 100.0), kNoHit);  // sky
+  EXPECT_EQ(cast(ray(0, 0, 0.5, -1, 0, 0.01), solids, 100.0), kNoHit);                              // sky
 }
 
 }  // namespace

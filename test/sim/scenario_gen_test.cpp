@@ -3,6 +3,8 @@
 // the validity rules and keeps each family's promises (doorway gap, hidden
 // person, speeds, counts); the families file is read strictly; the random
 // transforms and the geometry and checks behave as documented.
+#include "sim/scenario_gen.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +15,6 @@
 
 #include "sim/motion.h"
 #include "sim/scenario_check.h"
-#include "sim/scenario_gen.h"
 #include "sim/scenario_gen_random.h"
 #include "sim/scenario_geometry.h"
 #include "sim/scenario_writer.h"
@@ -275,8 +276,9 @@ TEST(ScenarioGen, FamiliesFileIsReadStrictly) {
   ASSERT_GT(bike_share_line, 0);
   EXPECT_EQ(families_error("    bike_share: 0.2\n", "    bike_share: 0.2\n    bikes: 3\n"),
             "families.yaml:" + std::to_string(bike_share_line + 1) + ": key 'families.crossing.bikes': unknown key");
-  EXPECT_NE(families_error("gap_m: [0.61, 2.0]", "gap_m: [0.5, 2.0]").find("key 'families.doorway.gap_m': the narrowest gap"),
-            std::string::npos);
+  EXPECT_NE(
+      families_error("gap_m: [0.61, 2.0]", "gap_m: [0.5, 2.0]").find("key 'families.doorway.gap_m': the narrowest gap"),
+      std::string::npos);
   EXPECT_NE(families_error("ball: {radius_m: [0.11, 0.11]", "ball: {radius_m: [0.05, 0.11]")
                 .find("key 'shapes.ball.radius_m': lowest height 0.1 m is not above"),
             std::string::npos);
@@ -316,7 +318,8 @@ TEST(ScenarioGeometry, ClearancesOfDiscsAndRectangles) {
   EXPECT_LT(geom::clearance(robot_at_origin, geom::disc(0.1, 0.0, 0.3)), 0.0);
   EXPECT_NEAR(geom::clearance(robot_at_origin, geom::rectangle(1.2, 0, 0, 1.0, 1.0)), 0.5, 1e-12);
   // A square turned 45 deg: its corner points at the robot.
-  EXPECT_NEAR(geom::clearance(robot_at_origin, geom::rectangle(1.2 + std::sqrt(0.5), 0, M_PI / 4, 1.0, 1.0)), 1.0, 1e-9);
+  EXPECT_NEAR(geom::clearance(robot_at_origin, geom::rectangle(1.2 + std::sqrt(0.5), 0, M_PI / 4, 1.0, 1.0)), 1.0,
+              1e-9);
   EXPECT_LT(geom::clearance(robot_at_origin, geom::rectangle(0.3, 0.1, 0.3, 0.4, 0.4)), 0.0);
   EXPECT_TRUE(geom::segment_hits(Vec2{-3, 0.05}, Vec2{3, 0.05}, robot_at_origin));
   EXPECT_FALSE(geom::segment_hits(Vec2{-3, 0.15}, Vec2{3, 0.15}, robot_at_origin));
@@ -342,22 +345,30 @@ std::vector<std::string> problems_with(const std::string& obstacles) {
 TEST(ScenarioCheck, EachRuleCatchesItsCase) {
   EXPECT_TRUE(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: 0.0, y: 3.0}\n").empty());
   // On the start footprint (which also leaves the robot no way out), or 0.2 m from it.
-  std::vector<std::string> on_start = problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -10.0, y: 0.0}\n");
+  std::vector<std::string> on_start =
+      problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -10.0, y: 0.0}\n");
   ASSERT_FALSE(on_start.empty());
   EXPECT_EQ(on_start[0], "obstacles[0]: comes -0.300 m from the robot's start footprint in the first 2.0 s");
-  EXPECT_EQ(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -9.3, y: 0.0}\n"),
-            std::vector<std::string>{"obstacles[0]: comes 0.190 m from the robot's start footprint in the first 2.0 s"});
+  EXPECT_EQ(
+      problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -9.3, y: 0.0}\n"),
+      std::vector<std::string>{"obstacles[0]: comes 0.190 m from the robot's start footprint in the first 2.0 s"});
   // Walks through the start pose 1.5 s in; 2.5 s in is allowed.
-  EXPECT_EQ(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -10.0, y: 1.5, vx: 0, vy: -1}\n").size(), 1u);
-  EXPECT_TRUE(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -10.0, y: 3.5, vx: 0, vy: -1}\n").empty());
+  EXPECT_EQ(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -10.0, y: 1.5, vx: 0, vy: -1}\n").size(),
+            1u);
+  EXPECT_TRUE(
+      problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -10.0, y: 3.5, vx: 0, vy: -1}\n").empty());
   EXPECT_EQ(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -10.0, y: 1.5, vx: 0, vy: -1, "
-                          "start_delay_s: 0.5}\n").size(), 1u);
+                          "start_delay_s: 0.5}\n")
+                .size(),
+            1u);
   EXPECT_TRUE(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: -10.0, y: 1.5, vx: 0, vy: -1, "
-                            "start_delay_s: 1.5}\n").empty());
+                            "start_delay_s: 1.5}\n")
+                  .empty());
   // Resting on the goal: as a static box, or at the end of a `once` walk.
   EXPECT_FALSE(problems_with("  - {shape: box, size: [1, 1, 1], x: 10.5, y: 0.0}\n").empty());
   EXPECT_FALSE(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: 10.0, y: 5.0, "
-                             "waypoints: [[10.0, 0.3]], speed: 1, mode: once}\n").empty());
+                             "waypoints: [[10.0, 0.3]], speed: 1, mode: once}\n")
+                   .empty());
   // Two obstacles starting inside each other.
   EXPECT_EQ(problems_with("  - {shape: cylinder, radius: 0.3, height: 1.7, x: 0.0, y: 3.0}\n"
                           "  - {shape: box, size: [1, 1, 1], x: 0.5, y: 3.5, vx: 1, vy: 0}\n"),
@@ -372,8 +383,8 @@ TEST(ScenarioCheck, ThePassageMustLetTheRobotThrough) {
   auto wall = [](double gap) {
     double half = 20.0, w = half - gap / 2.0;
     return "  - {shape: box, size: [0.2, " + yaml_number(w) + ", 1.5], x: 0.0, y: " + yaml_number(gap / 2.0 + w / 2.0) +
-           "}\n  - {shape: box, size: [0.2, " + yaml_number(w) + ", 1.5], x: 0.0, y: " +
-           yaml_number(-gap / 2.0 - w / 2.0) + "}\n";
+           "}\n  - {shape: box, size: [0.2, " + yaml_number(w) +
+           ", 1.5], x: 0.0, y: " + yaml_number(-gap / 2.0 - w / 2.0) + "}\n";
   };
   EXPECT_TRUE(problems_with(wall(0.61)).empty());
   EXPECT_TRUE(problems_with(wall(1.5)).empty());

@@ -1,11 +1,11 @@
 // Scenario loading: the SPEC format is read exactly, every shipped scenario
 // loads, and malformed files fail with file, line and key.
+#include "sim/scenario.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <random>
-
-#include "sim/scenario.h"
 
 namespace evade::sim {
 namespace {
@@ -127,7 +127,8 @@ TEST(Scenario, UnknownObstacleKeyNamesFileLineKey) {
 }
 
 TEST(Scenario, CylinderWithABoxSizeIsAnError) {
-  std::string text = replace(kSpecExample, "radius: 0.25, height: 0.5, x: 5.0", "radius: 0.25, height: 0.5, size: [1, 1, 1], x: 5.0");
+  std::string text =
+      replace(kSpecExample, "radius: 0.25, height: 0.5, x: 5.0", "radius: 0.25, height: 0.5, size: [1, 1, 1], x: 5.0");
   EXPECT_EQ(error_of(text), "bad.yaml:10: key 'obstacles[0].size': unknown key");
 }
 
@@ -180,9 +181,15 @@ TEST(Scenario, MutatedFilesLoadOrFailCleanly) {
     for (int k = 0; k < edits; ++k) {
       size_t at = rng() % text.size();
       switch (rng() % 3) {
-        case 0: text[at] = alphabet[rng() % alphabet.size()]; break;
-        case 1: text.insert(at, 1, alphabet[rng() % alphabet.size()]); break;
-        default: text.erase(at, 1); break;
+        case 0:
+          text[at] = alphabet[rng() % alphabet.size()];
+          break;
+        case 1:
+          text.insert(at, 1, alphabet[rng() % alphabet.size()]);
+          break;
+        default:
+          text.erase(at, 1);
+          break;
       }
     }
     try {
@@ -223,7 +230,7 @@ TEST(Scenario, PaperSimIsThePaperScene) {
   struct Expect {
     double x, y, vx, vy;
   };
-  const Expect expected[8] = {{5, 4, 0, 0},         {3.7, -3.7, 0, 0},      {-8, -8, 0, 0},      {-1.2, 0.8, 0, 0},
+  const Expect expected[8] = {{5, 4, 0, 0},           {3.7, -3.7, 0, 0},   {-8, -8, 0, 0},     {-1.2, 0.8, 0, 0},
                               {-4.5, 0.5, -1.0, 0.5}, {-10, -1.9, 0, 0.5}, {7, -0.8, -0.7, 0}, {-5, -2.8, 0, 0.9}};
   for (int i = 0; i < 8; ++i) {
     const ObstacleSpec& o = sc.obstacles[static_cast<size_t>(i)];

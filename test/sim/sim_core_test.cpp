@@ -3,6 +3,8 @@
 // frames are counted, the robot follows through its limits and stops on
 // the command timeout, obstacles start with the robot, SIM_TRUTH and the
 // LiDAR packets come at their rates.
+#include "sim/sim_core.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +15,6 @@
 #include "sensing/lidar_decoder.h"
 #include "sensing/rs_helios.h"
 #include "sensing/vlp16.h"
-#include "sim/sim_core.h"
 
 namespace evade::sim {
 namespace {
@@ -361,7 +362,7 @@ TEST(SimCoreHelios, MsopAndDifopOnTheirPortsAndTheBodySeenThenFiltered) {
       EXPECT_EQ(kind, sensing::rs_helios::PacketKind::kMsop);
     }
   }
-  EXPECT_EQ(difop, 2);                 // at the start and a second later
+  EXPECT_EQ(difop, 2);                   // at the start and a second later
   EXPECT_NEAR(msop, 1.2e6 / 666.72, 2);  // 1499.9 a second
   EXPECT_EQ(core.counter("lidar_packets"), difop + msop);
 
@@ -414,7 +415,7 @@ obstacles:
   EXPECT_EQ(truths.front().lidar_returns, std::vector<int32_t>(4, -1));
   const auto& last = truths.back();
   ASSERT_EQ(last.lidar_returns.size(), 4u);
-  EXPECT_GT(last.lidar_returns[0], 50);  // 0.5 m wide at 3 m: about 10 deg of the sweep, many rings
+  EXPECT_GT(last.lidar_returns[0], 50);   // 0.5 m wide at 3 m: about 10 deg of the sweep, many rings
   EXPECT_GT(last.lidar_returns[1], 100);  // the wall
   EXPECT_EQ(last.lidar_returns[2], 0);    // behind the wall
   EXPECT_EQ(last.lidar_returns[3], 0);    // beyond the sensor's range
@@ -422,7 +423,8 @@ obstacles:
   // counts (the firings' azimuths shift a little from one turn to the next).
   const auto& earlier = truths[truths.size() - 6];  // 0.1 s before
   ASSERT_EQ(earlier.lidar_returns.size(), 4u);
-  for (size_t i = 0; i < 4; ++i) EXPECT_NEAR(earlier.lidar_returns[i], last.lidar_returns[i], 0.05 * last.lidar_returns[i] + 1) << i;
+  for (size_t i = 0; i < 4; ++i)
+    EXPECT_NEAR(earlier.lidar_returns[i], last.lidar_returns[i], 0.05 * last.lidar_returns[i] + 1) << i;
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryModel, SimCoreReturns, ::testing::Values("vlp16", "rs_helios"));

@@ -5,18 +5,16 @@
 // pose the message carries, lies on the true ground, cylinder or box
 // surface (within the scenario's range noise).
 #include <gtest/gtest.h>
-
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <sstream>
 #include <string>
 #include <vector>

@@ -3,9 +3,8 @@
 // surfaces, its pty speaks Scout UART v1 (and survives the driver closing
 // and reopening it), SIM_TRUTH arrives on LCM, bad input exits with a
 // one-line reason.
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <signal.h>
 #include <spawn.h>
@@ -14,13 +13,12 @@
 #include <termios.h>
 #include <unistd.h>
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <thread>
 #include <vector>
@@ -92,8 +90,8 @@ class SimProcess : public ::testing::Test {
     timeval tv{0, 200'000};
     ::setsockopt(udp_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
 
-    std::vector<std::string> args = {SIM_BINARY, "--scenario", scenario_, "--device", device_,
-                                     "--lidar-dest", "127.0.0.1:" + std::to_string(port)};
+    std::vector<std::string> args = {
+        SIM_BINARY, "--scenario", scenario_, "--device", device_, "--lidar-dest", "127.0.0.1:" + std::to_string(port)};
     std::vector<char*> argv;
     for (auto& s : args) argv.push_back(s.data());
     argv.push_back(nullptr);
@@ -243,8 +241,9 @@ TEST_F(SimProcess, PublishesSimTruth) {
   EXPECT_DOUBLE_EQ(t.obstacles[0].x, 1.0);
   EXPECT_EQ(t.scenario, "process_test");
   // Stamped with the host clock, like every other process.
-  int64_t wall = std::chrono::duration_cast<std::chrono::microseconds>(
-                     std::chrono::system_clock::now().time_since_epoch()).count();
+  int64_t wall =
+      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count();
   EXPECT_LT(std::abs(wall - t.utime), 2'000'000);
 }
 

@@ -1,9 +1,10 @@
+#include "netem/impairment.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <vector>
 
-#include "netem/impairment.h"
 #include "netem/lcm_packet.h"
 
 namespace evade::netem {
@@ -126,8 +127,10 @@ TEST(Impairment, JitterReordersUnlessToldNotTo) {
       if (v.release_s < last) ++overtaken;
       last = std::max(last, v.release_s);
     }
-    if (reorder) EXPECT_GT(overtaken, 100);
-    else EXPECT_EQ(overtaken, 0);
+    if (reorder)
+      EXPECT_GT(overtaken, 100);
+    else
+      EXPECT_EQ(overtaken, 0);
   }
   EXPECT_THROW(Impairment({1.5, 0, 0, 1, {}}), std::invalid_argument);
   EXPECT_THROW(Impairment({0.1, -1, 0, 1, {}}), std::invalid_argument);

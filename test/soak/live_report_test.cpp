@@ -1,6 +1,6 @@
-#include <gtest/gtest.h>
-
 #include "soak/live_report.h"
+
+#include <gtest/gtest.h>
 
 namespace evade::soak {
 namespace {
@@ -17,11 +17,10 @@ LiveFiles files(int at_fault, const std::string& planner_status) {
                    "exempt": false},
       "SIM_TRUTH": {"packets": 10, "packets_dropped": 0, "messages": 10, "messages_lost": 0, "mean_delay_ms": 0,
                     "exempt": true}}})";
-  f.health_jsonl =
-      R"({"channel":"HEALTH","msg":{"name":"planner","inputs":[{"channel":"ODOMETRY","received":50}]}})"
-      "\n"
-      R"({"channel":"HEALTH","msg":{"name":"planner","inputs":[{"channel":"ODOMETRY","received":94}]}})"
-      "\n";
+  f.health_jsonl = R"({"channel":"HEALTH","msg":{"name":"planner","inputs":[{"channel":"ODOMETRY","received":50}]}})"
+                   "\n"
+                   R"({"channel":"HEALTH","msg":{"name":"planner","inputs":[{"channel":"ODOMETRY","received":94}]}})"
+                   "\n";
   return f;
 }
 

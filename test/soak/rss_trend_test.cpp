@@ -1,6 +1,6 @@
-#include <gtest/gtest.h>
-
 #include "soak/rss_trend.h"
+
+#include <gtest/gtest.h>
 
 namespace evade::soak {
 namespace {

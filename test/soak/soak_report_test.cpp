@@ -1,6 +1,6 @@
-#include <gtest/gtest.h>
-
 #include "soak/soak_report.h"
+
+#include <gtest/gtest.h>
 
 namespace evade::soak {
 namespace {

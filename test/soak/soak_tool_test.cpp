@@ -32,7 +32,8 @@ class SoakTool : public ::testing::Test {
     fs::create_directories(dir_);
     fake_ = dir_ / "fake-soak-lockstep";
     std::ofstream(fake_) << R"(#!/usr/bin/env bash
-if [ "$1" = report ]; then shift; exec ")" << kRoot << R"(/build/bin/soak-lockstep" report "$@"; fi
+if [ "$1" = report ]; then shift; exec ")"
+                         << kRoot << R"(/build/bin/soak-lockstep" report "$@"; fi
 shift
 while [ $# -gt 0 ]; do case "$1" in --out) out=$2 ;; --seed-base) seed=$2 ;; --wall-s) wall=$2 ;; esac; shift 2; done
 start=$EPOCHREALTIME; rss=1000
@@ -89,9 +90,9 @@ TEST_F(SoakTool, ACrashIsCountedWithItsSeedAndTheSoakCarriesOn) {
 TEST_F(SoakTool, GrowthAboveTheBoundFails) {
   const fs::path o = dir_ / "run";
   // 1 MiB per 0.2 s is far above 100 MiB/h.
-  ASSERT_EQ(soak("FAKE_GROWTH_KIB=1024",
-                 "--out " + o.string() + " --duration-s 2 --warmup-s 0.5 --max-growth-mib-per-h 100"),
-            1)
+  ASSERT_EQ(
+      soak("FAKE_GROWTH_KIB=1024", "--out " + o.string() + " --duration-s 2 --warmup-s 0.5 --max-growth-mib-per-h 100"),
+      1)
       << out();
   const auto r = nlohmann::json::parse(read(o / "report.json"));
   EXPECT_GT(r.at("rss_after_episodes").at(0).at("growth_mib_per_h").get<double>(), 1000.0);

@@ -71,8 +71,7 @@ class Faults : public ::testing::Test {
     }
     return false;
   }
-  void run_fault(const std::string& victim, std::vector<Sample> Observer::*zero_signal,
-                 const char* signal_name) {
+  void run_fault(const std::string& victim, std::vector<Sample> Observer::*zero_signal, const char* signal_name) {
     ASSERT_EQ(std::string(std::getenv("EVADE_IN_NETNS") ? std::getenv("EVADE_IN_NETNS") : ""), "1");
     std::string dir = ::testing::TempDir() + "/fault_" + victim;
     Stack stack(std::string(EVADE_SOURCE_DIR) + "/test/system/straight.yaml", dir);
@@ -80,9 +79,10 @@ class Faults : public ::testing::Test {
     bus::LiveBus bus(stack.url());
     Observer obs;
     bus.add(obs);
-    ASSERT_TRUE(wait_cruising(bus, obs, 40.0))
-        << "the robot never cruised; planner:\n" << stack.output_of("planner") << "\nbase_driver:\n"
-        << stack.output_of("base_driver") << "\nsim:\n" << stack.output_of("sim");
+    ASSERT_TRUE(wait_cruising(bus, obs, 40.0)) << "the robot never cruised; planner:\n"
+                                               << stack.output_of("planner") << "\nbase_driver:\n"
+                                               << stack.output_of("base_driver") << "\nsim:\n"
+                                               << stack.output_of("sim");
 
     const double v_kill = obs.speed();
     const int64_t t_kill = bus::wall_utime();
@@ -96,9 +96,10 @@ class Faults : public ::testing::Test {
     const double zero_after_s = (t_zero - t_kill) * 1e-6;
     const double rest_after_zero_s = (t_rest - t_zero) * 1e-6;
     const double braking_bound_s = v_kill / max_decel();
-    std::printf("[fault %s] v at kill %.2f m/s; zero on %s after %.3f s; at rest %.3f s later "
-                "(deceleration-limited braking from %.2f m/s takes %.3f s)\n",
-                victim.c_str(), v_kill, signal_name, zero_after_s, rest_after_zero_s, v_kill, braking_bound_s);
+    std::printf(
+        "[fault %s] v at kill %.2f m/s; zero on %s after %.3f s; at rest %.3f s later "
+        "(deceleration-limited braking from %.2f m/s takes %.3f s)\n",
+        victim.c_str(), v_kill, signal_name, zero_after_s, rest_after_zero_s, v_kill, braking_bound_s);
     RecordProperty("zero_after_s", std::to_string(zero_after_s));
     RecordProperty("rest_after_zero_s", std::to_string(rest_after_zero_s));
     EXPECT_LE(zero_after_s, 0.3);

@@ -84,8 +84,8 @@ void Stack::start(const std::string& name) {
 
 void Stack::start_all(const std::string& planner_mode) {
   mode_ = planner_mode;
-  for (const char* n : {"sim", "base_driver", "lidar_driver", "elevation_map", "tracker", "predictor", "planner",
-                        "route"})
+  for (const char* n :
+       {"sim", "base_driver", "lidar_driver", "elevation_map", "tracker", "predictor", "planner", "route"})
     start(n);
 }
 

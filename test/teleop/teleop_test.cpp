@@ -1,8 +1,6 @@
 // The operator's tools' cores: keys to CMD_VEL, the hold time, the e-stop's
 // repeats, the configuration; and, signed, the e-stop tool stopping a
 // base_driver core that a teleop core is driving.
-#include "teleop/teleop_core.h"
-
 #include <gtest/gtest.h>
 
 #include "base/base_driver_core.h"
@@ -11,6 +9,7 @@
 #include "config/config.h"
 #include "evade/cmd_vel_t.hpp"
 #include "evade/estop_t.hpp"
+#include "teleop/teleop_core.h"
 
 namespace evade::teleop {
 namespace {
@@ -132,7 +131,8 @@ TEST(TeleopConfig, RobotYamlLoadsAndTheSectionIsStrict) {
   EXPECT_EQ(p.estop_repeats, 5);
   EXPECT_THROW(TeleopParams::from_config(config::load_string(
                    "teleop: {rate_hz: 20, linear_step_mps: 0.1, angular_step_radps: 0.2, max_v_mps: 0.5, "
-                   "max_omega_radps: 1, hold_s: 0.6, estop_rate_hz: 10, estop_repeats: 5, extra: 1}\n", "t.yaml")),
+                   "max_omega_radps: 1, hold_s: 0.6, estop_rate_hz: 10, estop_repeats: 5, extra: 1}\n",
+                   "t.yaml")),
                config::ConfigError);
 }
 

@@ -82,7 +82,8 @@ TEST(Pipeline, CylindersGetStableIdsAndEllipsesOnTheirSurface) {
     if (list.num_obstacles != 2) {
       ADD_FAILURE() << "frame " << f << ": " << list.num_obstacles << " obstacles";
       for (const auto& o : list.obstacles)
-        std::printf("  id %lld at %.2f %.2f a %.2f b %.2f cells %d\n", (long long)o.id, o.x, o.y, o.a, o.b, o.num_cells);
+        std::printf("  id %lld at %.2f %.2f a %.2f b %.2f cells %d\n", (long long)o.id, o.x, o.y, o.a, o.b,
+                    o.num_cells);
       continue;
     }
     ++frames;

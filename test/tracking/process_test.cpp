@@ -10,9 +10,9 @@
 #include <map>
 #include <string>
 
+#include "../bus/test_signer.h"
 #include "bus/core.h"
 #include "bus/log.h"
-#include "../bus/test_signer.h"
 #include "evade/grid_map_t.hpp"
 #include "evade/obstacle_list_t.hpp"
 #include "evade/odometry_t.hpp"

@@ -148,8 +148,8 @@ TEST(Mbe, RandomSmallClustersMatchBruteForceWithinOnePercent) {
     const double ours = ellipse_area(e);
     const double brute = brute_force_min_area(pts);
     EXPECT_LE(max_level(e, pts), 1.0 + 1e-9) << trial;  // encloses every corner
-    EXPECT_LE(ours, brute * 1.01) << trial;               // no more than 1% above the search's minimum
-    EXPECT_LE(brute, ours * 1.02) << trial;               // and the search is itself close (sanity)
+    EXPECT_LE(ours, brute * 1.01) << trial;             // no more than 1% above the search's minimum
+    EXPECT_LE(brute, ours * 1.02) << trial;             // and the search is itself close (sanity)
   }
 }
 

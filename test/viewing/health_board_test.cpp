@@ -1,10 +1,11 @@
 // The health board's table and verdict from decoded heartbeats and a time.
+#include "health_board.h"
+
 #include <gtest/gtest.h>
 
 #include <regex>
 
 #include "config/config.h"
-#include "health_board.h"
 
 namespace {
 
@@ -39,7 +40,9 @@ void add_counter(evade::health_t* m, const std::string& name, int64_t v) {
   m->num_counters = int32_t(m->counters.size());
 }
 
-size_t visible_width(const std::string& s) { return std::regex_replace(s, std::regex("\033\\[[0-9;]*[A-Za-z]"), "").size(); }
+size_t visible_width(const std::string& s) {
+  return std::regex_replace(s, std::regex("\033\\[[0-9;]*[A-Za-z]"), "").size();
+}
 
 constexpr int64_t kSec = 1'000'000;
 
@@ -56,10 +59,10 @@ TEST(HealthBoard, OneRowPerProcessWithAgeRateLatencyAndOldestInput) {
   EXPECT_NE(lines[1].find("route"), std::string::npos);
   EXPECT_NE(lines[2].find("tracker"), std::string::npos);
   EXPECT_NE(lines[2].find(" 1.0 "), std::string::npos) << lines[2];  // heartbeat age 1.0 s
-  EXPECT_NE(lines[2].find("10.0"), std::string::npos);              // output rate
-  EXPECT_NE(lines[2].find("0.41"), std::string::npos);              // mean latency, ms
-  EXPECT_NE(lines[2].find("1.53"), std::string::npos);              // max latency, ms
-  EXPECT_NE(lines[2].find("ODOMETRY"), std::string::npos);          // the older of its two inputs
+  EXPECT_NE(lines[2].find("10.0"), std::string::npos);               // output rate
+  EXPECT_NE(lines[2].find("0.41"), std::string::npos);               // mean latency, ms
+  EXPECT_NE(lines[2].find("1.53"), std::string::npos);               // max latency, ms
+  EXPECT_NE(lines[2].find("ODOMETRY"), std::string::npos);           // the older of its two inputs
   EXPECT_NE(lines[2].find("2.34"), std::string::npos);
   EXPECT_EQ(lines[2].find("ELEVATION_MAP"), std::string::npos);
   EXPECT_NE(lines[1].find(" 0.5 "), std::string::npos) << lines[1];
@@ -143,14 +146,16 @@ TEST(HealthBoard, KeepsTheNewestHeartbeatPerProcess) {
 }
 
 TEST(HealthBoard, ConfigIsReadStrictly) {
-  const auto ok = evade::config::load_string("stale_after_s: 1.5\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\n", "t.yaml");
+  const auto ok =
+      evade::config::load_string("stale_after_s: 1.5\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\n", "t.yaml");
   const auto p = HealthBoardParams::from_config(ok);
   EXPECT_EQ(p.stale_after_s, 1.5);
   EXPECT_EQ(p.once_listen_s, 2.0);
-  const auto extra =
-      evade::config::load_string("stale_after_s: 1.5\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\nstale_s: 1\n", "t.yaml");
+  const auto extra = evade::config::load_string(
+      "stale_after_s: 1.5\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\nstale_s: 1\n", "t.yaml");
   EXPECT_THROW(HealthBoardParams::from_config(extra), evade::config::ConfigError);
-  const auto bad = evade::config::load_string("stale_after_s: -1\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\n", "t.yaml");
+  const auto bad =
+      evade::config::load_string("stale_after_s: -1\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\n", "t.yaml");
   EXPECT_THROW(HealthBoardParams::from_config(bad), evade::config::ConfigError);
   // robot.yaml's section loads
   const auto root = evade::config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");

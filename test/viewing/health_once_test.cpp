@@ -1,7 +1,6 @@
 // `health --once` end to end, inside a private network namespace (NETNS),
 // with one real process (route) publishing HEALTH.
 #include <gtest/gtest.h>
-
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>

@@ -2,14 +2,12 @@
 // a private network namespace (NETNS): Java's LCM with the fix applied hears
 // every 30,000-point cloud published at 10 Hz.
 #include <gtest/gtest.h>
-
-#include <lcm/lcm-cpp.hpp>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <thread>
 
@@ -30,10 +28,11 @@ struct ProbeResult {
 ProbeResult probe_while_publishing(bool fix, int count, bool spy = false) {
   const std::string java = std::string("java -Djava.net.preferIPv4Stack=true -cp /usr/share/java/lcm.jar:") +
                            EVADE_TOOLS_JAR + ":" + EVADE_TYPES_JAR + ":/usr/share/java/jchart2d.jar";
-  const std::string args = std::string(" '") + kUrl + "' CLOUD " + std::to_string(count * 0.1 + 2.0) + (fix ? " 1" : " 0");
-  const std::string cmd = spy ? "xvfb-run -a -s '-screen 0 1024x768x24' " + java + " evade.tools.SpyRate" + args +
-                                    " 2>/dev/null"
-                              : java + " evade.tools.Probe" + args;
+  const std::string args =
+      std::string(" '") + kUrl + "' CLOUD " + std::to_string(count * 0.1 + 2.0) + (fix ? " 1" : " 0");
+  const std::string cmd =
+      spy ? "xvfb-run -a -s '-screen 0 1024x768x24' " + java + " evade.tools.SpyRate" + args + " 2>/dev/null"
+          : java + " evade.tools.Probe" + args;
   FILE* p = ::popen(cmd.c_str(), "r");
   EXPECT_NE(p, nullptr);
   char line[256] = {0};
@@ -72,8 +71,10 @@ TEST(LcmSpyReceiveBuffer, JavaLcmWithTheFixHearsEveryCloud) {
   const int n = 30;
   const ProbeResult without = probe_while_publishing(false, n);
   const ProbeResult with = probe_while_publishing(true, n);
-  std::printf("Java LCM, 30 clouds of 30,000 points at 10 Hz: %d heard without the fix, %d with "
-              "(buffer granted %d bytes)\n", without.messages, with.messages, with.granted);
+  std::printf(
+      "Java LCM, 30 clouds of 30,000 points at 10 Hz: %d heard without the fix, %d with "
+      "(buffer granted %d bytes)\n",
+      without.messages, with.messages, with.granted);
   EXPECT_EQ(with.messages, n);
   EXPECT_GT(with.granted, 1 << 20);
   EXPECT_GE(with.bytes, 30000 * 21);  // x, y, z, intensity, ring, time_offset: the whole cloud arrived

@@ -2,7 +2,6 @@
 // scenario, git describe, window commands) and the logger's channels,
 // without starting anything.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 

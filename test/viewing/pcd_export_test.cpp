@@ -1,7 +1,8 @@
 // lcmlog-export --pcd: the files read back with pcl::io, their point counts,
 // and obstacles' points where the truth puts them.
-#include <gtest/gtest.h>
+#include "pcd_export.h"
 
+#include <gtest/gtest.h>
 #include <pcl/io/pcd_io.h>
 
 #include <cmath>
@@ -16,7 +17,6 @@
 #include "evade/pointcloud_t.hpp"
 #include "evade/sim_truth_t.hpp"
 #include "mapping/synthetic_scan.h"
-#include "pcd_export.h"
 
 namespace {
 

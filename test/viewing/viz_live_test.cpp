@@ -2,15 +2,14 @@
 // xvfb-run: ODOMETRY and ROUTE published by the test are drawn (the
 // footprint's and the route's colours in the frame it writes after
 // listening --at seconds).
-#include <gtest/gtest.h>
-
 #include <cairo.h>
-#include <lcm/lcm-cpp.hpp>
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <thread>
 
@@ -45,8 +44,8 @@ TEST(VizLive, DrawsWhatIsOnTheBus) {
   const std::string src = EVADE_SOURCE_DIR;
   const pid_t pid = ::fork();
   if (pid == 0) {
-    const std::string cmd = "exec xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(EVADE_VIZ_BIN) +
-                            " --config " + src + "/config/robot.yaml --at 2 --snapshot " + png + " 2>/dev/null";
+    const std::string cmd = "exec xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(EVADE_VIZ_BIN) + " --config " +
+                            src + "/config/robot.yaml --at 2 --snapshot " + png + " 2>/dev/null";
     ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
@@ -61,8 +60,9 @@ TEST(VizLive, DrawsWhatIsOnTheBus) {
   bool exited = false;
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   while (!exited && std::chrono::steady_clock::now() < end) {
-    odo.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                    std::chrono::system_clock::now().time_since_epoch()).count();
+    odo.utime =
+        std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+            .count();
     route.utime = odo.utime;
     lcm.publish("ODOMETRY", &odo);
     lcm.publish("ROUTE", &route);

@@ -1,9 +1,8 @@
 // evade-viz --snapshot under Xvfb (xvfb-run): the PNG exists, has the
 // configured window size, and shows the robot's footprint, the true
 // obstacles, the plan and the route of the golden paper_sim window.
-#include <gtest/gtest.h>
-
 #include <cairo.h>
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -37,7 +36,9 @@ Png inspect(const std::string& path) {
       const int r = (px >> 16) & 0xff, g = (px >> 8) & 0xff, b = px & 0xff;
       colours.insert(px & 0xffffff);
       // Lines are drawn unlit, so in their exact colours (scene.cpp), +-2 for rounding.
-      auto is = [&](int R, int G, int B) { return std::abs(r - R) <= 2 && std::abs(g - G) <= 2 && std::abs(b - B) <= 2; };
+      auto is = [&](int R, int G, int B) {
+        return std::abs(r - R) <= 2 && std::abs(g - G) <= 2 && std::abs(b - B) <= 2;
+      };
       if (is(51, 255, 51)) ++out.robot_green;  // (0.2, 1, 0.2)
       if (is(0, 230, 255)) ++out.truth_cyan;   // (0, 0.9, 1)
       if (is(26, 230, 76)) ++out.plan_green;   // status ok (0.1, 0.9, 0.3)
@@ -57,8 +58,8 @@ TEST(VizSnapshot, AFrameOfTheGoldenRunShowsTheRobotAndTheTruth) {
   const std::string png = ::testing::TempDir() + "viz_snapshot_" + std::to_string(::getpid()) + ".png";
   std::remove(png.c_str());
   const std::string src = EVADE_SOURCE_DIR;
-  const std::string cmd = "xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(EVADE_VIZ_BIN) + " --config " +
-                          src + "/config/robot.yaml --log " + src +
+  const std::string cmd = "xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(EVADE_VIZ_BIN) + " --config " + src +
+                          "/config/robot.yaml --log " + src +
                           "/logs/paper_sim_crossing/input.lcmlog --at 1.5 --snapshot " + png + " 2>/dev/null";
   ASSERT_EQ(run(cmd), 0) << cmd;
   const Png p = inspect(png);

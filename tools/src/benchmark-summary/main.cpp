@@ -3,7 +3,6 @@
 // benchmark-summary summarize RESULTS.jsonl [--json F] [--png F] [--markdown] [--fail-on-at-fault]
 //   statistics per family and mode (docs/benchmark.md)
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -75,7 +74,8 @@ int run_summarize(const std::string& results, const std::string& json, const std
     errors += !e.error.empty();
     at_fault += e.error.empty() && (e.at_fault || e.collisions_at_fault > 0);
   }
-  if (errors > 0) std::fprintf(stderr, "benchmark-summary: %d episodes produced no metrics (rows with \"error\")\n", errors);
+  if (errors > 0)
+    std::fprintf(stderr, "benchmark-summary: %d episodes produced no metrics (rows with \"error\")\n", errors);
   if (fail_on_at_fault && at_fault > 0)
     std::fprintf(stderr, "benchmark-summary: %d episodes had a collision at fault\n", at_fault);
   return errors > 0 || (fail_on_at_fault && at_fault > 0) ? 1 : 0;

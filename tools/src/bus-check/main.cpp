@@ -6,7 +6,6 @@
 //   bus-check [--config F] --allowed         prints the allowed interfaces, one a line
 //   bus-check [--lcm-url U] --group          prints the bus's group and port: "239.255.76.67 7667"
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 
 #include "bus/bus_guard.h"

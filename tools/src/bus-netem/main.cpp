@@ -7,13 +7,13 @@
 // (lib/netem/impairment.h). Rewrites FILE with the per-channel counts every
 // second and at SIGTERM / SIGINT, then exits 0. Exit 2: bad arguments or
 // no queue (needs CAP_NET_ADMIN).
-#include <CLI/CLI.hpp>
-#include <libnetfilter_queue/libnetfilter_queue.h>
 #include <arpa/inet.h>
+#include <libnetfilter_queue/libnetfilter_queue.h>
 #include <linux/netfilter.h>
 #include <poll.h>
 #include <signal.h>
 
+#include <CLI/CLI.hpp>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -95,8 +95,10 @@ void serve(nfq_handle* h, State& st, const std::string& stats_path) {
     pollfd p{fd, POLLIN, 0};
     if (poll(&p, 1, std::min(timeout_ms, 100)) > 0) {
       const ssize_t n = recv(fd, buf, sizeof buf, MSG_DONTWAIT);
-      if (n > 0) nfq_handle_packet(h, buf, static_cast<int>(n));
-      else if (n < 0 && errno == ENOBUFS) std::fprintf(stderr, "bus-netem: queue overrun (ENOBUFS)\n");
+      if (n > 0)
+        nfq_handle_packet(h, buf, static_cast<int>(n));
+      else if (n < 0 && errno == ENOBUFS)
+        std::fprintf(stderr, "bus-netem: queue overrun (ENOBUFS)\n");
     }
     if (now_s() >= next_stats) write_stats(stats_path, *st.imp), next_stats = now_s() + 1.0;
   }

@@ -9,7 +9,6 @@
 // A restarted base_driver starts released: keep `estop --hold` running
 // when the stop must outlive one.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 
 #include "bus/live_bus.h"

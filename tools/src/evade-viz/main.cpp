@@ -14,12 +14,11 @@
 #include <sys/stat.h>
 
 #include <CLI/CLI.hpp>
-#include <lcm/lcm-cpp.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 
 #include "bus/live_bus.h"
@@ -37,9 +36,7 @@ using evade::viz::Renderer;
 using evade::viz::VizParams;
 using evade::viz::WorldState;
 
-double wall_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double wall_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 void frame(Renderer& r, const WorldState& w, const Controls& c, const VizParams& p, const std::string& status) {
   const auto scene = evade::viz::build_scene(w, c.layers, p);
@@ -59,8 +56,8 @@ std::string config_beside(const std::string& log) {
   } catch (const evade::config::ConfigError&) {
     return beside.string();  // let the strict load report it
   }
-  std::fprintf(stderr, "%s: %s has no viz section (written before evade-viz): using the default configuration\n",
-               kName, beside.c_str());
+  std::fprintf(stderr, "%s: %s has no viz section (written before evade-viz): using the default configuration\n", kName,
+               beside.c_str());
   return "";
 }
 
@@ -210,8 +207,10 @@ int main(int argc, char** argv) {
   }
   const char* display = std::getenv("DISPLAY");
   if (!display || !*display) {
-    std::fprintf(stderr, "%s: no display (DISPLAY is unset); without one run it under Xvfb: "
-                 "xvfb-run -a -s \"-screen 0 %dx%dx24\" %s ...\n", kName, p.window_width_px, p.window_height_px, argv[0]);
+    std::fprintf(stderr,
+                 "%s: no display (DISPLAY is unset); without one run it under Xvfb: "
+                 "xvfb-run -a -s \"-screen 0 %dx%dx24\" %s ...\n",
+                 kName, p.window_width_px, p.window_height_px, argv[0]);
     return 2;
   }
   try {

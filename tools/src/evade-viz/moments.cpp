@@ -15,7 +15,8 @@ std::vector<Moment> key_moments(const std::vector<bus::LogEvent>& events, const 
   std::vector<std::pair<int64_t, int64_t>> truth;  // (msg utime, log timestamp)
   for (const auto& e : events) {
     evade::sim_truth_t t;
-    if (e.channel == "SIM_TRUTH" && bus::decode(e.data.data(), e.data.size(), &t)) truth.push_back({t.utime, e.timestamp});
+    if (e.channel == "SIM_TRUTH" && bus::decode(e.data.data(), e.data.size(), &t))
+      truth.push_back({t.utime, e.timestamp});
   }
   std::sort(truth.begin(), truth.end());
   if (truth.empty()) return {};

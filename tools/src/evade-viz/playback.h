@@ -25,8 +25,8 @@ struct Controls {
   bool follow = true;
   bool paused = false;
   double speed = 1.0;
-  int steps = 0;            // pending single steps
-  double seek_by_s = 0.0;   // pending relative seek
+  int steps = 0;           // pending single steps
+  double seek_by_s = 0.0;  // pending relative seek
   bool seek_to_start = false;
 
   // Applies one key press; false when the key is not one of evade-viz's.

@@ -5,9 +5,9 @@
 #include <pcl/visualization/pcl_visualizer.h>
 #include <vtkActor.h>
 #include <vtkCellArray.h>
-#include <vtkProperty.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkProperty.h>
 #include <vtkSmartPointer.h>
 
 #include <cmath>
@@ -105,8 +105,8 @@ void Renderer::draw(const Scene& s, const std::string& status) {
 void Renderer::follow(const Scene& s) {
   if (!s.have_robot) return;
   const double c = std::cos(s.robot_yaw), sn = std::sin(s.robot_yaw);
-  v_->setCameraPosition(s.robot_x - c * p_.camera_distance_m, s.robot_y - sn * p_.camera_distance_m,
-                        p_.camera_height_m, s.robot_x + 2 * c, s.robot_y + 2 * sn, 0.0, 0, 0, 1);
+  v_->setCameraPosition(s.robot_x - c * p_.camera_distance_m, s.robot_y - sn * p_.camera_distance_m, p_.camera_height_m,
+                        s.robot_x + 2 * c, s.robot_y + 2 * sn, 0.0, 0, 0, 1);
 }
 
 bool Renderer::spin(int ms) {

@@ -74,7 +74,8 @@ void add_map(const WorldState& w, const VizParams& p, Scene* s) {
       const float z = r < int(m.elevation.size()) && c < int(m.elevation[r].size()) && std::isfinite(m.elevation[r][c])
                           ? m.elevation[r][c]
                           : 0.0f;
-      cells.xyz.push_back({float(m.origin[0] + (c + 0.5) * m.resolution), float(m.origin[1] + (r + 0.5) * m.resolution), z});
+      cells.xyz.push_back(
+          {float(m.origin[0] + (c + 0.5) * m.resolution), float(m.origin[1] + (r + 0.5) * m.resolution), z});
       cells.rgb.push_back(kRed);
     }
   s->points.push_back(std::move(cells));
@@ -93,9 +94,11 @@ void add_tracks(const WorldState& w, const VizParams& p, Scene* s) {
     if (v != velocity.end()) {
       const double vx = v->second.first, vy = v->second.second;
       text += fmt(" %.1f m/s", std::hypot(vx, vy));
-      for (auto& a : arrow(o.x, o.y, vx * p.velocity_arrow_s, vy * p.velocity_arrow_s, kLineZ)) arrows.strips.push_back(a);
+      for (auto& a : arrow(o.x, o.y, vx * p.velocity_arrow_s, vy * p.velocity_arrow_s, kLineZ))
+        arrows.strips.push_back(a);
     }
-    s->labels.push_back({kTracks, "track_" + std::to_string(o.id), text, {float(o.x), float(o.y), 0.8f}, kOrange, 0.15f});
+    s->labels.push_back(
+        {kTracks, "track_" + std::to_string(o.id), text, {float(o.x), float(o.y), 0.8f}, kOrange, 0.15f});
   }
   s->lines.push_back(std::move(shapes));
   s->lines.push_back(std::move(arrows));
@@ -107,8 +110,9 @@ void add_predictions(const WorldState& w, const VizParams& p, Scene* s) {
   const int horizon = pl.horizon;
   for (int k = 1; k < horizon; ++k) {
     const double f = horizon > 2 ? double(k - 1) / (horizon - 2) : 0.0;
-    LinesPrim step{kPredictions, "prediction_" + std::to_string(k), {}, kYellow,
-                   float(1.0 - f * (1.0 - p.prediction_min_opacity)), 1.0f};
+    LinesPrim step{
+        kPredictions, "prediction_" + std::to_string(k), {}, kYellow, float(1.0 - f * (1.0 - p.prediction_min_opacity)),
+        1.0f};
     for (const auto& t : pl.tracks) {
       if (k >= t.horizon || k >= int(t.x.size())) continue;
       step.strips.push_back(ellipse(t.x[k], t.y[k], t.a[k], t.b[k], t.theta[k], p.ellipse_segments, kLineZ));
@@ -137,7 +141,8 @@ void add_robot(const WorldState& w, const VizParams& p, Scene* s) {
   LinesPrim robot{kRobot, "robot", {}, kGreen, 1.0f, 4.0f};
   robot.strips.push_back(rectangle(o.x, o.y, o.yaw, p.footprint_length_m, p.footprint_width_m, kLineZ));
   const double c = std::cos(o.yaw), sn = std::sin(o.yaw), hl = p.footprint_length_m / 2;
-  robot.strips.push_back({{float(o.x), float(o.y), kLineZ}, {float(o.x + c * (hl + 0.2)), float(o.y + sn * (hl + 0.2)), kLineZ}});
+  robot.strips.push_back(
+      {{float(o.x), float(o.y), kLineZ}, {float(o.x + c * (hl + 0.2)), float(o.y + sn * (hl + 0.2)), kLineZ}});
   s->lines.push_back(std::move(robot));
 }
 
@@ -206,25 +211,39 @@ Rgb height_colour(double z, double min_z, double max_z) {
 
 Rgb plan_colour(int8_t status) {
   switch (status) {
-    case evade::plan_t::STATUS_OK: return {0.1f, 0.9f, 0.3f};
-    case evade::plan_t::STATUS_FALLBACK: return kOrange;
-    case evade::plan_t::STATUS_RECOVERING: return {1.0f, 0.2f, 1.0f};
-    case evade::plan_t::STATUS_GOAL: return {0.3f, 0.5f, 1.0f};
-    case evade::plan_t::STATUS_NO_ROUTE: return {0.6f, 0.6f, 0.6f};
-    default: return kRed;  // stopping, stale input
+    case evade::plan_t::STATUS_OK:
+      return {0.1f, 0.9f, 0.3f};
+    case evade::plan_t::STATUS_FALLBACK:
+      return kOrange;
+    case evade::plan_t::STATUS_RECOVERING:
+      return {1.0f, 0.2f, 1.0f};
+    case evade::plan_t::STATUS_GOAL:
+      return {0.3f, 0.5f, 1.0f};
+    case evade::plan_t::STATUS_NO_ROUTE:
+      return {0.6f, 0.6f, 0.6f};
+    default:
+      return kRed;  // stopping, stale input
   }
 }
 
 const char* plan_status_name(int8_t status) {
   switch (status) {
-    case evade::plan_t::STATUS_OK: return "ok";
-    case evade::plan_t::STATUS_FALLBACK: return "fallback";
-    case evade::plan_t::STATUS_STOPPING: return "stopping";
-    case evade::plan_t::STATUS_STALE_INPUT: return "stale input";
-    case evade::plan_t::STATUS_NO_ROUTE: return "no route";
-    case evade::plan_t::STATUS_GOAL: return "goal";
-    case evade::plan_t::STATUS_RECOVERING: return "recovering";
-    default: return "unknown";
+    case evade::plan_t::STATUS_OK:
+      return "ok";
+    case evade::plan_t::STATUS_FALLBACK:
+      return "fallback";
+    case evade::plan_t::STATUS_STOPPING:
+      return "stopping";
+    case evade::plan_t::STATUS_STALE_INPUT:
+      return "stale input";
+    case evade::plan_t::STATUS_NO_ROUTE:
+      return "no route";
+    case evade::plan_t::STATUS_GOAL:
+      return "goal";
+    case evade::plan_t::STATUS_RECOVERING:
+      return "recovering";
+    default:
+      return "unknown";
   }
 }
 

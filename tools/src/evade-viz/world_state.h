@@ -39,8 +39,8 @@ struct VizParams {
   double camera_distance_m = 9.0;        // follow camera: this far behind the robot
   double camera_height_m = 7.0;          // and this high
   double seek_step_s = 5.0;
-  double footprint_length_m = 0.42;      // robot.footprint_length_m
-  double footprint_width_m = 0.31;       // robot.footprint_width_m
+  double footprint_length_m = 0.42;  // robot.footprint_length_m
+  double footprint_width_m = 0.31;   // robot.footprint_width_m
   // The `viz:` section (closed) and the robot's footprint from `robot:`.
   static VizParams from_config(const config::Node& root);
 };

@@ -8,9 +8,8 @@
 // route and repeats it (lib/route); the planner drives to its end
 // (PLAN.status GOAL there). Exit 0 sent, 1 no ODOMETRY heard, 2 bad input.
 #include <CLI/CLI.hpp>
-#include <lcm/lcm-cpp.hpp>
-
 #include <cstdio>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <optional>
 #include <stdexcept>

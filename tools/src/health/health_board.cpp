@@ -40,8 +40,8 @@ std::string clip(const std::string& s, size_t n) { return s.size() <= n ? s : s.
 std::string row(const std::string& name, const std::string& beat, const std::string& rate, const std::string& mean,
                 const std::string& max, const std::string& input, const std::string& input_age) {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "%-16s %6s %7s %7s %7s  %-16s %7s", clip(name, 16).c_str(), beat.c_str(),
-                rate.c_str(), mean.c_str(), max.c_str(), clip(input, 16).c_str(), input_age.c_str());
+  std::snprintf(buf, sizeof buf, "%-16s %6s %7s %7s %7s  %-16s %7s", clip(name, 16).c_str(), beat.c_str(), rate.c_str(),
+                mean.c_str(), max.c_str(), clip(input, 16).c_str(), input_age.c_str());
   return buf;
 }
 
@@ -49,8 +49,7 @@ std::string row(const std::string& name, const std::string& beat, const std::str
 void oldest_input(const evade::health_t& m, std::string* name, std::string* age) {
   const evade::health_channel_t* worst = nullptr;
   for (const auto& in : m.inputs) {
-    if (!worst || (in.age_us < 0 && worst->age_us >= 0) ||
-        (in.age_us > worst->age_us && worst->age_us >= 0))
+    if (!worst || (in.age_us < 0 && worst->age_us >= 0) || (in.age_us > worst->age_us && worst->age_us >= 0))
       worst = &in;
   }
   if (!worst) {
@@ -95,16 +94,16 @@ Verdict judge(const HealthBoard& board, const std::vector<std::string>& expected
   return v;
 }
 
-std::vector<std::string> render_table(const HealthBoard& board, const std::vector<std::string>& expected,
-                                      int64_t now, const HealthBoardParams& p, bool colour) {
+std::vector<std::string> render_table(const HealthBoard& board, const std::vector<std::string>& expected, int64_t now,
+                                      const HealthBoardParams& p, bool colour) {
   std::vector<std::string> out;
   out.push_back(row("PROCESS", "BEAT s", "OUT Hz", "LAT ms", "MAX ms", "OLDEST INPUT", "AGE s"));
   for (const auto& [name, h] : board.processes()) {
     std::string input, input_age;
     oldest_input(h.msg, &input, &input_age);
-    std::string line = row(name, num(age_s(h, now), 1, 6), num(h.msg.output_rate_hz, 1, 7),
-                           num(h.msg.latency_us_mean * 1e-3, 2, 7), num(h.msg.latency_us_max * 1e-3, 2, 7), input,
-                           input_age);
+    std::string line =
+        row(name, num(age_s(h, now), 1, 6), num(h.msg.output_rate_hz, 1, 7), num(h.msg.latency_us_mean * 1e-3, 2, 7),
+            num(h.msg.latency_us_max * 1e-3, 2, 7), input, input_age);
     if (is_stale(h, now, p)) line = colour ? kRed + line + kReset : line + " STALE";
     out.push_back(line);
     for (auto& c : counter_lines(h.msg)) out.push_back(c);

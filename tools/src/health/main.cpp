@@ -8,9 +8,8 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <lcm/lcm-cpp.hpp>
-
 #include <cstdio>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
 

@@ -11,7 +11,6 @@
 // beside the log (run_scenario and tools/launch write one), else the
 // default robot configuration.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <set>

@@ -39,10 +39,10 @@ struct Stats {
   int64_t clouds_without_pose = 0;  // no odometry near the revolution's time: not written
   int64_t maps_written = 0;
   int64_t points_written = 0;
-  int64_t points_invalid = 0;       // non-finite, or a time offset outside the sweep
-  int64_t malformed = 0;            // ODOMETRY, LIDAR_*, ELEVATION_MAP messages that failed to decode
-  int64_t scans_other_model = 0;    // LIDAR_SCAN of another sensor model than the configured one
-  bool from_scans = false;          // clouds decoded from LIDAR_SCAN
+  int64_t points_invalid = 0;     // non-finite, or a time offset outside the sweep
+  int64_t malformed = 0;          // ODOMETRY, LIDAR_*, ELEVATION_MAP messages that failed to decode
+  int64_t scans_other_model = 0;  // LIDAR_SCAN of another sensor model than the configured one
+  bool from_scans = false;        // clouds decoded from LIDAR_SCAN
 };
 
 // The revolution in the world frame; false when the pose at its utime is unknown.

@@ -12,7 +12,6 @@
 // Exit: 0 the goal was reached, 1 the scenario's duration passed first,
 // 2 usage, configuration or file error.
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <ctime>

@@ -23,7 +23,6 @@
 // Every other event is copied as it is. OUT may be IN only with --force (it
 // is written to a temporary file first).
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -176,8 +175,8 @@ struct AuthType {
       return true;
     }
     const std::vector<uint8_t> fresh = evade::bus::encode(Msg{});
-    std::vector<uint8_t> out(fresh.begin(), fresh.begin() + 8);     // the current fingerprint
-    out.insert(out.end(), data->begin() + 8, data->end());          // the old fields
+    std::vector<uint8_t> out(fresh.begin(), fresh.begin() + 8);          // the current fingerprint
+    out.insert(out.end(), data->begin() + 8, data->end());               // the old fields
     out.insert(out.end(), fresh.end() - (4 + 1 + 8 + 32), fresh.end());  // empty auth fields
     if (data->size() < 8 || !evade::bus::decode(out.data(), out.size(), &m)) return false;
     *data = std::move(out);

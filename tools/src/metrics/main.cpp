@@ -2,7 +2,6 @@
 // metrics --table MODE=LOG [MODE=LOG ...]   (the paper's Table I beside ours)
 // metrics --stats RESULTS.jsonl              (the same over many runs: mean ± sd)
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -62,8 +61,8 @@ std::string config_for(const std::string& log, const std::string& config_path) {
 }
 
 void print_table(const std::vector<std::string>& pairs, const std::string& config_path) {
-  std::printf("%-18s | %-22s | %-14s | %-14s | %-16s | %s\n", "algorithm", "min dist (m)", "time (s)",
-              "reaction (s)", "speed var", "contacts");
+  std::printf("%-18s | %-22s | %-14s | %-14s | %-16s | %s\n", "algorithm", "min dist (m)", "time (s)", "reaction (s)",
+              "speed var", "contacts");
   std::printf("%-18s | %-22s | %-14s | %-14s | %-16s | %s\n", "", "here / paper", "here / paper", "here / paper",
               "here / paper", "(at fault)");
   std::printf("-------------------+------------------------+----------------+----------------+------------------+");
@@ -84,8 +83,8 @@ void print_table(const std::vector<std::string>& pairs, const std::string& confi
                 paper ? paper->name : mode.c_str(), dist.c_str(), paper ? paper->min_dist : "", time.c_str(),
                 paper ? paper->time : "", fmt(m.reaction_time_s).c_str(), paper ? paper->reaction : "",
                 fmt(m.speed_var, "%.4f").c_str(), paper ? paper->speed_var : "", contacts.c_str());
-    }
   }
+}
 
 std::string mean_sd(const std::optional<evade::benchmark::MeanSd>& s, const char* f) {
   if (!s) return "-";

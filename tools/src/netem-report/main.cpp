@@ -6,7 +6,6 @@
 // each process (default 60). Exit 0 pass (no crash, no collision at
 // fault), 1 fail, 2 missing or unreadable files.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -42,9 +41,12 @@ int main(int argc, char** argv) {
   }
   try {
     const fs::path d(dir);
-    evade::soak::LiveFiles f{read_text(d / "run" / "logs" / "exit_status.tsv"), read_text(d / "rss.tsv"),
-                             read_text(d / "pids.tsv"),  read_text(d / "run" / "metrics.json"),
-                             read_text(d / "netem.json"), read_text(d / "health.jsonl")};
+    evade::soak::LiveFiles f{read_text(d / "run" / "logs" / "exit_status.tsv"),
+                             read_text(d / "rss.tsv"),
+                             read_text(d / "pids.tsv"),
+                             read_text(d / "run" / "metrics.json"),
+                             read_text(d / "netem.json"),
+                             read_text(d / "health.jsonl")};
     const auto r = evade::soak::make_live_report(f, warmup_s);
     std::ofstream(d / "report.json") << evade::soak::live_report_json(r) << "\n";
     std::fputs(evade::soak::live_report_text(r).c_str(), stdout);

@@ -5,7 +5,6 @@
 // Exit 0 with the JSON, 2 on a usage or configuration error, 1 when the
 // log cannot be scored (no SIM_TRUTH).
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -39,8 +38,8 @@ int main(int argc, char** argv) {
   }
   std::string json;
   try {
-    json = metrics::perception_json(metrics::compute_perception(evade::bus::read_log(log), params, obstacles, predictions),
-                                    params);
+    json = metrics::perception_json(
+        metrics::compute_perception(evade::bus::read_log(log), params, obstacles, predictions), params);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "perception-metrics: %s: %s\n", log.c_str(), e.what());
     return 1;

@@ -2,7 +2,6 @@
 // the plan made from it (lib/metrics/plan_latency.h), p50 / p99 / max over
 // the log. Exit 0, 1 when the log has no latency to show, 2 on bad usage.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <exception>
 
@@ -23,9 +22,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "plan-latency: %s: %s\n", path.c_str(), e.what());
     return 2;
   }
-  std::printf("%s: %lld prediction lists, %lld answered, %lld not (dropped, stale or at the log's end)\n",
-              path.c_str(), static_cast<long long>(r.lists), static_cast<long long>(r.planned),
-              static_cast<long long>(r.unplanned));
+  std::printf("%s: %lld prediction lists, %lld answered, %lld not (dropped, stale or at the log's end)\n", path.c_str(),
+              static_cast<long long>(r.lists), static_cast<long long>(r.planned), static_cast<long long>(r.unplanned));
   if (r.latency_ms.empty()) {
     std::printf("no latency: no prediction list was followed by a CMD_VEL\n");
     return 1;

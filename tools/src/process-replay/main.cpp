@@ -7,10 +7,9 @@
 // from the current code and configuration (a deliberate behaviour change).
 // --cut makes a new case from a run log (e.g. one left by run_scenario); it
 // refuses to replace an existing case's input without --force.
-#include <CLI/CLI.hpp>
-
 #include <sys/stat.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 
@@ -47,8 +46,8 @@ int main(int argc, char** argv) {
                      only_case.c_str(), existing.c_str());
         return 2;
       }
-      std::vector<std::string> channels{"LIDAR_SCAN", "ODOMETRY",  "ROUTE",   "ELEVATION_MAP", "OBSTACLES",
-                                        "OBSTACLE_PREDICTIONS", "PLAN", "CMD_VEL", "SIM_TRUTH"};
+      std::vector<std::string> channels{"LIDAR_SCAN",           "ODOMETRY", "ROUTE",   "ELEVATION_MAP", "OBSTACLES",
+                                        "OBSTACLE_PREDICTIONS", "PLAN",     "CMD_VEL", "SIM_TRUTH"};
       auto events = evade::replay::cut_case(evade::bus::read_log(cut), start_s, duration_s, channels);
       fs::create_directories(logs + "/" + only_case + "/refs");
       evade::bus::write_log(logs + "/" + only_case + "/input.lcmlog", events);
@@ -86,8 +85,8 @@ int main(int argc, char** argv) {
                       rep.compared_messages);
         } else {
           ++failures;
-          std::printf("process-replay: %s/%s: FAIL: %zu of %zu messages differ\n", name.c_str(),
-                      pc.process.c_str(), rep.differing_messages, rep.compared_messages);
+          std::printf("process-replay: %s/%s: FAIL: %zu of %zu messages differ\n", name.c_str(), pc.process.c_str(),
+                      rep.differing_messages, rep.compared_messages);
           for (const auto& l : rep.lines) std::printf("    %s\n", l.c_str());
         }
       }

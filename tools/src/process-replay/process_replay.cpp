@@ -102,21 +102,27 @@ const std::vector<ProcessCase>& process_cases() {
   // 1 um on geometry and 1e-9 relative elsewhere.
   static const std::vector<ProcessCase> cases = [] {
     std::vector<ProcessCase> c;
-    c.push_back({"lidar_driver", {"LIDAR_SCAN"}, tolerances(1e-6, 1e-9),
+    c.push_back({"lidar_driver",
+                 {"LIDAR_SCAN"},
+                 tolerances(1e-6, 1e-9),
                  "LIDAR_SCAN packets decoded again; LIDAR_POINTS compared (every 64th point)"});
-    c.push_back({"elevation_map", {"LIDAR_SCAN", "ODOMETRY"}, tolerances(1e-6, 1e-9),
+    c.push_back({"elevation_map",
+                 {"LIDAR_SCAN", "ODOMETRY"},
+                 tolerances(1e-6, 1e-9),
                  "points decoded from LIDAR_SCAN + logged ODOMETRY; ELEVATION_MAP compared"});
     c.push_back({"tracker", {"ELEVATION_MAP"}, tolerances(1e-6, 1e-9), "logged ELEVATION_MAP; OBSTACLES compared"});
     // An authentication code is a function of the rest of the message: a
     // difference within the tolerances changes it entirely, so it is not compared.
-    ProcessCase predictor{"predictor", {"OBSTACLES"}, tolerances(1e-6, 1e-9),
-                          "logged OBSTACLES; OBSTACLE_PREDICTIONS compared"};
+    ProcessCase predictor{
+        "predictor", {"OBSTACLES"}, tolerances(1e-6, 1e-9), "logged OBSTACLES; OBSTACLE_PREDICTIONS compared"};
     predictor.diff.ignore_fields = {"OBSTACLE_PREDICTIONS.auth_mac"};
     c.push_back(predictor);
     // The planner's outputs come out of an iterative solver: a last-bit
     // difference can move an iterate, so its tolerance is 1 mm / 1 mrad;
     // solve_time_us is wall time and never compared.
-    ProcessCase planner{"planner", {"ODOMETRY", "ROUTE", "OBSTACLES", "OBSTACLE_PREDICTIONS"}, tolerances(1e-3, 1e-6),
+    ProcessCase planner{"planner",
+                        {"ODOMETRY", "ROUTE", "OBSTACLES", "OBSTACLE_PREDICTIONS"},
+                        tolerances(1e-3, 1e-6),
                         "logged ODOMETRY, ROUTE, OBSTACLES, OBSTACLE_PREDICTIONS; PLAN and CMD_VEL compared"};
     planner.diff.ignore_fields = {"PLAN.solve_time_us", "CMD_VEL.auth_mac"};
     c.push_back(planner);

@@ -21,10 +21,10 @@
 namespace evade::replay {
 
 struct ProcessCase {
-  std::string process;                 // e.g. "tracker"
-  std::vector<std::string> inputs;     // channels of input.lcmlog it is fed
-  bus::DiffOptions diff;               // how its outputs are compared
-  std::string why;                     // one line: what is fed and compared
+  std::string process;              // e.g. "tracker"
+  std::vector<std::string> inputs;  // channels of input.lcmlog it is fed
+  bus::DiffOptions diff;            // how its outputs are compared
+  std::string why;                  // one line: what is fed and compared
 };
 
 // Every replayed process, in pipeline order.

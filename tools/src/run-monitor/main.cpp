@@ -4,10 +4,9 @@
 // when the goal is reached (0), when the scenario's duration has passed
 // (1), or when SIM_TRUTH stops arriving for --stall-s (3). The rule is
 // lib/closedloop/run_monitor.h, shared with the lockstep runner.
-#include <CLI/CLI.hpp>
-
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 
 #include "bus/live_bus.h"

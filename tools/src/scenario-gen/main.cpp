@@ -7,7 +7,6 @@
 // same bytes. --check prints the validity rules a scenario file breaks
 // (lib/sim/scenario_check.h), one a line; exit 1 if any.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -38,8 +37,9 @@ int main(int argc, char** argv) {
   std::string family, out, config_path, families_path, check;
   uint64_t seed = 1;
   bool list = false;
-  app.add_option("--family", family, "crossing, headon, overtaking, crowd, doorway, occlusion, fast_small, "
-                                     "static_clutter or mixed");
+  app.add_option("--family", family,
+                 "crossing, headon, overtaking, crowd, doorway, occlusion, fast_small, "
+                 "static_clutter or mixed");
   app.add_option("--seed", seed, "random seed, 0 to 2^63 - 1 (also the scenario's sensor noise seed)");
   app.add_option("--out", out, "scenario file to write (default: stdout)");
   app.add_option("--config", config_path, "robot configuration (default: config/robot.yaml)");
@@ -67,8 +67,10 @@ int main(int argc, char** argv) {
       return problems.empty() ? 0 : 1;
     }
     gen::Generated g = gen::generate(family, seed, params, robot);
-    if (out.empty()) std::cout << g.yaml << std::flush;
-    else write_file(out, g.yaml);
+    if (out.empty())
+      std::cout << g.yaml << std::flush;
+    else
+      write_file(out, g.yaml);
   } catch (const evade::config::ConfigError& e) {
     std::fprintf(stderr, "scenario-gen: %s\n", e.what());
     return 2;

@@ -5,9 +5,9 @@
 // robot configuration whose LiDAR model and mount height are the
 // scenario's, so the drivers decode what the simulator sends, and whose
 // footprint is the scenario's robot's, so the planner keeps it clear.
-#include <CLI/CLI.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <fstream>
 

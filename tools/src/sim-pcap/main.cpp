@@ -8,7 +8,6 @@
 // and configuration give the same bytes. `lidar_driver --pcap` reads it.
 // Exit 0 written, 2 bad arguments or configuration, 1 I/O error.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 
 #include "bus/memory_bus.h"

@@ -15,11 +15,10 @@
 // report: the verdict (lib/soak/soak_report.h) over DIR/episodes.jsonl,
 // DIR/rss.tsv (the sampler's) and DIR/crashes.tsv (if any): prints it,
 // writes DIR/report.json. Exit 0 pass, 1 fail, 2 unreadable files.
-#include <CLI/CLI.hpp>
-
 #include <malloc.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>

@@ -12,7 +12,6 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 
 #include "bus/live_bus.h"
@@ -73,8 +72,10 @@ int main(int argc, char** argv) {
     live.add_fd(0, [&](int64_t now) {
       char c;
       while (::read(0, &c, 1) == 1) {
-        if (c == 'q') quit = true;
-        else core.input(now, [&] { core.on_key(c); });
+        if (c == 'q')
+          quit = true;
+        else
+          core.input(now, [&] { core.on_key(c); });
       }
       std::fprintf(stderr, "\r%s: v %+.2f m/s  omega %+.2f rad/s   ", kName, core.v(), core.omega());
     });
