@@ -872,11 +872,22 @@ std::vector<double> braking_relaxation(const Problem& pb, const std::vector<doub
   std::vector<double> states(3 * (pb.N + 1));
   rollout(pb, brake_u.data(), states.data());
   const int R = pb.num_rate_constraints();
+  std::vector<double> hb(pb.N + 1);
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
+    bool missed = false;
+    for (int k = 0; k <= pb.N; ++k) {
+      hb[k] = barrier_at(pb, o, k, &states[3 * k]).h;
+      if (k > 0 && hb[k] - o.decay * hb[k - 1] < 0.0) missed = true;
+    }
+    if (!missed) continue;
+    // the D-CBF on h + w_k, w_k = h_b(0) - h_b(k) what braking loses by
+    // step k, plus h's start when that is inside d_safe
+    const double inside = hb[0] < 0 ? -(1.0 - o.decay) * hb[0] : 0.0;
     for (int k = 0; k < pb.N; ++k) {
-      const double g = barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h - o.decay * barrier_at(pb, o, k, &states[3 * k]).h;
-      if (std::isfinite(g) && g < 0) relax[static_cast<size_t>(R + static_cast<int>(i) * pb.N + k)] = -g;
+      const double step = (hb[0] - hb[k + 1]) - o.decay * (hb[0] - hb[k]);
+      const double r = inside + std::max(0.0, step);
+      if (std::isfinite(r) && r > 0) relax[static_cast<size_t>(R + static_cast<int>(i) * pb.N + k)] = r;
     }
   }
   return relax;

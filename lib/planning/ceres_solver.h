@@ -123,16 +123,17 @@ bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vec
                               std::vector<double>* residuals, std::vector<double>* jacobian);
 
 // The relaxation of solve_elastic, per constraint (num_constraints; rate
-// limits 0): for obstacle i at step k, max(0, -g) where g = h(X_k+1) -
-// decay h(X_k) along the rollout of `brake_u` (the controls that brake at
-// the limits, already projected onto the rate limits). The relaxed D-CBF
-// asks of every plan what braking gives, and where braking meets a
-// constraint that constraint stays as it is: a start inside d_safe, a
-// settled obstacle's swelling and a mover walking at a robot that cannot
-// get away are excused as far as braking is hurt by them, and no further.
-// A plan may not close on an obstacle faster than braking does, so when
-// nothing meets the hard constraints the robot is at worst standing when
-// it is reached (passive safety). All zero when braking meets them all.
+// limits 0), from the rollout of `brake_u` (braking at the limits, already
+// projected onto the rate limits), h_b(k) its barrier against obstacle i.
+// An obstacle whose D-CBF braking meets at every step keeps its hard
+// constraints (0). One that braking misses (a start inside d_safe, a
+// settled obstacle's swelling, a mover walking at a robot that cannot get
+// away in time) gets the D-CBF on h + w_k, w_k = h_b(0) - h_b(k) what
+// braking loses by step k:
+//   max(0, w_(k+1) - decay w_k) + max(0, -(1 - decay) h_b(0)).
+// Braking meets the relaxed problem; a plan may lose h only as braking
+// does, plus the D-CBF's own gamma share: one that closes on the obstacle
+// faster than braking misses it.
 std::vector<double> braking_relaxation(const Problem& pb, const std::vector<double>& brake_u);
 
 
