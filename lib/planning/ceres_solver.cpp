@@ -867,26 +867,26 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   return res;
 }
 
-std::vector<double> braking_relaxation(const Problem& pb, const std::vector<double>& brake_u) {
+std::vector<double> braking_relaxation(const Problem& pb, const std::vector<double>& brake_u,
+                                       const SolverOptions& opts) {
   std::vector<double> relax(pb.num_constraints(), 0.0);
   std::vector<double> states(3 * (pb.N + 1));
   rollout(pb, brake_u.data(), states.data());
   const int R = pb.num_rate_constraints();
+  const double horizon_s = pb.N * pb.dt;
   std::vector<double> hb(pb.N + 1);
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
-    bool missed = false;
-    for (int k = 0; k <= pb.N; ++k) {
-      hb[k] = barrier_at(pb, o, k, &states[3 * k]).h;
-      if (k > 0 && hb[k] - o.decay * hb[k - 1] < 0.0) missed = true;
-    }
-    if (!missed) continue;
-    // the D-CBF on h + w_k, w_k = h_b(0) - h_b(k) what braking loses by
-    // step k, plus h's start when that is inside d_safe
+    for (int k = 0; k <= pb.N; ++k) hb[k] = barrier_at(pb, o, k, &states[3 * k]).h;
+    const double speed = std::hypot(o.x.back() - o.x.front(), o.y.back() - o.y.front()) / horizon_s;
+    const bool settled = speed <= opts.relax_max_obstacle_speed && o.age_s >= opts.relax_min_obstacle_age;
     const double inside = hb[0] < 0 ? -(1.0 - o.decay) * hb[0] : 0.0;
     for (int k = 0; k < pb.N; ++k) {
-      const double step = (hb[0] - hb[k + 1]) - o.decay * (hb[0] - hb[k]);
-      const double r = inside + std::max(0.0, step);
+      double r = std::max(0.0, o.decay * hb[k] - hb[k + 1]);  // braking's own shortfall
+      // a settled obstacle swells with its uncertainty, it does not come
+      // closer: the D-CBF on h + w_k, w_k = h_b(0) - h_b(k) what braking
+      // loses by step k
+      if (settled) r = std::max(r, inside + std::max(0.0, (hb[0] - hb[k + 1]) - o.decay * (hb[0] - hb[k])));
       if (std::isfinite(r) && r > 0) relax[static_cast<size_t>(R + static_cast<int>(i) * pb.N + k)] = r;
     }
   }

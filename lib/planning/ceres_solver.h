@@ -124,17 +124,19 @@ bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vec
 
 // The relaxation of solve_elastic, per constraint (num_constraints; rate
 // limits 0), from the rollout of `brake_u` (braking at the limits, already
-// projected onto the rate limits), h_b(k) its barrier against obstacle i.
-// An obstacle whose D-CBF braking meets at every step keeps its hard
-// constraints (0). One that braking misses (a start inside d_safe, a
-// settled obstacle's swelling, a mover walking at a robot that cannot get
-// away in time) gets the D-CBF on h + w_k, w_k = h_b(0) - h_b(k) what
-// braking loses by step k:
-//   max(0, w_(k+1) - decay w_k) + max(0, -(1 - decay) h_b(0)).
-// Braking meets the relaxed problem; a plan may lose h only as braking
-// does, plus the D-CBF's own gamma share: one that closes on the obstacle
-// faster than braking misses it.
-std::vector<double> braking_relaxation(const Problem& pb, const std::vector<double>& brake_u);
+// projected onto the rate limits), h_b(k) its barrier against obstacle i:
+// braking's own shortfall max(0, decay h_b(k) - h_b(k+1)), so that
+// braking meets the relaxed problem and no plan may lose h at any step
+// faster than braking does where braking already misses the D-CBF (a mover
+// walking at a robot that cannot get away in time, a start inside d_safe).
+// A settled obstacle (predicted slower than relax_max_obstacle_speed, mean
+// over the horizon, and tracked relax_min_obstacle_age) swells with its
+// uncertainty rather than coming closer: for it, at least the D-CBF on
+// h + w_k, w_k = h_b(0) - h_b(k) what braking loses by step k, plus a
+// start inside d_safe: max(0, w_(k+1) - decay w_k) + max(0, -(1 - decay) h_b(0)).
+// All zero when braking meets every constraint.
+std::vector<double> braking_relaxation(const Problem& pb, const std::vector<double>& brake_u,
+                                       const SolverOptions& opts);
 
 
 // Clamps controls into the bounds and rate limits (from the measured

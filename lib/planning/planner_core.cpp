@@ -395,7 +395,7 @@ int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u
   // what is left of the cycle's iterations.
   std::vector<double> brake = braking_controls(v0, w0);
   project_controls(pb, &brake);
-  const std::vector<double> relax = braking_relaxation(pb, brake);
+  const std::vector<double> relax = braking_relaxation(pb, brake, p_.solver);
   const int left = p_.max_cycle_iterations - *iterations;
   if (left > 0) {
     SolverOptions o = p_.solver;

@@ -36,7 +36,7 @@ SolveResult elastic_where_hard_fails(const Problem& pb) {
   const CeresMpcSolver solver(opts());
   const std::vector<double> rest(2 * pb.N, 0.0);
   EXPECT_FALSE(solver.solve(pb, rest).feasible);
-  return solver.solve_elastic(pb, rest, braking_relaxation(pb, braking(pb)));
+  return solver.solve_elastic(pb, rest, braking_relaxation(pb, braking(pb), opts()));
 }
 
 // h(X_k, O_k), k = 0..N, along a solved plan.
@@ -246,7 +246,7 @@ TEST(CeresSolver, RelaxationOfAStartInsideDSafeKeepsHFromFalling) {
   pb.obstacles.push_back(moving_obstacle(2, 3.0, 2.0, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt));   // far, static
   const double h0 = barrier_at(pb.obstacles[0], 0, 0, 0, pb.d_safe).h;
   ASSERT_LT(h0, 0.0);
-  const std::vector<double> relax = braking_relaxation(pb, braking(pb));
+  const std::vector<double> relax = braking_relaxation(pb, braking(pb), opts());
   ASSERT_EQ(static_cast<int>(relax.size()), pb.num_constraints());
   const int R = pb.num_rate_constraints();
   for (int j = 0; j < R; ++j) EXPECT_EQ(relax[j], 0.0);
@@ -269,7 +269,7 @@ TEST(CeresSolver, RelaxationExcusesWhatBrakingMissesAndNoMore) {
   ASSERT_GT(barrier_at(o, 0, 0, 0, pb.d_safe).h, 0.0);
   const std::vector<double> brake = braking(pb);
   ASSERT_GT(max_violation(pb, brake.data()), 0.01);  // the hard problem: braking misses it
-  const std::vector<double> relax = braking_relaxation(pb, brake);
+  const std::vector<double> relax = braking_relaxation(pb, brake, opts());
   const int R = pb.num_rate_constraints();
   EXPECT_GT(*std::max_element(relax.begin() + R, relax.begin() + R + pb.N), 0.01);
   for (int k = 0; k < pb.N; ++k) EXPECT_EQ(relax[R + pb.N + k], 0.0) << k;  // the far one: as it is
@@ -309,7 +309,7 @@ TEST(CeresSolver, SwellingObstacleElasticPlanMeetsTheDcbfOnTheObstacleAsItIs) {
     w.push_back(barrier_at(o, 0, 0, 0, pb.d_safe).h - barrier_at(o, k, 0, 0, pb.d_safe).h);
   ASSERT_GT(barrier_at(o, 0, 0, 0, pb.d_safe).h, 0.0);
   ASSERT_LT(barrier_at(o, pb.N, 0, 0, pb.d_safe).h, 0.0);  // standing ends inside d_safe
-  const std::vector<double> relax = braking_relaxation(pb, braking(pb));
+  const std::vector<double> relax = braking_relaxation(pb, braking(pb), opts());
   EXPECT_GT(*std::max_element(relax.begin(), relax.end()), 0.0);
 
   const SolveResult r = elastic_where_hard_fails(pb);
@@ -349,7 +349,7 @@ TEST(CeresSolver, RecoveringKeepsThePreviousPlansSideOfAnObstacle) {
   };
   SolverOptions keep = opts(), cheapest = opts();
   cheapest.recovery_switch_ratio = 1.0;
-  const std::vector<double> relax = braking_relaxation(pb, braking(pb));
+  const std::vector<double> relax = braking_relaxation(pb, braking(pb), opts());
   const SolveResult kept = CeresMpcSolver(keep).solve_elastic(pb, left, relax);
   const SolveResult fresh = CeresMpcSolver(cheapest).solve_elastic(pb, left, relax);
   ASSERT_TRUE(kept.feasible);
@@ -399,7 +399,7 @@ TEST(CeresSolver, NeverNaNOnDegenerateInput) {
   pb.obstacles.push_back(moving_obstacle(1, 0.0, 0.0, 0, 0, 0.2, 0.1, 0, 0.9, pb.N, pb.dt));
   CeresMpcSolver solver(opts());
   SolveResult r = solver.solve(pb, std::vector<double>(2 * pb.N, std::nan("")));
-  SolveResult e = solver.solve_elastic(pb, r.u, braking_relaxation(pb, braking(pb)));
+  SolveResult e = solver.solve_elastic(pb, r.u, braking_relaxation(pb, braking(pb), opts()));
   for (double v : e.u) EXPECT_TRUE(std::isfinite(v));
   for (double v : e.states) EXPECT_TRUE(std::isfinite(v));
 }
