@@ -59,6 +59,20 @@ class PlannerCore : public bus::Core {
   // or none newer than the last cycle's (then at the next one).
   void on_new_obstacle_input();
   void plan_cycle(const evade::odometry_t& odom);
+  // The cycles that need no solve: stale odometry or obstacle input, no
+  // route, at the goal, an invalid track near; publishes their plan and
+  // returns true.
+  bool published_without_solving(const evade::odometry_t& odom, double v0, double w0);
+  // This cycle's problem from the odometry: limits, reference, obstacles.
+  Problem make_problem(const evade::odometry_t& odom, double v0, double w0);
+  // The previous plan shifted by the steps since it (else holding v0,
+  // straight on) and its multipliers mapped by track id.
+  void warm_start(const Problem& pb, const evade::odometry_t& odom, double v0, std::vector<double>* warm_u,
+                  std::vector<double>* warm_lambda) const;
+  // The paper's modes after a failed solve (planner.paper_fallback): the
+  // last solved plan shifted, else braking; sets *u, returns the status.
+  int8_t paper_fallback(const Problem& pb, const evade::odometry_t& odom, double v0, double w0,
+                        std::vector<double>* u);
   // The reference of this cycle: along the route, or round the settled
   // obstacles standing on it (detour.h).
   void make_reference(const evade::odometry_t& odom, Problem* pb);
@@ -96,6 +110,10 @@ class PlannerCore : public bus::Core {
   // feasible one for the fallback) and publishes it.
   void finish_cycle(const evade::odometry_t& odom, int8_t status, const Problem& pb, const std::vector<double>& u,
                     const SolveResult& res, double solve_us, int iterations);
+  // The PLAN message of controls u and their rollout's states.
+  evade::plan_t plan_message(const evade::odometry_t& odom, int8_t status, const Problem& pb,
+                             const std::vector<double>& u, const std::vector<double>& states, double solve_us,
+                             int iterations) const;
   void publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb, const std::vector<double>& u,
                     double solve_us, int iterations, int num_obstacles);
 
