@@ -27,6 +27,8 @@ const char* status_name(int s) {
       return "goal";
     case evade::plan_t::STATUS_RECOVERING:
       return "recover";
+    case evade::plan_t::STATUS_BLOCKED:
+      return "blocked";
     default:
       return "?";
   }

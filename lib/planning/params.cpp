@@ -40,6 +40,8 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   p.route_end_decel_mps2 = s.get_positive("route_end_decel_mps2");
   p.goal_tolerance_m = s.get_positive("goal_tolerance_m");
   p.route_search_window_m = s.get_positive("route_search_window_m");
+  p.blocked_after_s = s.get_positive("blocked_after_s");
+  p.blocked_progress_m = s.get_positive("blocked_progress_m");
   p.obstacle_consider_radius_m = s.get_positive("obstacle_consider_radius_m");
   p.max_obstacles = s.get_int("max_obstacles", 0, 256);
   p.odometry_max_age_s = s.get_positive("odometry_max_age_s");

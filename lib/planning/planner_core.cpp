@@ -291,6 +291,7 @@ bool PlannerCore::published_without_solving(const evade::odometry_t& odom, doubl
   route_.update_progress(odom.x, odom.y, p_.route_search_window_m);
   const double to_end = std::hypot(odom.x - route_.end_x(), odom.y - route_.end_y());
   if (to_end <= p_.goal_tolerance_m && route_.length() - route_.progress() <= 2 * p_.goal_tolerance_m) {
+    blocked(odom, true);
     publish_plan(odom, evade::plan_t::STATUS_GOAL, nullptr, braking_controls(v0, w0), 0, 0, 0);
     return true;
   }
@@ -381,7 +382,22 @@ void PlannerCore::finish_cycle(const evade::odometry_t& odom, int8_t status, con
   prev_penalty_ = status == evade::plan_t::STATUS_OK ? res.penalty : 0.0;
   prev_ids_.clear();
   for (const auto& o : pb.obstacles) prev_ids_.push_back(o.id);
+  if (blocked(odom, false)) {
+    count("blocked");
+    status = evade::plan_t::STATUS_BLOCKED;
+  }
   publish_plan(odom, status, &pb, u, solve_us, iterations, static_cast<int>(pb.obstacles.size()));
+}
+
+bool PlannerCore::blocked(const evade::odometry_t& odom, bool restart) {
+  const double s = route_.progress();
+  // a new route starts its progress again: so does the mark
+  if (restart || progress_mark_utime_ < 0 || s > progress_mark_m_ + p_.blocked_progress_m || s < progress_mark_m_) {
+    progress_mark_m_ = s;
+    progress_mark_utime_ = odom.utime;
+    return false;
+  }
+  return age_us(odom.utime, progress_mark_utime_) > std::llround(p_.blocked_after_s * 1e6);
 }
 
 std::optional<CeresMpcSolver> PlannerCore::budgeted_solver(int spent, int reserve) {

@@ -145,6 +145,13 @@ class PlannerCore : public bus::Core {
   std::vector<double> feasible_u_;
   int64_t feasible_utime_ = -1;
   std::optional<evade::plan_t> last_plan_;
+  // PLAN.status BLOCKED: the route progress last reached blocked_progress_m
+  // beyond the mark, and the odometry utime then
+  double progress_mark_m_ = 0.0;
+  int64_t progress_mark_utime_ = -1;
+  // Moves the mark on (or restarts it: no route, at the goal, a new route);
+  // true when the robot has made no progress for blocked_after_s.
+  bool blocked(const evade::odometry_t& odom, bool restart);
   bool predictions_stale() const;  // no predictions (when required) or older than predictions_max_age_s
   bool observed_stale() const;     // no OBSTACLES (when required) or older than obstacles_max_age_s
   bool input_stale() const;        // the mode's obstacle input (ModeSpec::source) is stale
