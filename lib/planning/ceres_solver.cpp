@@ -901,41 +901,56 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   return res;
 }
 
-std::vector<double> braking_relaxation(const Problem& pb, const std::vector<double>& brake_u,
-                                       const SolverOptions& opts) {
+std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& opts) {
   std::vector<double> relax(pb.num_constraints(), 0.0);
-  std::vector<double> states(3 * (pb.N + 1));
-  rollout(pb, brake_u.data(), states.data());
-  const int R = pb.num_rate_constraints();
   const double horizon_s = pb.N * pb.dt;
-  std::vector<double> hb(pb.N + 1);
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
-    for (int k = 0; k <= pb.N; ++k) hb[k] = barrier_at(pb, o, k, &states[3 * k]).h;
+    if (o.x.empty() || o.y.empty()) continue;
+    const int j0 = pb.num_rate_constraints() + static_cast<int>(i) * pb.N;
+    const double start[3] = {pb.x0, pb.y0, pb.yaw0};
+    const double h0 = barrier_at(pb, o, 0, start).h;
+    // Start inside d_safe: h' = h - h(X_0) meets the D-CBF from where it is.
+    const double inside = h0 < 0 ? -(1.0 - o.decay) * h0 : 0.0;
     const double speed = std::hypot(o.x.back() - o.x.front(), o.y.back() - o.y.front()) / horizon_s;
     const bool settled = speed <= opts.relax_max_obstacle_speed && o.age_s >= opts.relax_min_obstacle_age;
-    const double inside = hb[0] < 0 ? -(1.0 - o.decay) * hb[0] : 0.0;
+    // Nearly static: its predicted ellipses around the current centre.
+    ObstacleTrack held;
+    if (settled) {
+      held = o;
+      std::fill(held.x.begin(), held.x.end(), o.x[0]);
+      std::fill(held.y.begin(), held.y.end(), o.y[0]);
+    }
+    double w_prev = 0.0;  // w_k: how far the swelling alone has lowered h at X_0 by step k
     for (int k = 0; k < pb.N; ++k) {
-      double r = std::max(0.0, o.decay * hb[k] - hb[k + 1]);  // braking's own shortfall
-      // a settled obstacle swells with its uncertainty, it does not come
-      // closer: the D-CBF on h + w_k, w_k = h_b(0) - h_b(k) what braking
-      // loses by step k
-      if (settled) r = std::max(r, inside + std::max(0.0, (hb[0] - hb[k + 1]) - o.decay * (hb[0] - hb[k])));
-      if (std::isfinite(r) && r > 0) relax[static_cast<size_t>(R + static_cast<int>(i) * pb.N + k)] = r;
+      double swell = 0.0;
+      if (settled) {
+        const double w = h0 - barrier_at(pb, held, k + 1, start).h;
+        swell = w - o.decay * w_prev;  // the D-CBF on h + w_k
+        w_prev = w;
+      }
+      const double r = inside + std::max(0.0, swell);
+      if (std::isfinite(r) && r > 0) relax[static_cast<size_t>(j0 + k)] = r;
     }
   }
   return relax;
 }
 
 SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vector<double>& start_u,
-                                          const std::vector<double>& relax) const {
-  // The hard problem has no solution the solve found: the relaxed one
-  // (braking_relaxation) asks of each constraint no more than braking
-  // meets, so braking is always one of its solutions, and the cost then
-  // takes the robot on, out of the way and round wherever that keeps every
-  // obstacle at least as far as braking would.
+                                          const std::vector<double>* relax) const {
+  // Some obstacles ask more than any plan can give: from inside d_safe
+  // (h(X_0) < 0) the constraint h(X_{k+1}) >= (1 - gamma) h(X_k) asks h to
+  // grow by gamma |h| at once, which a robot at rest or facing the obstacle
+  // cannot do; and the predicted ellipse of a static obstacle swells with
+  // its uncertainty, which can make h fall faster than a robot that must
+  // turn first can get away (a robot that only stops would then stay where
+  // it is, since standing misses the hard constraints every cycle). The
+  // relaxed problem (barrier_relaxation) applies the D-CBF to the obstacle
+  // as it is now: its swelling excused, and h measured from where it
+  // starts when that is inside d_safe. The cost then takes the robot out
+  // and around.
   Problem pb = pb_in;
-  pb.relax = relax;
+  pb.relax = relax ? *relax : barrier_relaxation(pb_in, opts_);
   // Starts: the given one, braking (zero controls projected onto the rate
   // limits), and a turn on the spot to either side followed by driving off;
   // braking alone would leave the robot standing (feasible, as h stays

@@ -23,7 +23,7 @@ void PlannerCore::plan_with_guidance(const Problem& pb, const std::vector<double
   if (!o.feasible && p_.guidance.fallback == GuidanceParams::Fallback::kRecovery) {
     // evade's recovery chain, from the least violating local solve, with
     // the iterations the local solves left (local_solves_budget)
-    status = recover(pb, warm_u, v0, w0, &res, &u, &iterations);
+    status = recover(pb, warm_u, odom, v0, w0, &res, &u, &iterations);
   } else if (!o.feasible) {
     count("solver_infeasible");
     count(status == evade::plan_t::STATUS_STOPPING ? "stopping" : "least_violating");

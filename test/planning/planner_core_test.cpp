@@ -97,12 +97,10 @@ double footprint_h(const PlannerParams& p, double x, double y, double yaw, doubl
 
 struct RunResult {
   double min_h = 1e9;  // true clearance of the footprint's discs beyond d_safe over the run
-  double max_approach_in_contact = 0.0;  // m/s: the robot's largest speed towards an obstacle's centre while
-                                         // its discs touched it (h < -d_safe): metrics' "at fault" above 0.1
   double final_x = 0, final_y = 0;
   double max_abs_y = 0;
   int plans = 0, ok = 0, nan = 0;
-  int64_t relaxed = 0;           // HEALTH counter relaxed at the end
+  int64_t restarts_skipped = 0;  // HEALTH counter restart_skipped at the end
   int64_t detour_movers = 0;     // HEALTH counter detour_movers at the end
   int64_t detour = 0;            // HEALTH counter detour at the end
   std::vector<evade::plan_t> plan_log;
@@ -154,13 +152,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
     // true clearance beyond d_safe
     for (const auto& ob : obs) {
       const double ox = ob.x + ob.vx * t, oy = ob.y + ob.vy * t;
-      const double h = footprint_h(p, x, y, yaw, ox, oy, ob.radius);
-      out.min_h = std::min(out.min_h, h);
-      if (h < -p.d_safe_m) {
-        const double dx = ox - x, dy = oy - y, d = std::max(1e-9, std::hypot(dx, dy));
-        const double approach = v * (std::cos(yaw) * dx + std::sin(yaw) * dy) / d;
-        out.max_approach_in_contact = std::max(out.max_approach_in_contact, approach);
-      }
+      out.min_h = std::min(out.min_h, footprint_h(p, x, y, yaw, ox, oy, ob.radius));
     }
     x += v * std::cos(yaw) * 0.02;
     y += v * std::sin(yaw) * 0.02;
@@ -169,7 +161,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   }
   out.final_x = x;
   out.final_y = y;
-  out.relaxed = core.counter("relaxed");
+  out.restarts_skipped = core.counter("restart_skipped");
   out.detour_movers = core.counter("detour_movers");
   out.detour = core.counter("detour");
   return out;
@@ -220,25 +212,24 @@ TEST(PlannerCore, ASlowWalkerAheadIsOvertaken) {
 // Three walkers abreast, 1 m apart, coming head-on at 1.2 m/s and giving
 // no way: the gaps between them are narrower than the robot with d_safe,
 // the group is wider than any swerve the 2.5 s horizon plans once it is
-// near, and the robot cannot reverse. Its way, swept up to the robot,
-// enters the detour grid; once no plan meets the D-CBF the relaxed problem
-// lets no plan close on a walker faster than braking does, so the robot is
-// not moving towards the walker that reaches it (metrics' "at fault": more
-// than 0.1 m/s). It does not get out of the way in time: min h -0.69 m,
-// standing (the recovery chain before issue 18's relaxation dashed aside
-// and kept 0.05 m clear here; docs/experiments/2026-11-25-planner-braking-relaxation.md).
-TEST(PlannerCore, AGroupAbreastComingHeadOnMeetsTheRobotNotMovingTowardsIt) {
+// near, and the robot cannot reverse. Its way, swept up to the robot, in
+// the detour grid takes the robot out of it in time.
+TEST(PlannerCore, AGroupAbreastComingHeadOnIsLeftInTime) {
   std::vector<SimObstacle> group;
   for (double y : {-0.9, 0.1, 1.1}) group.push_back({7.0, y, -1.2, 0.0, 0.4, 0.1});  // seen 7 m away
   const PlannerParams p = default_params();
   const double contact = -p.d_safe_m;  // min_h at which the footprint's covering discs touch
   RunResult r = run(p, group, 25.0, 20.0);
   EXPECT_EQ(r.nan, 0);
-  EXPECT_LE(r.max_approach_in_contact, 0.1) << "moved towards a walker in contact";
+  EXPECT_GT(r.min_h, contact + 0.05) << "too close to a walker";
   EXPECT_GT(r.final_x, 10.0);
+  PlannerParams unswept = p;
+  unswept.detour.oncoming_sweep_s = 0.0;
+  RunResult in_way = run(unswept, group, 25.0, 20.0);
+  std::printf("[figures] group head-on: min h %.2f m with its way in the grid, %.2f without (contact at %.2f)\n",
+              r.min_h, in_way.min_h, contact);
   EXPECT_GT(r.detour_movers, 0);
-  std::printf("[figures] group head-on: min h %.2f m (contact at %.2f), approach speed in contact %.2f m/s\n",
-              r.min_h, contact, r.max_approach_in_contact);
+  EXPECT_LT(in_way.min_h, contact);  // the premise: standing in its way, the robot is hit
 }
 
 // Squeezed inside d_safe of a static obstacle ahead and to the left (as
@@ -286,8 +277,8 @@ TEST(PlannerCore, ASymmetricHeadOnIsPassedOnOneSideWithoutAlternating) {
 
 // A head-on mover while the robot passes a static obstacle whose predicted
 // ellipse swells with its uncertainty: braking misses the constraints and
-// the relaxed problem applies (the swelling excused); the mover still has
-// to be got out of the way of.
+// the relaxed problem applies (the swelling), so the swerve restarts are
+// skipped; the mover still has to be got out of the way of.
 TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
   PlannerParams p = default_params();
   p.detour.oncoming_sweep_s = 0.0;  // the MPC's own reaction: the swept mover would detour the robot before it
@@ -296,7 +287,7 @@ TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
   one_solve.guidance.enabled = false;  // the recovery chain alone, as the fallback runs it
   p.guidance.enabled = true;
   RunResult r = run(one_solve, scene, 14.0);
-  EXPECT_GT(r.relaxed, 0);  // the situation this test is about did arise
+  EXPECT_GT(r.restarts_skipped, 0);  // the situation this test is about did arise
   EXPECT_EQ(r.nan, 0);
   EXPECT_GE(r.min_h, -0.05);
   EXPECT_GT(r.final_x, 6.0);
@@ -307,23 +298,17 @@ TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
 }
 
 // A fast mover (an e-bike, 1.5-2 m/s) comes head-on at a robot at rest,
-// 6 m away: no plan meets the D-CBF constraints. The relaxed problem turns
-// the robot away and drives it off sideways, never towards the mover
-// faster than braking would: when the mover reaches it, the robot is not
-// moving towards it (metrics' "at fault": more than 0.1 m/s). It is not
-// always out of the way in time: min h -0.77 to 0.18 m over these six
-// (the recovery chain before the relaxation dashed aside at full speed and
-// kept the footprint clear in all six; the same dashes drove past the goal
-// and into other walkers in the benchmark's crowds).
-TEST(PlannerCore, AnOncomingFastMoverMeetsTheRobotNotMovingTowardsIt) {
+// 6 m away: no plan meets the D-CBF constraints, and the plan with the
+// most clearance is taken. Choosing by the D-CBF shortfall alone (the worst
+// step of the chain) kept the robot standing in its way: h fell to
+// 0.30-0.58 m below zero and the footprint was hit in every one of these.
+TEST(PlannerCore, AnOncomingFastMoverIsGotOutOfTheWayOfFromRest) {
   for (double speed : {1.5, 2.0})
     for (double offset : {0.0, 0.2, -0.2}) {
       RunResult r = run(default_params(), {{6.0, offset, -speed, 0.0, 0.5, 0.05}}, 8.0);
       EXPECT_EQ(r.nan, 0);
-      EXPECT_LE(r.max_approach_in_contact, 0.1) << "speed " << speed << " offset " << offset;
-      EXPECT_GT(r.relaxed, 0);  // the premise: no plan met the D-CBF
-      std::printf("[figures] e-bike %.1f m/s offset %.1f: min h %.2f, approach speed in contact %.2f\n", speed,
-                  offset, r.min_h, r.max_approach_in_contact);
+      EXPECT_GE(r.min_h, -default_params().d_safe_m)  // the discs hold the footprint
+          << "footprint's discs touched, speed " << speed << " offset " << offset;
     }
 }
 
