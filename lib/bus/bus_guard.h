@@ -20,7 +20,9 @@
 #include <string>
 #include <vector>
 
+#include "bus/auth.h"
 #include "config/config.h"
+#include "config/fields.h"
 
 namespace evade::bus {
 
@@ -29,6 +31,17 @@ struct BusGuardParams {
   // Interfaces that may carry the bus: lo on one host, plus the robot
   // link's interface when the stack spans two hosts.
   std::vector<std::string> allowed_interfaces{"lo"};
+  AuthParams auth;  // bus.auth (auth.h)
+
+  template <class V>
+  void fields(V& v) {
+    v.field("allowed_interfaces", allowed_interfaces);
+    for (const auto& name : allowed_interfaces)
+      v.rule(name.size() <= 15 && name.find_first_of(" /\t:") == std::string::npos, "allowed_interfaces",
+             "'" + name + "' is not an interface name");
+    v.section("auth", auth);
+  }
+  // root = the whole configuration; reads `bus:`.
   static BusGuardParams from_config(const config::Node& root);
 };
 

@@ -211,7 +211,7 @@ TEST(Predictor, JitteringShapeDampsPositionJitter) {
   noise.coupled_shift = 0.5;  // ... that drags the centre by half of it
   const PredictorParams adaptive = default_params();
   PredictorParams fixed = adaptive;
-  fixed.adaptive.r_pos_max_m2 = fixed.adaptive.r_pos_min_m2;
+  fixed.adaptive_noise.r_pos_max_m2 = fixed.adaptive_noise.r_pos_min_m2;
   const RunStats a = run(adaptive, truth, noise, 8.0, 2.0, kSeeds);
   const RunStats f = run(fixed, truth, noise, 8.0, 2.0, kSeeds);
   report("shape jitter, adaptive R_p", a);
