@@ -50,7 +50,8 @@ Converter<int64_t> hz_as_period_us(Range r) {
 
 Converter<double> degrees_as_radians(Range r) {
   return {[r](const Node& n, const std::string& key) { return read_number(n, key, r) * M_PI / 180.0; },
-          [](const double& rad) { return number_node(rad * 180.0 / M_PI); }};
+          // to 1e-9 deg: 30 deg is written as 30 again, not 29.999999999999996
+          [](const double& rad) { return number_node(std::round(rad * 180.0 / M_PI * 1e9) / 1e9); }};
 }
 
 void Loader::field(const char* key, double& m, Range r) {
