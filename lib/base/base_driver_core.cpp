@@ -33,7 +33,8 @@ config::Converter<Pose2> BaseDriverParams::pose_converter() {
 BaseDriverParams BaseDriverParams::from_config(const config::Node& root) {
   const config::Node robot_node = root.section("robot");
   const config::RobotParams robot = config::load<config::RobotParams>(robot_node);
-  if (robot.max_v_mps > kMaxLinearMps) robot_node.fail("max_v_mps", "above the Scout's " + config::number_text(kMaxLinearMps) + " m/s");
+  if (robot.max_v_mps > kMaxLinearMps)
+    robot_node.fail("max_v_mps", "above the Scout's " + config::number_text(kMaxLinearMps) + " m/s");
   if (robot.max_omega_radps > kMaxAngularRadps)
     robot_node.fail("max_omega_radps", "above the Scout's " + config::number_text(kMaxAngularRadps) + " rad/s");
   BaseDriverParams p = config::load<BaseDriverParams>(root.section("base_driver"));

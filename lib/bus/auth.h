@@ -46,7 +46,7 @@ inline constexpr size_t kMinKeyBytes = 32;
 // Parameters of the `bus.auth` section of the robot configuration.
 struct AuthParams {
   std::string key_file = "~/.config/evade/bus.key";  // "~/" is the user's home; $EVADE_BUS_KEY overrides
-  double window_s = 2.0;  // |utime - bus time| accepted
+  double window_s = 2.0;                             // |utime - bus time| accepted
 
   template <class V>
   void fields(V& v) {

@@ -39,12 +39,16 @@ Converter<int64_t> seconds_as_us_truncated(Range r) {
 }
 
 Converter<int64_t> seconds_as_us_rounded(Range r) {
-  return {[r](const Node& n, const std::string& key) { return static_cast<int64_t>(std::llround(read_number(n, key, r) * 1e6)); },
+  return {[r](const Node& n, const std::string& key) {
+            return static_cast<int64_t>(std::llround(read_number(n, key, r) * 1e6));
+          },
           [](const int64_t& us) { return number_node(static_cast<double>(us) / 1e6); }};
 }
 
 Converter<int64_t> hz_as_period_us(Range r) {
-  return {[r](const Node& n, const std::string& key) { return static_cast<int64_t>(std::llround(1e6 / read_number(n, key, r))); },
+  return {[r](const Node& n, const std::string& key) {
+            return static_cast<int64_t>(std::llround(1e6 / read_number(n, key, r)));
+          },
           [](const int64_t& us) { return number_node(1e6 / static_cast<double>(us)); }};
 }
 
@@ -94,7 +98,7 @@ void Loader::rule(bool ok, const std::string& key, const std::string& reason) co
   std::stringstream parts(key.substr(0, dot));
   std::string part;
   while (std::getline(parts, part, '.')) {
-    const YAML::Node& view = n;  // const lookups add nothing to the tree
+    const YAML::Node& view = n;                                       // const lookups add nothing to the tree
     if (view.IsMap() && view[part].IsDefined()) n.reset(view[part]);  // rebinds (operator= would write)
     path = path.empty() ? part : path + "." + part;
   }

@@ -14,9 +14,7 @@
 
 namespace evade::metrics {
 
-PerceptionParams PerceptionParams::from_config(const config::Node& s) {
-  return config::load<PerceptionParams>(s);
-}
+PerceptionParams PerceptionParams::from_config(const config::Node& s) { return config::load<PerceptionParams>(s); }
 
 namespace {
 

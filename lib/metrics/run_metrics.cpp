@@ -101,9 +101,7 @@ const char* metrics_rules() {
 )";
 }
 
-MetricsParams MetricsParams::from_config(const config::Node& s) {
-  return config::load<MetricsParams>(s);
-}
+MetricsParams MetricsParams::from_config(const config::Node& s) { return config::load<MetricsParams>(s); }
 
 namespace {
 

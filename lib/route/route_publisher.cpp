@@ -5,9 +5,7 @@
 
 namespace evade::route {
 
-RouteParams RouteParams::from_config(const config::Node& section) {
-  return config::load<RouteParams>(section);
-}
+RouteParams RouteParams::from_config(const config::Node& section) { return config::load<RouteParams>(section); }
 
 std::string validate_route(const std::vector<std::vector<double>>& waypoints) {
   if (waypoints.size() < 2) return "a route needs at least two points";

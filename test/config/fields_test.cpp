@@ -88,13 +88,13 @@ TEST(Fields, LoadReadsEveryField) {
 
 TEST(Fields, LoadErrorsNameFileLineAndKey) {
   EXPECT_EQ(load_error(with("  gap_s: 0.25\n", "  gap_s: 0\n")), "toy.yaml:2: key 'toy.gap_s': must be greater than 0");
-  EXPECT_EQ(load_error(with("  max_m: 3\n", "  max_m: 0.000001\n")),
-            "toy.yaml:4: key 'toy.max_m': must exceed min_m");
+  EXPECT_EQ(load_error(with("  max_m: 3\n", "  max_m: 0.000001\n")), "toy.yaml:4: key 'toy.max_m': must exceed min_m");
   EXPECT_EQ(load_error(with("  colour: red\n", "  colour: green\n")),
             "toy.yaml:7: key 'toy.colour': 'green' is not one of: red, blue");
   EXPECT_EQ(load_error(with("  angle_deg: 30\n", "  angle_deg: 91\n")),
             "toy.yaml:8: key 'toy.angle_deg': value 91 outside [0, 90]");
-  EXPECT_EQ(load_error(with("    count: 4\n", "    count: 9\n")), "toy.yaml:10: key 'toy.inner.count': 9 or more needs on");
+  EXPECT_EQ(load_error(with("    count: 4\n", "    count: 9\n")),
+            "toy.yaml:10: key 'toy.inner.count': 9 or more needs on");
   EXPECT_EQ(load_error(with("  name: hi\n", "  name: hi\n  nmae: x\n")), "toy.yaml:7: key 'toy.nmae': unknown key");
   EXPECT_EQ(load_error(with("    xy: [5, 6.5]\n", "    xy: [5, 6.5]\n    z: 1\n")),
             "toy.yaml:12: key 'toy.inner.z': unknown key");

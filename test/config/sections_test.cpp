@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 
 #include "config/fields.h"
 
@@ -47,8 +48,7 @@ TEST_P(SectionTest, TheDumpWithSourceLinesReadsBackAsTheYaml) {
   // Every value line names robot.yaml and the line of its key there.
   const YAML::Node first = s.yaml().begin()->second;
   const std::string key = s.yaml().begin()->first.Scalar();
-  if (!first.IsMap())
-    EXPECT_NE(text.find("  " + key + ": "), std::string::npos);
+  if (!first.IsMap()) EXPECT_NE(text.find("  " + key + ": "), std::string::npos);
   EXPECT_EQ(text.find("# default"), std::string::npos) << text;
   EXPECT_NE(text.find("robot.yaml:" + std::to_string(first.Mark().line + 1)), std::string::npos) << text;
 }
@@ -76,13 +76,43 @@ TEST(Sections, EveryRobotSectionHasAFieldList) {
 }
 
 TEST(Sections, AWrongValueStopsTheDumpWithFileLineKey) {
-  const config::Node root =
-      config::load_string("robot:\n  footprint_length_m: -1\n", "bad.yaml");
+  const config::Node root = config::load_string("robot:\n  footprint_length_m: -1\n", "bad.yaml");
   try {
     (void)dump(root);
     FAIL() << "no error";
   } catch (const config::ConfigError& e) {
     EXPECT_EQ(std::string(e.what()), "bad.yaml:2: key 'robot.footprint_length_m': must be greater than 0");
+  }
+}
+
+// Lines of the keys whose value is not a map. Flow maps (the rows of
+// lockstep.costs) are a table under one comment, on their section.
+void leaf_lines(const YAML::Node& map, std::vector<int>* out) {
+  for (auto it = map.begin(); it != map.end(); ++it) {
+    if (!it->second.IsMap())
+      out->push_back(it->first.Mark().line);
+    else if (it->second.Style() != YAML::EmitterStyle::Flow)
+      leaf_lines(it->second, out);
+  }
+}
+
+TEST(RobotYamlComments, EveryKeyHasOneCommentOnItsLine) {
+  std::ifstream in(kRobotYaml);
+  std::vector<std::string> text;
+  for (std::string l; std::getline(in, l);) text.push_back(l);
+  std::vector<int> leaves;
+  leaf_lines(YAML::LoadFile(kRobotYaml), &leaves);
+  ASSERT_GT(leaves.size(), 250u);
+  for (int line : leaves)
+    EXPECT_NE(text[size_t(line)].find(" # "), std::string::npos)
+        << "robot.yaml:" << line + 1 << ": no comment: " << text[size_t(line)];
+  // Past the file's header, no comment continues on a line of its own.
+  size_t header = 0;
+  while (header < text.size() && text[header].rfind("#", 0) == 0) ++header;
+  for (size_t i = header; i < text.size(); ++i) {
+    const size_t hash = text[i].find('#');
+    if (hash != std::string::npos)
+      EXPECT_NE(text[i].find_first_not_of(' '), hash) << "robot.yaml:" << i + 1 << ": " << text[i];
   }
 }
 

@@ -12,6 +12,7 @@
 #include "mapping/elevation_map.h"
 #include "metrics/perception_metrics.h"
 #include "metrics/run_metrics.h"
+#include "planning/params.h"
 #include "prediction/params.h"
 #include "route/route_publisher.h"
 #include "sensing/lidar_driver_core.h"
@@ -48,6 +49,7 @@ const std::vector<Section>& sections() {
       plain<mapping::ElevationMapParams>("elevation_map"),
       plain<tracking::TrackerParams>("tracker"),
       plain<prediction::PredictorParams>("predictor"),
+      from_root<planning::PlannerParams>("planner"),
       plain<route::RouteParams>("route"),
       plain<metrics::MetricsParams>("metrics"),
       plain<metrics::PerceptionParams>("perception_metrics"),

@@ -1,10 +1,9 @@
 #include "world_state.h"
 
-#include "config/robot_params.h"
-
 #include <cmath>
 
 #include "bus/core.h"
+#include "config/robot_params.h"
 #include "evade/lidar_scan_t.hpp"
 #include "mapping/sweep.h"
 

@@ -6,9 +6,7 @@
 
 namespace evade::health {
 
-HealthBoardParams HealthBoardParams::from_config(const config::Node& s) {
-  return config::load<HealthBoardParams>(s);
-}
+HealthBoardParams HealthBoardParams::from_config(const config::Node& s) { return config::load<HealthBoardParams>(s); }
 
 void HealthBoard::add(const evade::health_t& msg, int64_t received_utime) {
   auto it = latest_.find(msg.name);
