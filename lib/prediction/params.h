@@ -1,5 +1,6 @@
 // Parameters of the predictor (config/robot.yaml, section `predictor:`).
-// Every key is read here; units are in the key names.
+// Every key is listed once, in the fields() of its struct (config/fields.h);
+// units are in the key names, the defaults are robot.yaml's.
 #pragma once
 
 #include <string>
