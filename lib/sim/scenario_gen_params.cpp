@@ -4,6 +4,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "config/robot_params.h"
+
 namespace evade::sim::gen {
 namespace {
 
@@ -135,11 +137,13 @@ const std::vector<std::string>& family_names() {
 
 RobotFacts RobotFacts::from_config(const config::Node& root) {
   RobotFacts f;
-  config::Node robot = root.section("robot");
-  f.footprint_length_m = robot.get_positive("footprint_length_m");
-  f.footprint_width_m = robot.get_positive("footprint_width_m");
+  const auto robot = config::load<config::RobotParams>(root.section("robot"));
+  f.footprint_length_m = robot.footprint_length_m;
+  f.footprint_width_m = robot.footprint_width_m;
+  f.lidar_height_m = config::load<config::LidarParams>(root.section("lidar")).mount.z_m;
+  // Three keys of sections whose owners (planning/params.h,
+  // mapping/elevation_map.h) list and check them: read here as they are.
   f.reference_speed_mps = root.section("planner").get_positive("reference_speed_mps");
-  f.lidar_height_m = root.section("lidar").section("mount").get<double>("z_m");
   config::Node map = root.section("elevation_map");
   f.step_max_m = std::max(map.get_positive("step_max_m"), map.get_positive("blind_ground_step_max_m"));
   return f;

@@ -31,8 +31,8 @@ struct RobotFacts {
   // blind_ground_step_max_m, the larger): lower obstacles are not seen.
   double step_max_m = 0.15;
 
-  // Reads robot, planner, lidar.mount and elevation_map (shared sections,
-  // not closed).
+  // Reads robot and lidar (through their field lists, config/robot_params.h),
+  // planner.reference_speed_mps and elevation_map's step thresholds.
   static RobotFacts from_config(const config::Node& root);
 };
 
