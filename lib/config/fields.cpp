@@ -23,9 +23,7 @@ int clamp_int(double v) {
 }
 
 bool bounded(const Range& r) { return std::isfinite(r.min) || std::isfinite(r.max); }
-}  // namespace
 
-namespace {
 double read_number(const Node& n, const std::string& key, const Range& r) {
   if (r.positive) return n.get_positive(key);
   if (bounded(r)) return n.get_double(key, r.min, r.max);
@@ -58,14 +56,7 @@ Converter<double> degrees_as_radians(Range r) {
           [](const double& rad) { return number_node(std::round(rad * 180.0 / M_PI * 1e9) / 1e9); }};
 }
 
-void Loader::field(const char* key, double& m, Range r) {
-  if (r.positive)
-    m = node_.get_positive(key);
-  else if (bounded(r))
-    m = node_.get_double(key, r.min, r.max);
-  else
-    m = node_.get<double>(key);
-}
+void Loader::field(const char* key, double& m, Range r) { m = read_number(node_, key, r); }
 
 void Loader::field(const char* key, int& m, Range r) { m = node_.get_int(key, clamp_int(r.min), clamp_int(r.max)); }
 

@@ -1,7 +1,8 @@
 // The two sections every process shares: `robot:` (the base's size and
-// limits) and `lidar:` (the sensor model and its mount). Each reader adds
-// its own limits on top (the base driver: what the Scout's UART can carry;
-// the planner: no reversing), as rules after config::load.
+// limits) and `lidar:` (the sensor model and its mount), each read whole
+// through its field list by every process that needs it. A reader checks
+// its own limits after loading (the base driver: what the Scout's UART can
+// carry; the planner: no reversing), naming file, line and key.
 #pragma once
 
 #include <cmath>
