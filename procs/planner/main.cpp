@@ -13,6 +13,10 @@
 
 int main(int argc, char** argv) {
   std::string mode;
+  // The planner compares its hosts' times (odometry and predictions ages):
+  // it measures the clock offset to the others (lib/bus/clock_sync.h).
+  evade::bus::ProcessOptions options{evade::planning::PlannerCore::conflated_inputs()};
+  options.clock_sync_requests = true;
   return evade::bus::process_main(
       argc, argv, "planner",
       [&](CLI::App& app) {
@@ -26,5 +30,5 @@ int main(int argc, char** argv) {
         if (!mode.empty()) params.mode = evade::planning::parse_mode(mode);
         return std::make_unique<evade::planning::PlannerCore>(params);
       },
-      evade::bus::ProcessOptions{evade::planning::PlannerCore::conflated_inputs()});
+      options);
 }
