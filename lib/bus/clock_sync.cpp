@@ -10,7 +10,7 @@ ClockSyncParams ClockSyncParams::from_config(const config::Node& root) {
   ClockSyncParams p;
   const config::Node s = root.section("bus").section("clock_sync");
   p.period_s = s.get_double("period_s", 0.1, 60.0);
-  p.window = s.get_int("window", 1, 64);
+  p.window_samples = s.get_int("window_samples", 1, 64);
   p.max_offset_s = s.get_double("max_offset_s", 0.0001, 10.0);
   s.close();
   return p;
@@ -29,7 +29,7 @@ ClockSync::ClockSync(std::string name, const ClockSyncParams& params, bool reque
     : name_(std::move(name)),
       requests_(requests),
       period_us_(std::llround(params.period_s * 1e6)),
-      window_(static_cast<size_t>(params.window)),
+      window_(static_cast<size_t>(params.window_samples)),
       max_offset_us_(std::llround(params.max_offset_s * 1e6)) {}
 
 evade::clock_sync_t ClockSync::request(int64_t now) {

@@ -17,9 +17,9 @@
 // most half the round trip. A sample delayed on one side (a busy
 // process handles the message late, a timer fires late) has a longer
 // round trip, so per answering process the estimate is the sample with the
-// least round trip among the last `window` (NTP's clock filter). The
+// least round trip among the last `window_samples` (NTP's clock filter). The
 // reported offset is that of the process whose estimate is farthest from
-// zero among those heard within `window` periods: on one host it is zero,
+// zero among those heard within `window_samples` periods: on one host it is zero,
 // across hosts it is the hosts' offset.
 //
 // Like a core, it never reads a clock: every call is given the bus time.
@@ -42,7 +42,7 @@ inline constexpr const char* kClockSyncChannel = "CLOCK_SYNC";
 // The `bus.clock_sync` section of the robot configuration.
 struct ClockSyncParams {
   double period_s = 1.0;       // a request every period (the requester)
-  int window = 8;              // samples kept per answering process
+  int window_samples = 8;      // samples kept per answering process
   double max_offset_s = 0.02;  // beyond: the requester warns and counts
   static ClockSyncParams from_config(const config::Node& root);
 };
@@ -81,7 +81,7 @@ class ClockSync {
     int64_t rtt_us = 0;
   };
   // The estimate farthest from zero among the processes heard within
-  // `window` periods of `now`; nullopt when none is.
+  // `window_samples` periods of `now`; nullopt when none is.
   std::optional<Estimate> worst(int64_t now) const;
   // HEALTH counters: clock_offset_us and clock_rtt_us (of worst(), absent
   // without one), clock_sync_peers, clock_offset_exceeded (answers after
@@ -102,7 +102,7 @@ class ClockSync {
   size_t window_;
   int64_t max_offset_us_;
   int64_t seq_ = 0;
-  std::map<int64_t, int64_t> pending_;  // seq -> t1 of the last `window` requests
+  std::map<int64_t, int64_t> pending_;  // seq -> t1 of the last `window_samples` requests
   std::map<std::string, std::deque<OffsetSample>> samples_;
   int64_t exceeded_ = 0;
   int64_t rejected_ = 0;

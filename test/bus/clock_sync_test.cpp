@@ -212,10 +212,10 @@ TEST(ClockSync, OnlyAnswersToItsOwnPendingRequestsCount) {
 }
 
 TEST(ClockSyncConfig, TheSectionIsStrict) {
-  const std::string base = "bus:\n  clock_sync:\n    period_s: 1.0\n    window: 8\n    max_offset_s: 0.02\n";
+  const std::string base = "bus:\n  clock_sync:\n    period_s: 1.0\n    window_samples: 8\n    max_offset_s: 0.02\n";
   const ClockSyncParams p = ClockSyncParams::from_config(config::load_string(base, "robot.yaml"));
   EXPECT_DOUBLE_EQ(p.max_offset_s, 0.02);
-  EXPECT_EQ(p.window, 8);
+  EXPECT_EQ(p.window_samples, 8);
   auto error = [](const std::string& text) {
     try {
       ClockSyncParams::from_config(config::load_string(text, "robot.yaml"));
