@@ -13,7 +13,7 @@
 
 int main(int argc, char** argv) {
   std::string mode;
-  // The planner compares its hosts' times (odometry and predictions ages):
+  // The planner judges other hosts' stamps (the predictions' age):
   // it measures the clock offset to the others (lib/bus/clock_sync.h).
   evade::bus::ProcessOptions options{evade::planning::PlannerCore::conflated_inputs()};
   options.clock_sync_requests = true;
