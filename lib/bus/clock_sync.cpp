@@ -76,6 +76,12 @@ std::optional<evade::clock_sync_t> ClockSync::on_message(const evade::clock_sync
   return std::nullopt;
 }
 
+namespace {
+// The smallest the true offset can be: the estimate is off by at most half
+// the round trip.
+int64_t least_offset(const ClockSync::Estimate& e) { return std::llabs(e.offset_us) - e.rtt_us / 2; }
+}  // namespace
+
 std::optional<ClockSync::Estimate> ClockSync::estimate(const std::deque<OffsetSample>& s) const {
   const OffsetSample* best = nullptr;
   for (const auto& x : s)
@@ -92,14 +98,14 @@ std::optional<ClockSync::Estimate> ClockSync::worst(int64_t now) const {
     auto e = estimate(s);
     if (!e) continue;
     e->peer = peer;
-    if (!w || std::llabs(e->offset_us) > std::llabs(w->offset_us)) w = e;
+    if (!w || least_offset(*e) > least_offset(*w)) w = e;
   }
   return w;
 }
 
 void ClockSync::judge(int64_t now) {
   const auto w = worst(now);
-  const bool beyond = w && std::llabs(w->offset_us) > max_offset_us_;
+  const bool beyond = w && least_offset(*w) > max_offset_us_;
   if (beyond) ++exceeded_;
   if (beyond == beyond_ || !on_warning) {
     beyond_ = beyond;

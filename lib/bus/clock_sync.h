@@ -17,10 +17,14 @@
 // most half the round trip. A sample delayed on one side (a busy
 // process handles the message late, a timer fires late) has a longer
 // round trip, so per answering process the estimate is the sample with the
-// least round trip among the last `window_samples` (NTP's clock filter). The
-// reported offset is that of the process whose estimate is farthest from
-// zero among those heard within `window_samples` periods: on one host it is zero,
-// across hosts it is the hosts' offset.
+// least round trip among the last `window_samples` (NTP's clock filter).
+// The true offset then lies within half that round trip of the estimate,
+// so an offset counts as beyond the bound only when even its least
+// possible size, |offset| - round trip / 2, is (a sample taken while a
+// process was busy neither warns nor counts). The reported offset is that
+// of the process whose least possible offset is largest among those heard
+// within `window_samples` periods: on one host it is near zero, across
+// hosts it is the hosts' offset.
 //
 // Like a core, it never reads a clock: every call is given the bus time.
 #pragma once
@@ -80,12 +84,14 @@ class ClockSync {
     int64_t offset_us = 0;
     int64_t rtt_us = 0;
   };
-  // The estimate farthest from zero among the processes heard within
-  // `window_samples` periods of `now`; nullopt when none is.
+  // Among the processes heard within `window_samples` periods of `now`,
+  // the estimate whose least possible offset (least_offset) is largest;
+  // nullopt when none is.
   std::optional<Estimate> worst(int64_t now) const;
   // HEALTH counters: clock_offset_us and clock_rtt_us (of worst(), absent
   // without one), clock_sync_peers, clock_offset_exceeded (answers after
-  // which worst() was beyond max_offset_s), clock_sync_rejected.
+  // which worst()'s least possible offset was beyond max_offset_s),
+  // clock_sync_rejected.
   std::map<std::string, int64_t> counters(int64_t now) const;
 
   // Called with one line when the offset goes beyond the bound and when

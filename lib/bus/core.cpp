@@ -21,8 +21,11 @@ std::vector<std::string> Core::channels() const {
 
 void Core::set_clock_sync(ClockSync* sync) {
   clock_sync_ = sync;
+  // t1 is when the request leaves: a timer that fires late (a busy
+  // process) runs at its deadline, now_, but is sent at advanced_to_.
   if (sync && sync->requests())
-    every(sync->period_us(), [this] { publish(kClockSyncChannel, clock_sync_->request(now_)); });
+    every(sync->period_us(),
+          [this] { publish(kClockSyncChannel, clock_sync_->request(std::max(now_, advanced_to_))); });
 }
 
 void Core::on_clock_sync(const uint8_t* data, size_t size) {
@@ -127,6 +130,7 @@ void Core::arm_timers(int64_t now) {
 }
 
 bool Core::fire_next(int64_t now) {
+  advanced_to_ = std::max(advanced_to_, now);
   arm_timers(now);
   Timer* due = nullptr;
   for (auto& t : timers_)

@@ -136,6 +136,7 @@ class Core {
   std::vector<Timer> timers_;
   std::map<std::string, int64_t> counters_;
   int64_t now_ = 0;
+  int64_t advanced_to_ = 0;  // the latest bus time an adapter advanced the timers to
   bool measure_latency_ = true;
   // health accounting since the last heartbeat
   int64_t health_seq_ = 0;
