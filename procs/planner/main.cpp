@@ -8,7 +8,6 @@
 #include <string>
 
 #include "bus/process_main.h"
-#include "planning/params.h"
 #include "planning/planner_core.h"
 
 int main(int argc, char** argv) {
@@ -25,10 +24,6 @@ int main(int argc, char** argv) {
                        "(default: config planner.mode)")
             ->check(CLI::IsMember(evade::planning::mode_names()));
       },
-      [&](const evade::config::Node& root) -> std::unique_ptr<evade::bus::Core> {
-        evade::planning::PlannerParams params = evade::planning::PlannerParams::from_config(root);
-        if (!mode.empty()) params.mode = evade::planning::parse_mode(mode);
-        return std::make_unique<evade::planning::PlannerCore>(params);
-      },
+      [&](const evade::config::Node& root) { return evade::planning::PlannerCore::from_config(root, mode); },
       options);
 }
