@@ -24,6 +24,5 @@ int main(int argc, char** argv) {
                        "(default: config planner.mode)")
             ->check(CLI::IsMember(evade::planning::mode_names()));
       },
-      [&](const evade::config::Node& root) { return evade::planning::PlannerCore::from_config(root, mode); },
-      options);
+      [&](const evade::config::Node& root) { return evade::planning::PlannerCore::from_config(root, mode); }, options);
 }
