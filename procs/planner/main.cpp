@@ -12,6 +12,10 @@
 
 int main(int argc, char** argv) {
   std::string mode;
+  // The planner judges other hosts' stamps (the predictions' age):
+  // it measures the clock offset to the others (lib/bus/clock_sync.h).
+  evade::bus::ProcessOptions options{evade::planning::PlannerCore::conflated_inputs()};
+  options.clock_sync_requests = true;
   return evade::bus::process_main(
       argc, argv, "planner",
       [&](CLI::App& app) {
@@ -20,6 +24,5 @@ int main(int argc, char** argv) {
                        "(default: config planner.mode)")
             ->check(CLI::IsMember(evade::planning::mode_names()));
       },
-      [&](const evade::config::Node& root) { return evade::planning::PlannerCore::from_config(root, mode); },
-      evade::bus::ProcessOptions{evade::planning::PlannerCore::conflated_inputs()});
+      [&](const evade::config::Node& root) { return evade::planning::PlannerCore::from_config(root, mode); }, options);
 }

@@ -81,8 +81,11 @@ TEST(BusGuard, RoutedToLoIsClosedUnlessAnotherInterfaceJoinedTheGroup) {
   EXPECT_NE(e.reasons[0].find("/proc/net/igmp"), std::string::npos);
 }
 
-// bus.auth, which the bus: section holds beside allowed_interfaces (auth.h).
-const std::string kAuth = "  auth: {key_file: /k, window_s: 2.0}\n";
+// bus.auth and bus.clock_sync, which the bus: section holds beside
+// allowed_interfaces (auth.h, clock_sync.h).
+const std::string kAuth =
+    "  auth: {key_file: /k, window_s: 2.0}\n"
+    "  clock_sync: {period_s: 1.0, window_samples: 8, max_offset_s: 0.02}\n";
 
 TEST(BusGuard, ConfigNamesTheAllowedInterfaces) {
   auto p =
