@@ -713,4 +713,10 @@ evade::plan_t PlannerCore::plan_message(const evade::odometry_t& odom, int8_t st
   return plan;
 }
 
+std::unique_ptr<PlannerCore> PlannerCore::from_config(const config::Node& root, const std::string& mode) {
+  PlannerParams params = PlannerParams::from_config(root);
+  if (!mode.empty()) params.mode = parse_mode(mode);
+  return std::make_unique<PlannerCore>(params);
+}
+
 }  // namespace evade::planning

@@ -5,15 +5,7 @@
 
 namespace evade::route {
 
-RouteParams RouteParams::from_config(const config::Node& section) {
-  RouteParams p;
-  p.waypoints = section.get_points("waypoints");
-  std::string why = validate_route(p.waypoints);
-  if (!why.empty()) section.fail("waypoints", why);
-  p.publish_period_s = section.get_double("publish_period_s", 0.01, 60.0);
-  section.close();
-  return p;
-}
+RouteParams RouteParams::from_config(const config::Node& section) { return config::load<RouteParams>(section); }
 
 std::string validate_route(const std::vector<std::vector<double>>& waypoints) {
   if (waypoints.size() < 2) return "a route needs at least two points";
@@ -59,6 +51,18 @@ std::vector<std::vector<double>> load_route_file(const std::string& path) {
   if (!why.empty()) root.fail("route", why);
   root.close();
   return points;
+}
+
+std::unique_ptr<RoutePublisher> RoutePublisher::from_config(
+    const config::Node& root, const std::optional<std::vector<std::vector<double>>>& waypoints,
+    const std::string& source) {
+  RouteParams params = RouteParams::from_config(root.section("route"));
+  if (waypoints) {
+    params.waypoints = *waypoints;
+    const std::string why = validate_route(params.waypoints);
+    if (!why.empty()) throw config::ConfigError(source + ":0: key 'route': " + why);
+  }
+  return std::make_unique<RoutePublisher>(params);
 }
 
 RoutePublisher::RoutePublisher(const RouteParams& params) : Core("route") {

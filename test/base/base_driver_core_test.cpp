@@ -97,8 +97,8 @@ TEST(BaseDriverConfig, ReadsRobotYaml) {
 
 TEST(BaseDriverConfig, UnknownKeyIsAnError) {
   auto root = config::load_string(
-      "robot: {max_v_mps: 1.0, min_v_mps: 0.0, max_omega_radps: 0.5, max_accel_mps2: 1.0,\n"
-      "        max_decel_mps2: 1.5, max_alpha_radps2: 3.0}\n"
+      "robot: {footprint_length_m: 0.42, footprint_width_m: 0.31, max_v_mps: 1.0, min_v_mps: 0.0,\n"
+      "        max_omega_radps: 0.5, max_accel_mps2: 1.0, max_decel_mps2: 1.5, max_alpha_radps2: 3.0}\n"
       "base_driver: {device: /dev/ttyUSB0, baud_rate: 115200, command_rate_hz: 50.0,\n"
       "  watchdog_timeout_s: 0.25, cmd_vel_max_age_s: 0.4, link_timeout_s: 0.5, status_rate_hz: 10.0, "
       "max_odometry_gap_s: 0.5,\n"
@@ -552,6 +552,31 @@ TEST(BaseDriverAuth, ForgedReplayedAndUnsignedCommandsNeverDrive) {
   r.estop_from(r.operator_tool, true, kT0 + 80 * kTick + 1);
   r.bus.inject(kEstopChannel, bus::encode(estop(false, kT0 + 80 * kTick + 2)), kT0 + 80 * kTick + 2);
   EXPECT_TRUE(r.core.estop_engaged());
+}
+
+TEST(BaseDriverConfig, FactoryReadsTheWholeConfigAndAppliesTheRunsSettings) {
+  auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  const BaseDriverParams file = BaseDriverParams::from_config(root);
+  auto plain = BaseDriverCore::from_config(root);
+  EXPECT_EQ(plain->params().device, file.device);
+  EXPECT_EQ(plain->params().baud_rate, file.baud_rate);
+  EXPECT_DOUBLE_EQ(plain->pose().x, file.initial_pose.x);
+  EXPECT_EQ(plain->params().epoch, 0);  // a replay's: deterministic
+
+  BaseDriverRun run;
+  run.device = "/dev/ttyUSB7";
+  run.initial_pose = Pose2{1.5, -2.0, 0.25};
+  run.epoch = 1'700'000'000'000'000;
+  auto core = BaseDriverCore::from_config(root, run);
+  EXPECT_EQ(core->params().device, "/dev/ttyUSB7");
+  EXPECT_DOUBLE_EQ(core->pose().x, 1.5);
+  EXPECT_DOUBLE_EQ(core->pose().y, -2.0);
+  EXPECT_DOUBLE_EQ(core->pose().yaw, 0.25);
+  EXPECT_EQ(core->params().epoch, 1'700'000'000'000'000);
+  EXPECT_DOUBLE_EQ(core->params().watchdog_timeout_s, file.watchdog_timeout_s);  // the rest from the file
+
+  auto bad = config::load_string("robot: {max_v_mps: 1.0}\nbase_driver: {device: /dev/x}\n", "bad.yaml");
+  EXPECT_THROW(BaseDriverCore::from_config(bad, run), config::ConfigError);
 }
 
 }  // namespace
