@@ -30,6 +30,11 @@ struct RobotFacts {
   // Highest step the map lets pass (elevation_map.step_max_m and
   // blind_ground_step_max_m, the larger): lower obstacles are not seen.
   double step_max_m = 0.15;
+  // The robot profile the configuration was merged with (config/
+  // robot_profile.h; "" none): generated scenarios name it (robot.profile)
+  // so that runs of them use the same robot. Set by the caller.
+  std::string profile;
+  std::string lidar_model = "vlp16";  // lidar.model, set by the caller likewise
 
   // Reads robot, planner, lidar.mount and elevation_map (shared sections,
   // not closed).

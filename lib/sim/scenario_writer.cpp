@@ -71,6 +71,7 @@ std::string scenario_yaml(const Scenario& sc, const std::vector<std::string>& he
     << ", yaw: " << yaml_number(sc.start.yaw) << "}\n";
   y << "  goal: {x: " << yaml_number(sc.goal.x) << ", y: " << yaml_number(sc.goal.y)
     << ", tolerance: " << yaml_number(sc.goal_tolerance) << "}\n";
+  if (!sc.profile.empty()) y << "  profile: " << sc.profile << "\n";
   y << "  footprint: {length: " << yaml_number(sc.footprint_length) << ", width: " << yaml_number(sc.footprint_width)
     << "}\n";
   y << "route: " << points(sc.route) << "\n";

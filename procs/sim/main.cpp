@@ -207,10 +207,11 @@ void warn_on_lidar_mismatch(const evade::config::Node& root, const evade::sim::S
 
 int main(int argc, char** argv) {
   CLI::App app{"evade sim: the simulated world (VLP-16 or RS-Helios UDP packets, Scout UART on a pty, SIM_TRUTH)"};
-  std::string scenario_path, config_path, lcm_url, device, lidar_dest;
+  std::string scenario_path, lcm_url, device, lidar_dest;
   double speed = 1.0;
+  evade::bus::CommonOptions common;
   app.add_option("--scenario", scenario_path, "scenario YAML (SPEC.md format)")->required();
-  app.add_option("--config", config_path, "robot configuration (default config/robot.yaml)");
+  evade::bus::add_robot_options(app, common);  // --config, --robot
   app.add_option("--lcm-url", lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   app.add_option("--device", device, "link the emulated Scout's pty here (default: sim.device_path)");
   app.add_option("--lidar-dest", lidar_dest,
@@ -223,14 +224,14 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
 
-  evade::bus::CommonOptions common;
-  common.config_path = config_path;
+  evade::bus::robot_options_from(app, common);
   evade::config::Node root = evade::bus::load_config_or_exit("sim", common);
   evade::sim::SimParams params;
   evade::sim::Scenario scenario;
   try {
     params = evade::sim::SimParams::from_config(root);
     scenario = evade::sim::load_scenario(scenario_path);
+    evade::sim::resolve_robot(&scenario, root);
   } catch (const std::exception& e) {  // ConfigError: file:line: key: reason
     die(e.what(), 2);
   }
