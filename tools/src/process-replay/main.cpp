@@ -14,30 +14,34 @@
 #include <filesystem>
 
 #include "bus/log.h"
+#include "bus/process_main.h"
+#include "config/robot_profile.h"
 #include "process_replay.h"
 
 namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
   CLI::App app{"Log-playback regression: replay each process over logged inputs and diff against references"};
-  std::string logs = std::string(EVADE_SOURCE_DIR) + "/logs", only_case, only_process, cut, config_path;
+  std::string logs = std::string(EVADE_SOURCE_DIR) + "/logs", only_case, only_process, cut;
+  evade::bus::CommonOptions opts;
   bool update = false;
   double start_s = 0, duration_s = 4;
   app.add_flag("--update-refs", update, "rewrite the references from the current code");
   app.add_option("--logs", logs, "folder of cases (default: the repository's logs/)");
   app.add_option("--case", only_case, "only this case (or: the name of the case --cut makes)");
   app.add_option("--process", only_process, "only this process");
-  app.add_option("--config", config_path, "robot configuration (default: the repository's config/robot.yaml)");
+  evade::bus::add_robot_options(app, opts, false);  // --config (default: the repository's), --robot
   app.add_option("--cut", cut, "make a case from this run log");
   app.add_option("--start-s", start_s, "with --cut: window start after the log's first event");
   app.add_option("--duration-s", duration_s, "with --cut: window length");
   bool force = false;
   app.add_flag("--force", force, "with --cut: replace an existing case");
   CLI11_PARSE(app, argc, argv);
-  if (config_path.empty()) config_path = std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml";
+  const std::string config_path =
+      opts.config_path.empty() ? std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml" : opts.config_path;
 
   try {
-    auto root = evade::config::load_robot_config(config_path);
+    auto root = evade::config::load_robot_config(config_path, {opts.robot, ""});
     if (!cut.empty()) {
       if (only_case.empty()) throw std::runtime_error("--cut needs --case NAME");
       const std::string existing = logs + "/" + only_case + "/input.lcmlog";
