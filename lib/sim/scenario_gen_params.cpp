@@ -210,9 +210,12 @@ DoorwayParams read_doorway(const config::Node& f, const CommonParams& c, const R
   config::Node n = f.section("doorway");
   DoorwayParams p;
   p.gap_m = positive_length(n, "gap_m");
-  if (p.gap_m.lo < robot.footprint_width_m + c.passage_margin_m)
-    n.fail("gap_m", "the narrowest gap must be at least footprint width + passage_margin_m (" +
-                        num(robot.footprint_width_m + c.passage_margin_m) + " m)");
+  // Gaps the robot cannot pass are left out: a wider robot (a profile,
+  // config/robots/) draws from the part of the range it fits through.
+  const double passable = robot.footprint_width_m + c.passage_margin_m;
+  p.gap_m.lo = std::max(p.gap_m.lo, passable);
+  if (p.gap_m.hi < passable)
+    n.fail("gap_m", "the widest gap must be at least footprint width + passage_margin_m (" + num(passable) + " m)");
   p.gap_offset_m = signed_length(n, "gap_offset_m");
   p.wall_at = read_range(n, "wall_at", 0.1, 0.9);
   p.wall_half_length_m = positive_length(n, "wall_half_length_m");

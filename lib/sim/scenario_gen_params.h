@@ -141,8 +141,9 @@ struct FamilyParams {
   MixedParams mixed;
 
   // Reads the whole file (every section closed). `robot` is checked
-  // against it: the doorway's narrowest gap must let the robot through
-  // (footprint width + passage margin), and no obstacle kind may be lower
+  // against it: the doorway's gaps start at what lets the robot through
+  // (footprint width + passage margin; the range's lower end is raised to
+  // it, and a range wholly below it is an error), and no obstacle kind may be lower
   // than the map's step threshold + min_visible_height_m.
   static FamilyParams from_config(const config::Node& root, const RobotFacts& robot);
 };
