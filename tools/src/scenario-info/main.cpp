@@ -7,11 +7,14 @@
 // and height (config/robot_profile.h), so the drivers decode what the
 // simulator sends and the planner keeps the simulated body clear; a header
 // names every value that did not come from BASE and where it came from.
+// The profile goes beside OUT too (robots/NAME.yaml), so that a process
+// given OUT with --scenario (sim, route) merges the same values again.
 // --robot-profile prints the profile the run uses (empty line: none).
 #include <yaml-cpp/yaml.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
 #include "bus/process_main.h"
@@ -32,6 +35,15 @@ void write_config(const evade::config::Node& root, const std::string& base, cons
     f << "#   " << v.key << ": " << YAML::Dump(v.node) << "  (" << v.file << ":" << v.node.Mark().line + 1 << ")\n";
   f << root.yaml() << "\n";
   if (!f) throw std::runtime_error("cannot write " + out);
+  const std::string& profile = root.provenance()->profile;
+  if (profile.empty()) return;
+  namespace fs = std::filesystem;
+  const fs::path from = fs::path(evade::config::profiles_dir(base)) / (profile + ".yaml");
+  const fs::path to = fs::path(evade::config::profiles_dir(out)) / (profile + ".yaml");
+  std::error_code ec;
+  if (fs::equivalent(from, to, ec)) return;
+  fs::create_directories(to.parent_path());
+  fs::copy_file(from, to, fs::copy_options::overwrite_existing);
 }
 
 }  // namespace
