@@ -358,9 +358,9 @@ TEST(Tracker, CylinderFootprintGivesACentredEllipseWithAStableId) {
   }
 }
 
-int run_crossing(double sep_y, bool expect_merge_free) {
+int run_crossing(double sep_y, bool expect_merge_free, const TrackerParams& p = params()) {
   // A moves +x at 1.8 m/s along y = +sep/2, B moves -x along y = -sep/2
-  Tracker t(params());
+  Tracker t(p);
   int64_t ida = -1, idb = -1;
   int frames_with_both = 0;
   for (int f = 0; f <= 30; ++f) {
@@ -390,8 +390,38 @@ int run_crossing(double sep_y, bool expect_merge_free) {
 TEST(Tracker, CrossingObstaclesKeepTheirIds) { EXPECT_EQ(run_crossing(1.0, true), 0); }
 
 TEST(Tracker, CrossingObstaclesThatMergeForAFewFramesKeepTheirIds) {
-  // passing 0.5 m apart, centre to centre: the discs touch and DBSCAN sees one cluster for a few frames
-  EXPECT_GE(run_crossing(0.5, false), 2);
+  // passing 0.5 m apart, centre to centre: the discs touch and DBSCAN sees
+  // one cluster for a few frames; without the cut, one track coasts through
+  auto p = params();
+  p.merge.split = false;
+  EXPECT_GE(run_crossing(0.5, false, p), 2);
+}
+
+TEST(Tracker, AMergedClusterIsCutIntoOneDetectionPerTrack) {
+  // the same pass with the cut: two obstacles in every frame, each its own id
+  EXPECT_EQ(run_crossing(0.5, true), 0);
+}
+
+TEST(Tracker, OneObjectSeenInTwoPiecesIsNotCutWhenWholeAgain) {
+  // a disc seen as two halves (a column of cells missing) long enough for
+  // both halves to be confirmed tracks, then whole: one detection, the
+  // older track's id
+  Tracker t(params());
+  int64_t utime = 0;
+  auto frame = [&](bool gap) {
+    Scene s;
+    s.disc(1.0, 1.0, 0.35);
+    if (gap)
+      for (int row = 0; row < s.h; ++row) s.cells[row * s.w + 60] = 0;  // x in [1.0, 1.1)
+    return t.update(s.view(utime += 100'000));
+  };
+  for (int f = 0; f < 8; ++f) ASSERT_EQ(frame(true).size(), 2u);
+  for (int f = 0; f < 5; ++f) {
+    const auto& obs = frame(false);
+    ASSERT_EQ(obs.size(), 1u) << "frame " << f;
+    EXPECT_NEAR(obs[0].ellipse.cx, 1.0, 0.06);
+  }
+  EXPECT_EQ(t.stats().merges_split, 0);
 }
 
 TEST(Tracker, PaperAssociationWithoutPredictionAlsoKeepsSeparatedIds) {
