@@ -32,6 +32,7 @@ TrackerParams TrackerParams::from_config(const config::Node& s) {
   p.predict_with_velocity = s.get<bool>("predict_with_velocity");
   p.velocity_smoothing = s.get_double("velocity_smoothing", 0.0, 1.0);
   p.tentative_penalty_m = s.get_double("tentative_penalty_m", 0.0, 100.0);
+  p.near_side_shift_b = s.get_double("near_side_shift_b", 0.0, 2.0);
   p.velocity_window_frames = s.get_int("velocity_window_frames", 0, 1000);
   p.max_prediction_gap_s = s.get_double("max_prediction_gap_s", 0.0, 60.0);
   p.theta_variation = s.get_choice("shape_variation_theta", {"raw", "boundary"}) == "raw" ? ThetaVariation::kRaw
@@ -42,6 +43,7 @@ TrackerParams TrackerParams::from_config(const config::Node& s) {
   p.merge.reach_m = m.get_double("reach_m", 0.0, 10.0);
   p.merge.min_separation_m = m.get_double("min_separation_m", 0.0, 10.0);
   p.merge.min_growth_m = m.get_double("min_growth_m", 0.0, 10.0);
+  p.merge.min_relative_speed_mps = m.get_double("min_relative_speed_mps", 0.0, 100.0);
   p.merge.hold_motion = m.get<bool>("hold_motion");
   m.close();
   s.close();
@@ -100,11 +102,36 @@ Ellipse Tracker::fit(const GridView& g, const std::vector<int32_t>& cells) {
   return min_bounding_ellipse(corners_, p_.mbe);
 }
 
-void Tracker::add_detection(const GridView& g, const std::vector<int32_t>& cells) {
+Ellipse Tracker::near_side_corrected(const GridView& g, Ellipse e) const {
+  const double lx = e.cx - g.robot_x, ly = e.cy - g.robot_y, l = std::hypot(lx, ly);
+  if (!g.has_robot || p_.near_side_shift_b <= 0.0 || !(l > 1e-6)) return e;
+  // The LiDAR sees the near side: the body's centre lies behind the visible
+  // cells' ellipse. Move the centre away from the sensor and grow the axis
+  // nearer the line of sight by as much, so the near boundary stays put.
+  const double s = p_.near_side_shift_b * e.b, ux = lx / l, uy = ly / l;
+  e.cx += s * ux;
+  e.cy += s * uy;
+  if (std::fabs(std::cos(e.theta) * ux + std::sin(e.theta) * uy) >= std::sqrt(0.5)) {
+    e.a += s;
+  } else {
+    e.b += s;
+    if (e.b > e.a) {
+      std::swap(e.a, e.b);
+      e.theta = wrap_half_pi(e.theta + M_PI / 2);
+    }
+  }
+  return e;
+}
+
+Detection Tracker::make_detection(const GridView& g, const std::vector<int32_t>& cells) {
   Detection d;
-  d.ellipse = fit(g, cells);
+  d.ellipse = near_side_corrected(g, fit(g, cells));
   d.num_cells = int(cells.size());
-  detections_.push_back(d);
+  return d;
+}
+
+void Tracker::add_detection(const GridView& g, const std::vector<int32_t>& cells) {
+  detections_.push_back(make_detection(g, cells));
 }
 
 namespace {
@@ -145,6 +172,17 @@ void Tracker::keep_separated_owners() {
   owners_ = std::move(kept);
 }
 
+bool Tracker::owners_move_apart() const {
+  // pieces of one rigid body (a car seen as two tracks) move together
+  for (size_t i = 0; i < owners_.size(); ++i)
+    for (size_t j = i + 1; j < owners_.size(); ++j) {
+      const Track& a = tracks_[size_t(owners_[i])];
+      const Track& b = tracks_[size_t(owners_[j])];
+      if (std::hypot(a.vx - b.vx, a.vy - b.vy) >= p_.merge.min_relative_speed_mps) return true;
+    }
+  return false;
+}
+
 bool Tracker::partition(const GridView& g, const std::vector<int32_t>& cells) {
   // each cell to the nearest owner's predicted centre; an owner left with
   // fewer than minPts cells is not in this cluster, and the rest re-partition
@@ -176,18 +214,19 @@ void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) 
   if (owners_.size() < 2) return add_detection(g, cells);
   // A merge makes the cluster longer than any of its owners was: one object
   // whose second track lingers beside it does not.
-  const Ellipse whole = fit(g, cells);
+  Detection whole = make_detection(g, cells);
   double owner_a = 0.0;
   for (int t : owners_) owner_a = std::max(owner_a, tracks_[size_t(t)].history.back().a);
-  const bool grown = whole.a >= owner_a + p_.merge.min_growth_m;
+  const bool grown = whole.ellipse.a >= owner_a + p_.merge.min_growth_m;
   keep_separated_owners();
-  if (grown && partition(g, cells)) {
+  if (grown && owners_move_apart() && partition(g, cells)) {
     ++stats_.merges_split;
     for (const auto& part : parts_) add_detection(g, part);
     return;
   }
   // Inseparable (the two overlap): the track it is matched to keeps its own motion.
-  detections_.push_back({whole, int(cells.size()), grown && p_.merge.hold_motion});
+  whole.merged = grown && p_.merge.hold_motion;
+  detections_.push_back(whole);
   stats_.merges_held += detections_.back().merged;
 }
 

@@ -28,6 +28,7 @@ struct MergeSplitParams {
   double reach_m = 0.3;            // its predicted centre lies within this of one of the cluster's cells
   double min_separation_m = 0.4;   // owners' predicted centres at least this far apart (else the older one counts)
   double min_growth_m = 0.1;       // the cluster's semi-major axis exceeds every owner's last one by this
+  double min_relative_speed_mps = 0.3;  // and two of them move apart at least this fast (not one rigid body)
   bool hold_motion = true;         // a grown cluster that cannot be cut: its track moves on as predicted
 };
 
@@ -45,6 +46,7 @@ struct TrackerParams {
   bool predict_with_velocity = true;  // cost = min(distance to predicted centre, to last centre)
   double velocity_smoothing = 0.5;    // weight of the newest centre difference in the velocity estimate
   int velocity_window_frames = 10;    // >= 2: velocity = least-squares slope of the last this many centres; else smoothing
+  double near_side_shift_b = 0.3;     // centre moved away from the robot by this times the semi-minor axis
   double tentative_penalty_m = 0.3;   // added to the cost of a track matched in fewer than merge.min_track_frames
   double max_prediction_gap_s = 1.0;  // beyond this gap the last centre is used as is
   ThetaVariation theta_variation = ThetaVariation::kBoundary;
@@ -59,6 +61,8 @@ struct GridView {
   double origin_x = 0.0, origin_y = 0.0, resolution = 0.1;
   int width = 0, height = 0;
   const int8_t* obstacle = nullptr;  // width * height, row-major
+  bool has_robot = false;            // robot_x, robot_y known (near-side correction)
+  double robot_x = 0.0, robot_y = 0.0;
 };
 
 struct Detection {
@@ -141,10 +145,13 @@ class Tracker {
   void emit(const GridView& grid, const std::vector<int>& det_track, const std::vector<int>& new_index);
 
   Ellipse fit(const GridView& grid, const std::vector<int32_t>& cells);
+  Ellipse near_side_corrected(const GridView& grid, Ellipse e) const;
+  Detection make_detection(const GridView& grid, const std::vector<int32_t>& cells);
   void add_detection(const GridView& grid, const std::vector<int32_t>& cells);
   void add_cluster(const GridView& grid, const std::vector<int32_t>& cells);
   void find_owners(const GridView& grid, const std::vector<int32_t>& cells);  // -> owners_, oldest first
   void keep_separated_owners();
+  bool owners_move_apart() const;
   bool partition(const GridView& grid, const std::vector<int32_t>& cells);    // owners_ -> parts_
 
   TrackerParams p_;

@@ -466,6 +466,37 @@ TEST(Tracker, PartialOcclusionDoesNotCarryAStaticTrackAway) {
   EXPECT_EQ(t.update(visible_above(0.0).view(utime += 100'000)).at(0).id, id);
 }
 
+TEST(Tracker, NearSideCorrectionMovesTheCentreTowardsTheBodysAxis) {
+  // what a LiDAR at the origin sees of a 0.3 m disc at (3, 0): the near
+  // half of its rim, one cell thick
+  Scene s;
+  for (int row = 0; row < s.h; ++row)
+    for (int c = 0; c < s.w; ++c) {
+      const double x = s.origin_x + (c + 0.5) * s.res, y = s.origin_y + (row + 0.5) * s.res;
+      const double r = std::hypot(x - 3.0, y);
+      if (x <= 3.0 && r <= 0.3 && r > 0.18) s.cells[row * s.w + c] = 1;
+    }
+  auto centre_error = [&](bool robot_known, Ellipse* e) {
+    Tracker t(params());
+    GridView g = s.view(1'000'000);
+    g.has_robot = robot_known;
+    const auto& obs = t.update(g);
+    EXPECT_EQ(obs.size(), 1u);
+    *e = obs.at(0).ellipse;
+    return std::hypot(e->cx - 3.0, e->cy);
+  };
+  Ellipse raw, corrected;
+  const double before = centre_error(false, &raw), after = centre_error(true, &corrected);
+  EXPECT_GT(before, 0.1);
+  EXPECT_LT(after, before - 0.05);
+  EXPECT_GT(corrected.cx, raw.cx);  // moved away from the robot
+  // the near side stays inside: every obstacle cell's centre is enclosed
+  for (int row = 0; row < s.h; ++row)
+    for (int c = 0; c < s.w; ++c)
+      if (s.cells[row * s.w + c])
+        EXPECT_LE(ellipse_level(corrected, {s.origin_x + (c + 0.5) * s.res, s.origin_y + (row + 0.5) * s.res}), 1.0);
+}
+
 TEST(Tracker, TracksDropAfterKMissedFramesAndIdsAreNeverReused) {
   auto p = params();
   p.max_missed_frames = 5;
@@ -605,7 +636,9 @@ TEST(Tracker, LargeClustersFollowThePolicy) {
 // ---------------------------------------------------------------- core
 TEST(Core, PublishesObstaclesStampedWithTheMapTime) {
   bus::MemoryBus bus;
-  TrackerCore core(params());
+  auto p = params();
+  p.near_side_shift_b = 0.0;  // a painted full disc, not a LiDAR's near side
+  TrackerCore core(p);
   bus.add(core);
   Scene s;
   s.disc(1.0, 1.0, 0.3);
