@@ -333,7 +333,8 @@ void Tracker::update_velocity(Track& tr, int64_t utime, const Ellipse& e) const 
   const double n = double(tr.fixes.size());
   mt /= n, mx /= n, my /= n;
   double stt = 0, stx = 0, sty = 0;
-  for (const Fix& f : tr.fixes) stt += (f.t - mt) * (f.t - mt), stx += (f.t - mt) * (f.x - mx), sty += (f.t - mt) * (f.y - my);
+  for (const Fix& f : tr.fixes)
+    stt += (f.t - mt) * (f.t - mt), stx += (f.t - mt) * (f.x - mx), sty += (f.t - mt) * (f.y - my);
   if (!(stt > 0.0)) return;
   tr.vx = stx / stt;
   tr.vy = sty / stt;

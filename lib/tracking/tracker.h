@@ -24,12 +24,12 @@ enum class ThetaVariation { kRaw, kBoundary };
 // one part per track, each cell going to the nearest predicted centre.
 struct MergeSplitParams {
   bool split = true;
-  int min_track_frames = 5;        // a track counts once matched in this many frames
-  double reach_m = 0.3;            // its predicted centre lies within this of one of the cluster's cells
-  double min_separation_m = 0.4;   // owners' predicted centres at least this far apart (else the older one counts)
-  double min_growth_m = 0.1;       // the cluster's semi-major axis exceeds every owner's last one by this
+  int min_track_frames = 5;             // a track counts once matched in this many frames
+  double reach_m = 0.3;                 // its predicted centre lies within this of one of the cluster's cells
+  double min_separation_m = 0.4;        // owners' predicted centres at least this far apart (else the older one counts)
+  double min_growth_m = 0.1;            // the cluster's semi-major axis exceeds every owner's last one by this
   double min_relative_speed_mps = 0.3;  // and two of them move apart at least this fast (not one rigid body)
-  bool hold_motion = true;         // a grown cluster that cannot be cut: its track moves on as predicted
+  bool hold_motion = true;              // a grown cluster that cannot be cut: its track moves on as predicted
 };
 
 struct TrackerParams {
@@ -45,8 +45,9 @@ struct TrackerParams {
   MbeOptions mbe;                     // tolerance, iterations, min semi-axis
   bool predict_with_velocity = true;  // cost = min(distance to predicted centre, to last centre)
   double velocity_smoothing = 0.5;    // weight of the newest centre difference in the velocity estimate
-  int velocity_window_frames = 10;    // >= 2: velocity = least-squares slope of the last this many centres; else smoothing
-  double near_side_shift_b = 0.3;     // centre moved away from the robot by this times the semi-minor axis
+  int velocity_window_frames =
+      10;                          // >= 2: velocity = least-squares slope of the last this many centres; else smoothing
+  double near_side_shift_b = 0.3;  // centre moved away from the robot by this times the semi-minor axis
   double tentative_penalty_m = 0.3;   // added to the cost of a track matched in fewer than merge.min_track_frames
   double max_prediction_gap_s = 1.0;  // beyond this gap the last centre is used as is
   ThetaVariation theta_variation = ThetaVariation::kBoundary;
@@ -152,7 +153,7 @@ class Tracker {
   void find_owners(const GridView& grid, const std::vector<int32_t>& cells);  // -> owners_, oldest first
   void keep_separated_owners();
   bool owners_move_apart() const;
-  bool partition(const GridView& grid, const std::vector<int32_t>& cells);    // owners_ -> parts_
+  bool partition(const GridView& grid, const std::vector<int32_t>& cells);  // owners_ -> parts_
 
   TrackerParams p_;
   GridDbscan dbscan_;
