@@ -66,6 +66,14 @@ Pose2 parse_pose(const std::string& text) {
   return Pose2{v[0], v[1], wrap_angle(v[2])};
 }
 
+std::unique_ptr<BaseDriverCore> BaseDriverCore::from_config(const config::Node& root, const BaseDriverRun& run) {
+  BaseDriverParams params = BaseDriverParams::from_config(root);
+  if (!run.device.empty()) params.device = run.device;
+  if (run.initial_pose) params.initial_pose = *run.initial_pose;
+  params.epoch = run.epoch;
+  return std::make_unique<BaseDriverCore>(params);
+}
+
 BaseDriverCore::BaseDriverCore(const BaseDriverParams& params)
     : bus::Core("base_driver"),
       params_(params),

@@ -47,6 +47,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,9 +88,21 @@ struct BaseDriverParams {
 // Parses "X,Y,YAW" (metres, metres, radians); throws std::invalid_argument.
 Pose2 parse_pose(const std::string& text);
 
+// What a run sets beside the configuration: the command line's device and
+// start pose (empty: the configuration's), and ODOMETRY.epoch (0 in a
+// replay or lockstep run, which stay deterministic).
+struct BaseDriverRun {
+  std::string device;
+  std::optional<Pose2> initial_pose;
+  int64_t epoch = 0;
+};
+
 class BaseDriverCore : public bus::Core {
  public:
   explicit BaseDriverCore(const BaseDriverParams& params);
+  // The core of the whole configuration (BaseDriverParams::from_config)
+  // for this run; throws ConfigError (file:line: key).
+  static std::unique_ptr<BaseDriverCore> from_config(const config::Node& root, const BaseDriverRun& run = {});
 
   // ---- called by the I/O owner, inside Core::input(now, ...) ----
   void on_serial_bytes(const uint8_t* data, size_t size);

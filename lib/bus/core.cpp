@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "bus/clock_sync.h"
 #include "evade/health_t.hpp"
 
 namespace evade::bus {
@@ -14,7 +15,34 @@ Core::Core(std::string name, int64_t health_period_us) : name_(std::move(name)) 
 std::vector<std::string> Core::channels() const {
   std::vector<std::string> out;
   for (const auto& [ch, in] : inputs_) out.push_back(ch);
+  if (clock_sync_ && !inputs_.count(kClockSyncChannel)) out.push_back(kClockSyncChannel);
   return out;
+}
+
+void Core::set_clock_sync(ClockSync* sync) {
+  clock_sync_ = sync;
+  // t1 is when the request leaves: a timer that fires late (a busy
+  // process) runs at its deadline, now_, but is sent at advanced_to_.
+  if (sync && sync->requests())
+    every(sync->period_us(),
+          [this] { publish(kClockSyncChannel, clock_sync_->request(std::max(now_, advanced_to_))); });
+}
+
+void Core::on_clock_sync(const uint8_t* data, size_t size) {
+  evade::clock_sync_t msg;
+  if (!decode(data, size, &msg)) {
+    count("clock_sync_malformed");
+    return;
+  }
+  if (auto answer = clock_sync_->on_message(msg, now_)) publish(kClockSyncChannel, *answer);
+  refresh_clock_counters();
+}
+
+void Core::refresh_clock_counters() {
+  if (!clock_sync_ || !clock_sync_->requests()) return;
+  counters_.erase("clock_offset_us");  // absent while no process answers
+  counters_.erase("clock_rtt_us");
+  for (const auto& [name, value] : clock_sync_->counters(now_)) counters_[name] = value;
 }
 
 void Core::run_measured(const std::function<void()>& fn) {
@@ -47,6 +75,11 @@ const char* verdict_name(AuthVerdict v) {
 }
 
 bool Core::deliver(const std::string& channel, const uint8_t* data, size_t size, int64_t now) {
+  if (clock_sync_ && channel == kClockSyncChannel && !inputs_.count(channel)) {
+    now_ = now;
+    on_clock_sync(data, size);
+    return true;
+  }
   auto it = inputs_.find(channel);
   if (it == inputs_.end()) return false;
   now_ = now;
@@ -97,6 +130,7 @@ void Core::arm_timers(int64_t now) {
 }
 
 bool Core::fire_next(int64_t now) {
+  advanced_to_ = std::max(advanced_to_, now);
   arm_timers(now);
   Timer* due = nullptr;
   for (auto& t : timers_)
@@ -130,6 +164,7 @@ int64_t Core::counter(const std::string& name) const {
 }
 
 void Core::publish_health() {
+  refresh_clock_counters();
   evade::health_t h;
   h.utime = now_;
   h.name = name_;

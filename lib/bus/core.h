@@ -22,6 +22,8 @@
 
 namespace evade::bus {
 
+class ClockSync;  // clock_sync.h
+
 inline constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
 inline constexpr const char* kHealthChannel = "HEALTH";
 
@@ -93,6 +95,11 @@ class Core {
   void note(const std::string& name, int64_t n = 1) { count(name, n); }
   // Signs outputs and checks inputs from now on (not owned; nullptr: off).
   void set_authenticator(Authenticator* auth) { auth_ = auth; }
+  // Answers clock-offset requests on CLOCK_SYNC and, when `sync` requests,
+  // sends its own and reports the estimate among the HEALTH counters
+  // (clock_sync.h). Before the core is added to a bus; not owned. The
+  // channel is handled here, not listed among the inputs in HEALTH.
+  void set_clock_sync(ClockSync* sync);
 
  protected:
   template <class Msg>
@@ -116,16 +123,20 @@ class Core {
     std::function<void()> fn;
   };
   void publish_health();
+  void on_clock_sync(const uint8_t* data, size_t size);
+  void refresh_clock_counters();
   void run_measured(const std::function<void()>& fn);
 
   std::string name_;
   Sink* sink_ = nullptr;
   Authenticator* auth_ = nullptr;
+  ClockSync* clock_sync_ = nullptr;
   std::map<std::string, Input> inputs_;
   std::map<std::string, Input> external_;  // non-LCM inputs: reported, never subscribed
   std::vector<Timer> timers_;
   std::map<std::string, int64_t> counters_;
   int64_t now_ = 0;
+  int64_t advanced_to_ = 0;  // the latest bus time an adapter advanced the timers to
   bool measure_latency_ = true;
   // health accounting since the last heartbeat
   int64_t health_seq_ = 0;

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "bus/bus_guard.h"
+#include "bus/clock_sync.h"
 #include "bus/live_bus.h"
 #include "bus/log_replay.h"
 
@@ -113,6 +114,11 @@ int process_main(int argc, char** argv, const std::string& name, const std::func
   std::string url = opts.lcm_url.empty() ? default_lcm_url() : opts.lcm_url;
   try {
     guard_bus(name, url, root, {core.get()});
+    ClockSync clock_sync(name, ClockSyncParams::from_config(root), options.clock_sync_requests);
+    clock_sync.on_warning = [&name](const std::string& line) {
+      std::fprintf(stderr, "%s: %s\n", name.c_str(), line.c_str());
+    };
+    core->set_clock_sync(&clock_sync);
     LiveBus bus(url);
     bus.add(*core);
     for (const auto& ch : options.conflate) bus.conflate(ch);

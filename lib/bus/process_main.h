@@ -58,6 +58,10 @@ struct ProcessOptions {
   // The core publishes an authenticated channel (auth.h) and so needs the
   // key even if it subscribes to none.
   bool publishes_signed = false;
+  // Live only: the process asks the others for their clocks on CLOCK_SYNC
+  // and reports the offset in HEALTH, warning beyond
+  // bus.clock_sync.max_offset_s (clock_sync.h). Every live process answers.
+  bool clock_sync_requests = false;
 };
 
 // Parses the command line (flags added by `add_flags` too), builds the core

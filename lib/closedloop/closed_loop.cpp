@@ -56,15 +56,6 @@ ProcessNode::ComputeModel planner_cost(const ProcessCost& c) {
   };
 }
 
-route::RouteParams route_params(const config::Node& root, const sim::Scenario& scenario) {
-  route::RouteParams p = route::RouteParams::from_config(root.section("route"));
-  p.waypoints.clear();
-  for (const auto& w : scenario.route) p.waypoints.push_back({w.x, w.y});
-  const std::string why = route::validate_route(p.waypoints);
-  if (!why.empty()) throw config::ConfigError(scenario.file + ":0: key 'route': " + why);
-  return p;
-}
-
 }  // namespace
 
 struct ClosedLoop::Impl {
@@ -167,24 +158,19 @@ void ClosedLoop::Impl::wire_devices(int baud_rate) {
 
 void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
   duration_s = scenario.duration_s;
-  sim::SimParams sp = sim::SimParams::from_config(root);
   if (run.seed) scenario.seed = *run.seed;
-  sim = std::make_unique<sim::SimCore>(scenario, sp);
-  lidar = std::make_unique<sensing::LidarDriverCore>(sensing::LidarDriverParams::from_config(root),
-                                                     sensing::LidarDriverCore::Source::kPackets);
-  base::BaseDriverParams bp = base::BaseDriverParams::from_config(root);
-  bp.initial_pose = base::Pose2{scenario.start.x, scenario.start.y, scenario.start.yaw};
-  base = std::make_unique<base::BaseDriverCore>(bp);
-  planning::PlannerParams pp = planning::PlannerParams::from_config(root);
-  if (!run.planner_mode.empty()) pp.mode = planning::parse_mode(run.planner_mode);
-  planner = std::make_unique<planning::PlannerCore>(pp);
+  sim = sim::SimCore::from_config(root, scenario);
+  lidar = sensing::LidarDriverCore::from_config(root, sensing::LidarDriverCore::Source::kPackets);
+  base::BaseDriverRun base_run;
+  base_run.initial_pose = base::Pose2{scenario.start.x, scenario.start.y, scenario.start.yaw};
+  base = base::BaseDriverCore::from_config(root, base_run);
+  planner = planning::PlannerCore::from_config(root, run.planner_mode);
   const LockstepParams* lp = &params;
   planner->set_solve_time_model([lp](int it, double measured_us) { return lp->planner_cycle_us(it, measured_us); });
   others.push_back(mapping::ElevationMapCore::from_config(root));
   others.push_back(tracking::TrackerCore::from_config(root));
-  others.push_back(
-      std::make_unique<prediction::PredictorCore>(prediction::PredictorParams::from_config(root.section("predictor"))));
-  others.push_back(std::make_unique<route::RoutePublisher>(route_params(root, scenario)));
+  others.push_back(prediction::PredictorCore::from_config(root));
+  others.push_back(route::RoutePublisher::from_config(root, sim::route_waypoints(scenario), scenario.file));
   RunMonitorParams mp;
   mp.margin_s = params.goal_margin_s;
   mp.quiet = run.quiet;
@@ -211,7 +197,7 @@ void ClosedLoop::Impl::build(const config::Node& root, sim::Scenario scenario) {
   const auto conflated = planning::PlannerCore::conflated_inputs();
   add(*planner, planner_cost(params.costs.at("planner")), {conflated.begin(), conflated.end()});
   add(*monitor, nullptr);
-  wire_devices(bp.baud_rate);
+  wire_devices(base->params().baud_rate);
 }
 
 ClosedLoop::ClosedLoop(const config::Node& root, const sim::Scenario& scenario, const LockstepRun& run)

@@ -6,33 +6,9 @@
 
 #include "evade/plan_t.hpp"
 #include "metrics/geometry.h"
+#include "metrics/plan_status.h"
 
 namespace evade::closedloop {
-
-namespace {
-
-const char* status_name(int s) {
-  switch (s) {
-    case evade::plan_t::STATUS_OK:
-      return "ok";
-    case evade::plan_t::STATUS_FALLBACK:
-      return "fallback";
-    case evade::plan_t::STATUS_STOPPING:
-      return "stopping";
-    case evade::plan_t::STATUS_STALE_INPUT:
-      return "stale";
-    case evade::plan_t::STATUS_NO_ROUTE:
-      return "no-route";
-    case evade::plan_t::STATUS_GOAL:
-      return "goal";
-    case evade::plan_t::STATUS_RECOVERING:
-      return "recover";
-    default:
-      return "?";
-  }
-}
-
-}  // namespace
 
 double truth_clearance(const evade::sim_truth_t& t) {
   const metrics::OrientedRect robot{{t.x, t.y}, t.yaw, t.footprint_length, t.footprint_width};
@@ -81,7 +57,7 @@ void RunMonitor::print_progress(const evade::sim_truth_t& t, double to_goal, dou
   std::fprintf(stderr,
                "%s  t %5.1f s  to goal %6.2f m  v %5.2f m/s  clearance %5.2f m (min %5.2f)  plan %-8s %5.2f ms %s",
                p_.tty ? "\r" : "", elapsed_s_, to_goal, t.v, clear, min_clear_,
-               plan_status_ < 0 ? "-" : status_name(plan_status_), solve_ms_, p_.tty ? "" : "\n");
+               plan_status_ < 0 ? "-" : metrics::plan_status_name(plan_status_), solve_ms_, p_.tty ? "" : "\n");
   std::fflush(stderr);
 }
 

@@ -15,8 +15,10 @@
 
 namespace evade::metrics {
 
-const char* metrics_rules() {
-  return R"(Rules (times in seconds since the first SIM_TRUTH unless stated):
+namespace {
+
+// What a run achieved: goal, clearance, contacts, success.
+constexpr const char* kOutcomeRules = R"(Rules (times in seconds since the first SIM_TRUTH unless stated):
 - first motion: the first SIM_TRUTH with |v| above motion_threshold_mps.
 - reached_goal: the robot centre comes within the scenario's goal
   tolerance of the goal; time_to_goal_s runs from first motion to then.
@@ -39,14 +41,20 @@ const char* metrics_rules() {
   fault. collisions_at_fault / collisions_not_at_fault count the contacts;
   at_fault: any contact at fault.
 - success: reached_goal, not timed_out, and no contact at fault.
-- local map: the square of side local_map_size_m centred on the robot,
+)";
+
+// The local map, dynamic obstacles and the speed variance.
+constexpr const char* kWindowRules = R"(- local map: the square of side local_map_size_m centred on the robot,
   aligned with the world axes (as the elevation map is).
 - a dynamic obstacle is one whose true speed exceeds
   dynamic_speed_threshold_mps at some point of the run.
 - speed_var: population variance of the robot's true linear speed over the
   SIM_TRUTH samples, after first motion and before the goal, at which some
   moving dynamic obstacle's centre is inside the local map.
-- reaction_time_s, the same rule for every planner mode: for each dynamic
+)";
+
+// The reaction time by counterfactual replay.
+constexpr const char* kReactionRules = R"(- reaction_time_s, the same rule for every planner mode: for each dynamic
   obstacle, t_enter = the first time its centre is inside the local map
   while it moves, t_leave the last. Its perception tracks: every track in
   every obstacle_list_t and prediction_list_t message of the log votes,
@@ -91,7 +99,10 @@ const char* metrics_rules() {
   reaction_missed and reactions are null. The replay's cost grows with
   the obstacles and how late they come: about 2 s of CPU for paper_sim,
   12 s for a street of ten walkers, 64 s for a generated 51 s crowd run.
-- path_length_m: robot path length from first motion to the goal (or end).
+)";
+
+// Path length and the planner's figures.
+constexpr const char* kPlannerRules = R"(- path_length_m: robot path length from first motion to the goal (or end).
 - planner_solve_ms_p50/p99: over PLAN messages with a solve (iterations > 0).
 - planner_cycle_ms_p99: over every PLAN's solve_time_us (PLAN carries the
   solver's time, not the whole cycle's; cycles without a solve count as
@@ -99,6 +110,12 @@ const char* metrics_rules() {
 - solver_failures: PLAN messages with status FALLBACK, STOPPING or RECOVERING
   (no plan met every constraint).
 )";
+
+}  // namespace
+
+const char* metrics_rules() {
+  static const std::string rules = std::string(kOutcomeRules) + kWindowRules + kReactionRules + kPlannerRules;
+  return rules.c_str();
 }
 
 MetricsParams MetricsParams::from_config(const config::Node& s) {

@@ -35,6 +35,7 @@ const Rgb kObstacleColours[] = {{0.85, 0.33, 0.10}, {0.49, 0.18, 0.56}, {0.47, 0
 struct View {
   double xmin, ymin, scale;
   int height_px;
+  double xmax, ymax;
   double px(double x) const { return kMarginPx + (x - xmin) * scale; }
   double py(double y) const { return kMarginPx + (height_px - 2 * kMarginPx - kLegendPx) - (y - ymin) * scale; }
 };
@@ -59,9 +60,8 @@ void rect_path(cairo_t* cr, const View& v, const OrientedRect& r) {
   cairo_close_path(cr);
 }
 
-}  // namespace
-
-void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
+// Framed on what the robot did; obstacles far from it are clipped.
+View frame_view(const RunMetrics& m) {
   double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
   auto grow = [&](Vec2 p) {
     xmin = std::min(xmin, p.x);
@@ -69,7 +69,6 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
     ymin = std::min(ymin, p.y);
     ymax = std::max(ymax, p.y);
   };
-  // Framed on what the robot did; obstacles far from it are clipped.
   for (auto p : m.robot_path) grow(p);
   for (auto p : m.route) grow(p);
   grow(m.goal);
@@ -79,83 +78,83 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
   ymax += kWorldPadM;
   double scale = (kWidth - 2 * kMarginPx) / std::max(xmax - xmin, 1.0);
   int height = static_cast<int>((ymax - ymin) * scale) + 2 * kMarginPx + kLegendPx;
-  View v{xmin, ymin, scale, height};
+  return View{xmin, ymin, scale, height, xmax, ymax};
+}
 
-  cairo_surface_t* surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, kWidth, height);
-  cairo_t* cr = cairo_create(surf);
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
+std::string seconds_label(double t_s) { return std::to_string(static_cast<int>(std::lround(t_s))) + "s"; }
 
-  // 1 m grid with labels every 5 m (labels outside the plot area).
+// 1 m grid with labels every 5 m (labels outside the plot area).
+void draw_grid(cairo_t* cr, const View& v) {
   cairo_set_line_width(cr, 0.5);
   cairo_set_font_size(cr, 11);
-  for (double x = std::ceil(xmin); x <= xmax; x += 1.0) {
+  for (double x = std::ceil(v.xmin); x <= v.xmax; x += 1.0) {
     cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
-    cairo_move_to(cr, v.px(x), v.py(ymin));
-    cairo_line_to(cr, v.px(x), v.py(ymax));
+    cairo_move_to(cr, v.px(x), v.py(v.ymin));
+    cairo_line_to(cr, v.px(x), v.py(v.ymax));
     cairo_stroke(cr);
     if (std::fmod(std::fabs(x), 5.0) < 1e-9) {
       cairo_set_source_rgb(cr, 0.4, 0.4, 0.4);
-      cairo_move_to(cr, v.px(x) - 6, v.py(ymin) + 14);
+      cairo_move_to(cr, v.px(x) - 6, v.py(v.ymin) + 14);
       cairo_show_text(cr, std::to_string(static_cast<int>(x)).c_str());
     }
   }
-  for (double y = std::ceil(ymin); y <= ymax; y += 1.0) {
+  for (double y = std::ceil(v.ymin); y <= v.ymax; y += 1.0) {
     cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
-    cairo_move_to(cr, v.px(xmin), v.py(y));
-    cairo_line_to(cr, v.px(xmax), v.py(y));
+    cairo_move_to(cr, v.px(v.xmin), v.py(y));
+    cairo_line_to(cr, v.px(v.xmax), v.py(y));
     cairo_stroke(cr);
     if (std::fmod(std::fabs(y), 5.0) < 1e-9) {
       cairo_set_source_rgb(cr, 0.4, 0.4, 0.4);
-      cairo_move_to(cr, v.px(xmin) - 28, v.py(y) + 4);
+      cairo_move_to(cr, v.px(v.xmin) - 28, v.py(y) + 4);
       cairo_show_text(cr, std::to_string(static_cast<int>(y)).c_str());
     }
   }
+}
 
-  // Everything in the world is clipped to the plot area.
-  cairo_save(cr);
-  cairo_rectangle(cr, v.px(xmin), v.py(ymax), (xmax - xmin) * scale, (ymax - ymin) * scale);
-  cairo_clip(cr);
+void draw_route(cairo_t* cr, const View& v, const std::vector<Vec2>& route) {
+  if (route.size() < 2) return;
+  double dash[] = {8, 6};
+  cairo_set_dash(cr, dash, 2, 0);
+  cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
+  cairo_set_line_width(cr, 1.5);
+  cairo_move_to(cr, v.px(route[0].x), v.py(route[0].y));
+  for (auto p : route) cairo_line_to(cr, v.px(p.x), v.py(p.y));
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0);
+}
 
-  // Route.
-  if (m.route.size() >= 2) {
-    double dash[] = {8, 6};
-    cairo_set_dash(cr, dash, 2, 0);
-    cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
-    cairo_set_line_width(cr, 1.5);
-    cairo_move_to(cr, v.px(m.route[0].x), v.py(m.route[0].y));
-    for (auto p : m.route) cairo_line_to(cr, v.px(p.x), v.py(p.y));
-    cairo_stroke(cr);
-    cairo_set_dash(cr, nullptr, 0, 0);
+// A moving obstacle's path, an outline every kOutlineS and a time label
+// every kTimeLabelS.
+void draw_obstacle_motion(cairo_t* cr, const View& v, const RunMetrics& m, const ObstacleTrack& o, Rgb c) {
+  cairo_set_source_rgb(cr, c.r, c.g, c.b);
+  cairo_set_line_width(cr, 1.5);
+  cairo_move_to(cr, v.px(o.path[0].x), v.py(o.path[0].y));
+  for (auto p : o.path) cairo_line_to(cr, v.px(p.x), v.py(p.y));
+  cairo_stroke(cr);
+  cairo_set_line_width(cr, 0.7);
+  double next_outline = 0.0, next_label = kTimeLabelS;
+  for (size_t k = 0; k < o.path.size() && k < m.robot_t_s.size(); ++k) {
+    if (m.robot_t_s[k] >= next_outline) {
+      next_outline += kOutlineS;
+      shape_path(cr, v, o, o.path[k], o.yaw[k]);
+      cairo_stroke(cr);
+    }
+    if (m.robot_t_s[k] >= next_label) {
+      next_label += kTimeLabelS;
+      cairo_move_to(cr, v.px(o.path[k].x) + 6, v.py(o.path[k].y) + 4);
+      cairo_show_text(cr, seconds_label(m.robot_t_s[k]).c_str());
+    }
   }
+}
 
-  // Obstacles: static ones filled grey; moving ones as their path plus an
-  // outline every second and a filled shape at the end.
+// Obstacles: static ones filled grey; moving ones as their path plus an
+// outline every second and a filled shape at the end.
+void draw_obstacles(cairo_t* cr, const View& v, const RunMetrics& m) {
   for (size_t i = 0; i < m.obstacles.size(); ++i) {
     const auto& o = m.obstacles[i];
     if (o.path.empty()) continue;
     Rgb c = o.dynamic ? kObstacleColours[i % 8] : Rgb{0.45, 0.45, 0.45};
-    if (o.dynamic) {
-      cairo_set_source_rgb(cr, c.r, c.g, c.b);
-      cairo_set_line_width(cr, 1.5);
-      cairo_move_to(cr, v.px(o.path[0].x), v.py(o.path[0].y));
-      for (auto p : o.path) cairo_line_to(cr, v.px(p.x), v.py(p.y));
-      cairo_stroke(cr);
-      cairo_set_line_width(cr, 0.7);
-      double next_outline = 0.0, next_label = kTimeLabelS;
-      for (size_t k = 0; k < o.path.size() && k < m.robot_t_s.size(); ++k) {
-        if (m.robot_t_s[k] >= next_outline) {
-          next_outline += kOutlineS;
-          shape_path(cr, v, o, o.path[k], o.yaw[k]);
-          cairo_stroke(cr);
-        }
-        if (m.robot_t_s[k] >= next_label) {
-          next_label += kTimeLabelS;
-          cairo_move_to(cr, v.px(o.path[k].x) + 6, v.py(o.path[k].y) + 4);
-          cairo_show_text(cr, (std::to_string(static_cast<int>(std::lround(m.robot_t_s[k]))) + "s").c_str());
-        }
-      }
-    }
+    if (o.dynamic) draw_obstacle_motion(cr, v, m, o, c);
     cairo_set_source_rgba(cr, c.r, c.g, c.b, o.dynamic ? 0.5 : 0.8);
     shape_path(cr, v, o, o.path.back(), o.yaw.back());
     cairo_fill(cr);
@@ -163,8 +162,11 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
     cairo_move_to(cr, v.px(o.path.front().x) + 5, v.py(o.path.front().y) - 5);
     cairo_show_text(cr, ("#" + std::to_string(o.id)).c_str());
   }
+}
 
-  // Robot path coloured by speed.
+// The robot's path coloured by speed (full scale: the returned speed, m/s),
+// with time labels matching the obstacles'.
+double draw_robot_path(cairo_t* cr, const View& v, const RunMetrics& m) {
   double vmax = 0.1;
   for (double s : m.robot_speed) vmax = std::max(vmax, std::fabs(s));
   cairo_set_line_width(cr, 3.0);
@@ -176,8 +178,6 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
     cairo_line_to(cr, v.px(m.robot_path[k].x), v.py(m.robot_path[k].y));
     cairo_stroke(cr);
   }
-
-  // Time labels on the robot's path, matching the obstacles'.
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   double next_label = kTimeLabelS;
   for (size_t k = 0; k < m.robot_path.size(); ++k) {
@@ -186,10 +186,12 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
     cairo_arc(cr, v.px(m.robot_path[k].x), v.py(m.robot_path[k].y), 3, 0, 2 * M_PI);
     cairo_fill(cr);
     cairo_move_to(cr, v.px(m.robot_path[k].x) - 8, v.py(m.robot_path[k].y) - 8);
-    cairo_show_text(cr, (std::to_string(static_cast<int>(std::lround(m.robot_t_s[k]))) + "s").c_str());
+    cairo_show_text(cr, seconds_label(m.robot_t_s[k]).c_str());
   }
+  return vmax;
+}
 
-  // Start, goal.
+void draw_start_goal(cairo_t* cr, const View& v, const RunMetrics& m) {
   if (!m.robot_path.empty()) {
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_set_line_width(cr, 1.0);
@@ -198,36 +200,55 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
   }
   cairo_set_source_rgb(cr, 0.0, 0.6, 0.0);
   cairo_set_line_width(cr, 2.0);
-  cairo_arc(cr, v.px(m.goal.x), v.py(m.goal.y), std::max(m.goal_tolerance * scale, 4.0), 0, 2 * M_PI);
+  cairo_arc(cr, v.px(m.goal.x), v.py(m.goal.y), std::max(m.goal_tolerance * v.scale, 4.0), 0, 2 * M_PI);
   cairo_stroke(cr);
+}
 
-  // Closest approach: footprint and obstacle at that moment, and the gap.
-  if (m.closest_sample >= 0) {
-    size_t k = static_cast<size_t>(m.closest_sample);
-    cairo_set_source_rgb(cr, 0.85, 0.0, 0.0);
-    cairo_set_line_width(cr, 1.5);
-    rect_path(cr, v, OrientedRect{m.robot_path[k], m.robot_yaw[k], m.footprint_length, m.footprint_width});
-    cairo_stroke(cr);
-    for (const auto& o : m.obstacles)
-      if (o.id == m.closest_obstacle && k < o.path.size()) {
-        shape_path(cr, v, o, o.path[k], o.yaw[k]);
-        cairo_stroke(cr);
-      }
-    cairo_set_line_width(cr, 2.0);
-    cairo_move_to(cr, v.px(m.closest_on_robot.x), v.py(m.closest_on_robot.y));
-    cairo_line_to(cr, v.px(m.closest_on_obstacle.x), v.py(m.closest_on_obstacle.y));
-    cairo_stroke(cr);
-    char label[64];
-    std::snprintf(label, sizeof label, "closest %.2f m at t=%.1f s", m.min_dist_m, m.robot_t_s[k]);
-    cairo_set_font_size(cr, 13);
-    cairo_move_to(cr, v.px(m.robot_path[k].x) + 10, v.py(m.robot_path[k].y) + 24);
-    cairo_show_text(cr, label);
-  }
+// Closest approach: footprint and obstacle at that moment, and the gap.
+void draw_closest_approach(cairo_t* cr, const View& v, const RunMetrics& m) {
+  if (m.closest_sample < 0) return;
+  size_t k = static_cast<size_t>(m.closest_sample);
+  cairo_set_source_rgb(cr, 0.85, 0.0, 0.0);
+  cairo_set_line_width(cr, 1.5);
+  rect_path(cr, v, OrientedRect{m.robot_path[k], m.robot_yaw[k], m.footprint_length, m.footprint_width});
+  cairo_stroke(cr);
+  for (const auto& o : m.obstacles)
+    if (o.id == m.closest_obstacle && k < o.path.size()) {
+      shape_path(cr, v, o, o.path[k], o.yaw[k]);
+      cairo_stroke(cr);
+    }
+  cairo_set_line_width(cr, 2.0);
+  cairo_move_to(cr, v.px(m.closest_on_robot.x), v.py(m.closest_on_robot.y));
+  cairo_line_to(cr, v.px(m.closest_on_obstacle.x), v.py(m.closest_on_obstacle.y));
+  cairo_stroke(cr);
+  char label[64];
+  std::snprintf(label, sizeof label, "closest %.2f m at t=%.1f s", m.min_dist_m, m.robot_t_s[k]);
+  cairo_set_font_size(cr, 13);
+  cairo_move_to(cr, v.px(m.robot_path[k].x) + 10, v.py(m.robot_path[k].y) + 24);
+  cairo_show_text(cr, label);
+}
 
+// Everything in the world, clipped to the plot area; returns the speed
+// scale of the robot's path (m/s).
+double draw_world(cairo_t* cr, const View& v, const RunMetrics& m) {
+  cairo_save(cr);
+  cairo_rectangle(cr, v.px(v.xmin), v.py(v.ymax), (v.xmax - v.xmin) * v.scale, (v.ymax - v.ymin) * v.scale);
+  cairo_clip(cr);
+  draw_route(cr, v, m.route);
+  draw_obstacles(cr, v, m);
+  double vmax = draw_robot_path(cr, v, m);
+  draw_start_goal(cr, v, m);
+  draw_closest_approach(cr, v, m);
   cairo_restore(cr);
+  return vmax;
+}
 
-  // Legend: title, metrics, speed bar.
-  double ly = height - kLegendPx + 20;
+std::string optional_text(const std::optional<double>& x, size_t chars) {
+  return x ? std::to_string(*x).substr(0, chars) : "-";
+}
+
+// Title and metrics lines of the legend, from baseline y ly (px).
+void draw_legend_text(cairo_t* cr, const RunMetrics& m, double ly) {
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_font_size(cr, 15);
   char line[512];
@@ -241,12 +262,15 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
   cairo_set_font_size(cr, 13);
   std::snprintf(line, sizeof line,
                 "min dist %.3f m   time to goal %s s   reaction %s s   speed var %s   path %.2f m   solve p50 %s ms",
-                m.min_dist_m, m.time_to_goal_s ? std::to_string(*m.time_to_goal_s).substr(0, 5).c_str() : "-",
-                m.reaction_time_s ? std::to_string(*m.reaction_time_s).substr(0, 5).c_str() : "-",
-                m.speed_var ? std::to_string(*m.speed_var).substr(0, 6).c_str() : "-", m.path_length_m,
-                m.planner_solve_ms_p50 ? std::to_string(*m.planner_solve_ms_p50).substr(0, 5).c_str() : "-");
+                m.min_dist_m, optional_text(m.time_to_goal_s, 5).c_str(), optional_text(m.reaction_time_s, 5).c_str(),
+                optional_text(m.speed_var, 6).c_str(), m.path_length_m,
+                optional_text(m.planner_solve_ms_p50, 5).c_str());
   cairo_move_to(cr, kMarginPx, ly + 22);
   cairo_show_text(cr, line);
+}
+
+// The speed colour bar from 0 to vmax (m/s), from baseline y ly (px).
+void draw_speed_bar(cairo_t* cr, double vmax, double ly) {
   double bx = kMarginPx, by = ly + 40, bw = 300, bh = 14;
   for (int i = 0; i < 100; ++i) {
     Rgb c = speed_colour(i / 99.0);
@@ -257,13 +281,28 @@ void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_move_to(cr, bx, by + bh + 14);
   cairo_show_text(cr, "0 m/s");
+  char line[512];
   std::snprintf(line, sizeof line,
                 "%.2f m/s   robot speed (path colour); dashed: route; grey: static obstacles; "
                 "moving obstacles outlined every second; labels: time since start",
                 vmax);
   cairo_move_to(cr, bx + bw - 20, by + bh + 14);
   cairo_show_text(cr, line);
+}
 
+}  // namespace
+
+void plot_trajectory(const RunMetrics& m, const std::string& png_path) {
+  View v = frame_view(m);
+  cairo_surface_t* surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, kWidth, v.height_px);
+  cairo_t* cr = cairo_create(surf);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  draw_grid(cr, v);
+  double vmax = draw_world(cr, v, m);
+  double ly = v.height_px - kLegendPx + 20;
+  draw_legend_text(cr, m, ly);
+  draw_speed_bar(cr, vmax, ly);
   cairo_destroy(cr);
   cairo_status_t st = cairo_surface_write_to_png(surf, png_path.c_str());
   cairo_surface_destroy(surf);

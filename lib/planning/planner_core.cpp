@@ -675,4 +675,10 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
   last_cmd_now_ = now();
 }
 
+std::unique_ptr<PlannerCore> PlannerCore::from_config(const config::Node& root, const std::string& mode) {
+  PlannerParams params = PlannerParams::from_config(root);
+  if (!mode.empty()) params.mode = parse_mode(mode);
+  return std::make_unique<PlannerCore>(params);
+}
+
 }  // namespace evade::planning

@@ -13,7 +13,9 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "bus/core.h"
@@ -33,6 +35,10 @@ namespace evade::planning {
 class PlannerCore : public bus::Core {
  public:
   explicit PlannerCore(PlannerParams params);
+  // The core of the whole configuration (PlannerParams::from_config); a
+  // non-empty `mode` (modes.h name) replaces planner.mode. Throws
+  // ConfigError (file:line: key) or std::invalid_argument (unknown mode).
+  static std::unique_ptr<PlannerCore> from_config(const config::Node& root, const std::string& mode = "");
 
   // The inputs of which only the newest waiting message matters: after a
   // long solve, planning from each queued pose would plan from the past

@@ -23,4 +23,8 @@ void PredictorCore::on_obstacles(const evade::obstacle_list_t& msg) {
   publish(kPredictionsChannel, out_);
 }
 
+std::unique_ptr<PredictorCore> PredictorCore::from_config(const config::Node& root) {
+  return std::make_unique<PredictorCore>(PredictorParams::from_config(root.section("predictor")));
+}
+
 }  // namespace evade::prediction

@@ -2,7 +2,10 @@
 // per accepted obstacle list, stamped with that list's utime.
 #pragma once
 
+#include <memory>
+
 #include "bus/core.h"
+#include "config/config.h"
 #include "prediction/predictor.h"
 
 namespace evade::prediction {
@@ -13,6 +16,9 @@ inline constexpr const char* kPredictionsChannel = "OBSTACLE_PREDICTIONS";
 class PredictorCore : public bus::Core {
  public:
   explicit PredictorCore(const PredictorParams& params);
+  // The core of the whole configuration (the `predictor:` section);
+  // throws ConfigError (file:line: key).
+  static std::unique_ptr<PredictorCore> from_config(const config::Node& root);
   const Predictor& predictor() const { return predictor_; }
 
  private:

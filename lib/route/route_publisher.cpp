@@ -61,6 +61,18 @@ std::vector<std::vector<double>> load_route_file(const std::string& path) {
   return points;
 }
 
+std::unique_ptr<RoutePublisher> RoutePublisher::from_config(
+    const config::Node& root, const std::optional<std::vector<std::vector<double>>>& waypoints,
+    const std::string& source) {
+  RouteParams params = RouteParams::from_config(root.section("route"));
+  if (waypoints) {
+    params.waypoints = *waypoints;
+    const std::string why = validate_route(params.waypoints);
+    if (!why.empty()) throw config::ConfigError(source + ":0: key 'route': " + why);
+  }
+  return std::make_unique<RoutePublisher>(params);
+}
+
 RoutePublisher::RoutePublisher(const RouteParams& params) : Core("route") {
   path_ = make_path(params.waypoints, 0);
   subscribe<evade::path_t>("ROUTE", [this](const evade::path_t& msg) { on_route(msg); });

@@ -6,6 +6,9 @@
 // repeated. An invalid one is counted (`route_rejected`) and ignored.
 #pragma once
 
+#include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "bus/core.h"
@@ -40,6 +43,13 @@ std::vector<std::vector<double>> load_route_file(const std::string& path);
 class RoutePublisher : public bus::Core {
  public:
   explicit RoutePublisher(const RouteParams& params);
+  // The core of the whole configuration (the `route:` section). Given
+  // `waypoints` (a scenario's route, read from `source`), they replace
+  // route.waypoints; invalid ones throw ConfigError "source:0: key 'route':
+  // reason".
+  static std::unique_ptr<RoutePublisher> from_config(
+      const config::Node& root, const std::optional<std::vector<std::vector<double>>>& waypoints = std::nullopt,
+      const std::string& source = "");
   const evade::path_t& path() const { return path_; }
 
  private:

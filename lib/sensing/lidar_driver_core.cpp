@@ -55,6 +55,10 @@ std::vector<int> LidarDriverParams::ports() const {
   return {rs_helios_msop_port, rs_helios_difop_port};
 }
 
+std::unique_ptr<LidarDriverCore> LidarDriverCore::from_config(const config::Node& root, Source source) {
+  return std::make_unique<LidarDriverCore>(LidarDriverParams::from_config(root), source);
+}
+
 LidarDriverCore::LidarDriverCore(const LidarDriverParams& params, Source source)
     : bus::Core("lidar_driver"),
       params_(params),

@@ -8,6 +8,7 @@
 // lidar_decoder.h), derived from the packets and their receive times only.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "bus/core.h"
@@ -49,6 +50,9 @@ class LidarDriverCore : public bus::Core {
   // receive times only grow, and a spinning sensor sends packets ms apart.
   static constexpr int64_t kMaxScanGapUs = 1'000'000;
   LidarDriverCore(const LidarDriverParams& params, Source source);
+  // The core of the whole configuration (LidarDriverParams::from_config);
+  // throws ConfigError (file:line: key).
+  static std::unique_ptr<LidarDriverCore> from_config(const config::Node& root, Source source);
 
   // One UDP payload at the current bus time now() (call inside input()).
   void on_packet(const uint8_t* data, size_t size);

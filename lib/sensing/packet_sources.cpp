@@ -27,6 +27,76 @@ constexpr size_t kIpv6Header = 40;
 constexpr size_t kUdpHeader = 8;
 
 inline int be16(const uint8_t* p) { return (p[0] << 8) | p[1]; }
+
+// A frame read so far: where the next header starts and what it is.
+struct FrameCursor {
+  const uint8_t* frame;
+  size_t caplen;
+  size_t off = 0;
+  int ethertype = kEtherTypeIpv4;
+};
+
+// Skips the link-layer header of link_type; returns the reason to skip the
+// frame (a key of PcapUdpReader::skipped()), or nullptr.
+const char* skip_link_header(int link_type, FrameCursor& f) {
+  if (link_type == DLT_EN10MB) {
+    if (f.caplen < kEthernetHeader) return "short_frames";
+    f.ethertype = be16(f.frame + 12);
+    f.off = kEthernetHeader;
+    if (f.ethertype == kEtherTypeVlan) {
+      if (f.caplen < f.off + kVlanTag) return "short_frames";
+      f.ethertype = be16(f.frame + f.off + 2);
+      f.off += kVlanTag;
+    }
+  } else if (link_type == DLT_LINUX_SLL) {
+    if (f.caplen < kLinuxCookedHeader) return "short_frames";
+    f.ethertype = be16(f.frame + 14);
+    f.off = kLinuxCookedHeader;
+  } else if (link_type == DLT_NULL) {
+    f.off = kNullHeader;
+    f.ethertype = (f.caplen > f.off && (f.frame[f.off] >> 4) == 6) ? kEtherTypeIpv6 : kEtherTypeIpv4;
+  } else {  // raw IP: the version nibble tells
+    f.ethertype = (f.caplen > 0 && (f.frame[0] >> 4) == 6) ? kEtherTypeIpv6 : kEtherTypeIpv4;
+  }
+  return nullptr;
+}
+
+// Skips the IPv4 or IPv6 header up to the UDP header (unfragmented UDP
+// only); returns the reason to skip the frame, or nullptr.
+const char* skip_ip_header(FrameCursor& f) {
+  auto ip = [&f](size_t i) { return f.frame[f.off + i]; };  // read after the length checks
+  if (f.ethertype == kEtherTypeIpv4) {
+    if (f.caplen < f.off + 20 || (ip(0) >> 4) != 4) return "not_ip";
+    const size_t ihl = static_cast<size_t>(ip(0) & 0x0F) * 4;
+    const int frag = (ip(6) << 8 | ip(7));
+    if ((frag & 0x2000) || (frag & 0x1FFF)) return "ip_fragments";
+    if (ip(9) != kIpProtoUdp) return "not_udp";
+    f.off += ihl;
+  } else if (f.ethertype == kEtherTypeIpv6) {
+    if (f.caplen < f.off + kIpv6Header) return "not_ip";
+    if (ip(6) != kIpProtoUdp) return "not_udp";
+    f.off += kIpv6Header;
+  } else {
+    return "not_ip";
+  }
+  return nullptr;
+}
+
+// The UDP datagram at f.off (payload cut at the capture length: truncated);
+// returns the reason to skip the frame, or nullptr.
+const char* read_udp(const FrameCursor& f, UdpDatagram* out) {
+  const size_t udp = f.off;
+  if (f.caplen < udp + kUdpHeader) return "short_frames";
+  const int udp_len = be16(f.frame + udp + 4);
+  if (udp_len < static_cast<int>(kUdpHeader)) return "bad_udp_length";
+  const size_t want = static_cast<size_t>(udp_len) - kUdpHeader;
+  const size_t have = f.caplen - (udp + kUdpHeader);
+  out->dst_port = be16(f.frame + udp + 2);
+  out->truncated = have < want;
+  const size_t n = out->truncated ? have : want;
+  out->payload.assign(f.frame + udp + kUdpHeader, f.frame + udp + kUdpHeader + n);
+  return nullptr;
+}
 }  // namespace
 
 PcapUdpReader::PcapUdpReader(const std::string& path) {
@@ -70,84 +140,15 @@ bool PcapUdpReader::next(UdpDatagram* out) {
       error_ = pcap_geterr(pcap_);
       return false;
     }
-    const size_t caplen = hdr->caplen;
-    size_t off = 0;
-    int ethertype = kEtherTypeIpv4;
-    if (link_type_ == DLT_EN10MB) {
-      if (caplen < kEthernetHeader) {
-        ++skipped_["short_frames"];
-        continue;
-      }
-      ethertype = be16(frame + 12);
-      off = kEthernetHeader;
-      if (ethertype == kEtherTypeVlan) {
-        if (caplen < off + kVlanTag) {
-          ++skipped_["short_frames"];
-          continue;
-        }
-        ethertype = be16(frame + off + 2);
-        off += kVlanTag;
-      }
-    } else if (link_type_ == DLT_LINUX_SLL) {
-      if (caplen < kLinuxCookedHeader) {
-        ++skipped_["short_frames"];
-        continue;
-      }
-      ethertype = be16(frame + 14);
-      off = kLinuxCookedHeader;
-    } else if (link_type_ == DLT_NULL) {
-      off = kNullHeader;
-      ethertype = (caplen > off && (frame[off] >> 4) == 6) ? kEtherTypeIpv6 : kEtherTypeIpv4;
-    } else {  // raw IP: the version nibble tells
-      ethertype = (caplen > 0 && (frame[0] >> 4) == 6) ? kEtherTypeIpv6 : kEtherTypeIpv4;
-    }
-    size_t udp = 0;
-    if (ethertype == kEtherTypeIpv4) {
-      if (caplen < off + 20 || (frame[off] >> 4) != 4) {
-        ++skipped_["not_ip"];
-        continue;
-      }
-      const size_t ihl = static_cast<size_t>(frame[off] & 0x0F) * 4;
-      const int frag = be16(frame + off + 6);
-      if ((frag & 0x2000) || (frag & 0x1FFF)) {
-        ++skipped_["ip_fragments"];
-        continue;
-      }
-      if (frame[off + 9] != kIpProtoUdp) {
-        ++skipped_["not_udp"];
-        continue;
-      }
-      udp = off + ihl;
-    } else if (ethertype == kEtherTypeIpv6) {
-      if (caplen < off + kIpv6Header) {
-        ++skipped_["not_ip"];
-        continue;
-      }
-      if (frame[off + 6] != kIpProtoUdp) {
-        ++skipped_["not_udp"];
-        continue;
-      }
-      udp = off + kIpv6Header;
-    } else {
-      ++skipped_["not_ip"];
+    FrameCursor f{frame, hdr->caplen};
+    const char* skip = skip_link_header(link_type_, f);
+    if (!skip) skip = skip_ip_header(f);
+    if (!skip) skip = read_udp(f, out);
+    if (skip) {
+      ++skipped_[skip];
       continue;
     }
-    if (caplen < udp + kUdpHeader) {
-      ++skipped_["short_frames"];
-      continue;
-    }
-    const int udp_len = be16(frame + udp + 4);
-    if (udp_len < static_cast<int>(kUdpHeader)) {
-      ++skipped_["bad_udp_length"];
-      continue;
-    }
-    const size_t want = static_cast<size_t>(udp_len) - kUdpHeader;
-    const size_t have = caplen - (udp + kUdpHeader);
     out->utime = static_cast<int64_t>(hdr->ts.tv_sec) * 1'000'000 + hdr->ts.tv_usec;
-    out->dst_port = be16(frame + udp + 2);
-    out->truncated = have < want;
-    const size_t n = out->truncated ? have : want;
-    out->payload.assign(frame + udp + kUdpHeader, frame + udp + kUdpHeader + n);
     return true;
   }
 }

@@ -119,32 +119,32 @@ PacketStatus parse_difop(const uint8_t* data, size_t size, Calibration* out) {
   return PacketStatus::kOk;
 }
 
-PacketStatus decode_msop(const uint8_t* data, size_t size, const Calibration& cal, const DecodeOptions& options,
-                         std::vector<LidarReturn>* out, PacketInfo* info) {
-  if (data == nullptr || size != kPacketSize) return PacketStatus::kWrongSize;
-  if (classify(data, size) != PacketKind::kMsop) return PacketStatus::kBadHeader;
-  int azimuth[kBlocksPerPacket];
+namespace {
+
+// Checks every block's flag and azimuth; azimuth[b] in 0.01 deg counts.
+PacketStatus read_azimuths(const uint8_t* data, int* azimuth) {
   for (int b = 0; b < kBlocksPerPacket; ++b) {
     const uint8_t* p = data + kHeaderSize + b * kBlockSize;
     if (p[0] != 0xFF || p[1] != 0xEE) return PacketStatus::kBadFlag;
     azimuth[b] = read_u16be(p + 2);
     if (azimuth[b] >= kAzimuthCount) return PacketStatus::kBadAzimuth;
   }
-  PacketInfo local;
-  PacketInfo& pi = info ? *info : local;
-  pi = PacketInfo{};
+  return PacketStatus::kOk;
+}
+
+// The packet's UTC time (us), or -1: a 6-byte second count could overflow
+// microseconds in 64 bits; anything past kMaxUtcSeconds or with micros >=
+// 1e6 is not a time.
+int64_t read_utc_us(const uint8_t* data) {
   const uint8_t* ts = data + kMsopTimestampOffset;
   const uint64_t seconds = read_be(ts, 6), micros = read_be(ts + 6, 4);
-  // A 6-byte second count could overflow microseconds in 64 bits; anything
-  // past kMaxUtcSeconds or with micros >= 1e6 is not a time.
-  pi.utc_us =
-      (seconds <= kMaxUtcSeconds && micros < 1'000'000u) ? static_cast<int64_t>(seconds * 1'000'000ull + micros) : -1;
+  return (seconds <= kMaxUtcSeconds && micros < 1'000'000u) ? static_cast<int64_t>(seconds * 1'000'000ull + micros)
+                                                            : -1;
+}
 
-  const bool dual = cal.return_mode == kDual;
-  const int step = dual ? 2 : 1;
-  const int columns = kBlocksPerPacket / step;
-  pi.firings = columns;
-  double gap_deg[kBlocksPerPacket] = {};
+// Azimuth change over one block time, per column (deg); the last column
+// reuses the previous gap, an implausible gap counts as none.
+void column_gaps(const int* azimuth, int columns, int step, double* gap_deg) {
   for (int c = 0; c + 1 < columns; ++c) {
     double g = azimuth_diff(azimuth[c * step], azimuth[(c + 1) * step]) * kAzimuthUnitDeg;
     gap_deg[c] = (g >= 0.0 && g <= kMaxBlockGapDeg) ? g : (c > 0 ? gap_deg[c - 1] : 0.0);
@@ -156,61 +156,91 @@ PacketStatus decode_msop(const uint8_t* data, size_t size, const Calibration& ca
         gap_deg[0] = gap_deg[c];
         break;
       }
+}
 
-  const auto& cos_el = cal.cos_vertical;
-  const auto& sin_el = cal.sin_vertical;
-  const auto& cos_h = cal.cos_horizontal;
-  const auto& sin_h = cal.sin_horizontal;
+// One block's column: where it points and when.
+struct Column {
+  int index;
+  double block_az_deg, gap_deg, gap_rad, cos_block, sin_block;
+};
+
+// The returns of one block; other is the first echo's block in dual mode
+// (nullptr otherwise).
+void decode_block(const uint8_t* p, const uint8_t* other, const Column& col, const Calibration& cal,
+                  const DecodeOptions& options, std::vector<LidarReturn>* out, PacketInfo& pi) {
   const float min_r = static_cast<float>(options.min_range_m);
   const float max_r = static_cast<float>(options.max_range_m);
-  for (int b = 0; b < kBlocksPerPacket; ++b) {
-    const int column = b / step;
-    const uint8_t* p = data + kHeaderSize + b * kBlockSize;
-    const uint8_t* other = (dual && b % 2 == 1) ? data + kHeaderSize + (b - 1) * kBlockSize : nullptr;
-    const double block_az = azimuth[column * step] * kAzimuthUnitDeg;
-    double cos_block, sin_block;
-    azimuth_cos_sin(azimuth[column * step], &cos_block, &sin_block);
-    const double gap_rad = gap_deg[column] * kDegToRad;
-    for (int c = 0; c < kChannels; ++c) {
-      const uint8_t* r = p + 4 + 3 * c;
-      const uint16_t count = read_u16be(r);
-      if (count == 0) continue;
-      if (other) {
-        const uint8_t* o = other + 4 + 3 * c;
-        if (read_u16be(o) == count && o[2] == r[2]) {
-          ++pi.dual_duplicates;
-          continue;
-        }
-      }
-      const float range = static_cast<float>(count * kDistanceUnitM);
-      if (range < min_r || range > max_r) {
-        ++pi.out_of_range;
+  for (int c = 0; c < kChannels; ++c) {
+    const uint8_t* r = p + 4 + 3 * c;
+    const uint16_t count = read_u16be(r);
+    if (count == 0) continue;
+    if (other) {
+      const uint8_t* o = other + 4 + 3 * c;
+      if (read_u16be(o) == count && o[2] == r[2]) {
+        ++pi.dual_duplicates;
         continue;
       }
-      // az0: block azimuth interpolated by the channel's firing time;
-      // az = az0 + the channel's horizontal calibration.
-      const double t_us = c * kChannelIntervalUs;
-      const double frac = t_us / kBlockPeriodUs;
-      double cos_az0, sin_az0;
-      rotate_by_small_angle(cos_block, sin_block, gap_rad * frac, &cos_az0, &sin_az0);
-      const double cos_az = cos_az0 * cos_h[c] - sin_az0 * sin_h[c];
-      const double sin_az = sin_az0 * cos_h[c] + cos_az0 * sin_h[c];
-      const double horizontal = range * cos_el[c];
-      LidarReturn ret;
-      ret.x = static_cast<float>(horizontal * cos_az + kOpticalCentreOffsetM * cos_az0);
-      ret.y = static_cast<float>(-horizontal * sin_az - kOpticalCentreOffsetM * sin_az0);
-      ret.z = static_cast<float>(range * sin_el[c]);
-      ret.intensity = r[2];
-      double az = block_az + gap_deg[column] * frac + cal.horizontal_deg[c];
-      if (az >= 360.0) az -= 360.0;
-      if (az < 0.0) az += 360.0;
-      ret.azimuth_deg = static_cast<float>(az);
-      ret.firing_azimuth_deg = static_cast<float>(block_az);
-      ret.time_offset_us = static_cast<float>(column * kBlockPeriodUs + t_us);
-      ret.ring = static_cast<uint8_t>(cal.ring[c]);
-      ret.laser = static_cast<uint8_t>(c);
-      out->push_back(ret);
     }
+    const float range = static_cast<float>(count * kDistanceUnitM);
+    if (range < min_r || range > max_r) {
+      ++pi.out_of_range;
+      continue;
+    }
+    // az0: block azimuth interpolated by the channel's firing time;
+    // az = az0 + the channel's horizontal calibration.
+    const double t_us = c * kChannelIntervalUs;
+    const double frac = t_us / kBlockPeriodUs;
+    double cos_az0, sin_az0;
+    rotate_by_small_angle(col.cos_block, col.sin_block, col.gap_rad * frac, &cos_az0, &sin_az0);
+    const double cos_az = cos_az0 * cal.cos_horizontal[c] - sin_az0 * cal.sin_horizontal[c];
+    const double sin_az = sin_az0 * cal.cos_horizontal[c] + cos_az0 * cal.sin_horizontal[c];
+    const double horizontal = range * cal.cos_vertical[c];
+    LidarReturn ret;
+    ret.x = static_cast<float>(horizontal * cos_az + kOpticalCentreOffsetM * cos_az0);
+    ret.y = static_cast<float>(-horizontal * sin_az - kOpticalCentreOffsetM * sin_az0);
+    ret.z = static_cast<float>(range * cal.sin_vertical[c]);
+    ret.intensity = r[2];
+    double az = col.block_az_deg + col.gap_deg * frac + cal.horizontal_deg[c];
+    if (az >= 360.0) az -= 360.0;
+    if (az < 0.0) az += 360.0;
+    ret.azimuth_deg = static_cast<float>(az);
+    ret.firing_azimuth_deg = static_cast<float>(col.block_az_deg);
+    ret.time_offset_us = static_cast<float>(col.index * kBlockPeriodUs + t_us);
+    ret.ring = static_cast<uint8_t>(cal.ring[c]);
+    ret.laser = static_cast<uint8_t>(c);
+    out->push_back(ret);
+  }
+}
+
+}  // namespace
+
+PacketStatus decode_msop(const uint8_t* data, size_t size, const Calibration& cal, const DecodeOptions& options,
+                         std::vector<LidarReturn>* out, PacketInfo* info) {
+  if (data == nullptr || size != kPacketSize) return PacketStatus::kWrongSize;
+  if (classify(data, size) != PacketKind::kMsop) return PacketStatus::kBadHeader;
+  int azimuth[kBlocksPerPacket];
+  if (PacketStatus st = read_azimuths(data, azimuth); st != PacketStatus::kOk) return st;
+  PacketInfo local;
+  PacketInfo& pi = info ? *info : local;
+  pi = PacketInfo{};
+  pi.utc_us = read_utc_us(data);
+
+  const bool dual = cal.return_mode == kDual;
+  const int step = dual ? 2 : 1;
+  const int columns = kBlocksPerPacket / step;
+  pi.firings = columns;
+  double gap_deg[kBlocksPerPacket] = {};
+  column_gaps(azimuth, columns, step, gap_deg);
+  for (int b = 0; b < kBlocksPerPacket; ++b) {
+    Column col{};
+    col.index = b / step;
+    const uint8_t* p = data + kHeaderSize + b * kBlockSize;
+    const uint8_t* other = (dual && b % 2 == 1) ? data + kHeaderSize + (b - 1) * kBlockSize : nullptr;
+    col.block_az_deg = azimuth[col.index * step] * kAzimuthUnitDeg;
+    azimuth_cos_sin(azimuth[col.index * step], &col.cos_block, &col.sin_block);
+    col.gap_deg = gap_deg[col.index];
+    col.gap_rad = gap_deg[col.index] * kDegToRad;
+    decode_block(p, other, col, cal, options, out, pi);
   }
   return PacketStatus::kOk;
 }

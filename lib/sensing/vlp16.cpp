@@ -129,16 +129,98 @@ const char* to_string(PacketStatus s) {
   return "unknown";
 }
 
-PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions& options, std::vector<Return>* out,
-                           PacketInfo* info) {
-  if (size != kPacketSize || data == nullptr) return PacketStatus::kWrongSize;
-  int azimuth[kBlocksPerPacket];
+namespace {
+
+// Checks every block's flag and azimuth; azimuth[b] in 0.01 deg counts.
+PacketStatus read_azimuths(const uint8_t* data, int* azimuth) {
   for (int b = 0; b < kBlocksPerPacket; ++b) {
     const uint8_t* p = data + b * kBlockSize;
     if (read_u16le(p) != kBlockFlag) return PacketStatus::kBadFlag;
     azimuth[b] = read_u16le(p + 2);
     if (azimuth[b] >= kAzimuthCount) return PacketStatus::kBadAzimuth;
   }
+  return PacketStatus::kOk;
+}
+
+// Azimuth change over one block time, per column (deg); the last column
+// reuses the previous gap (the manual's rule), an implausible gap counts as
+// none.
+void column_gaps(const int* azimuth, int columns, int step, double* gap_deg) {
+  for (int c = 0; c + 1 < columns; ++c) {
+    int d = azimuth_diff(azimuth[c * step], azimuth[(c + 1) * step]);
+    double g = d * kAzimuthUnitDeg;
+    gap_deg[c] = (g >= 0.0 && g <= kMaxBlockGapDeg) ? g : (c > 0 ? gap_deg[c - 1] : 0.0);
+  }
+  if (columns > 1) gap_deg[columns - 1] = gap_deg[columns - 2];
+  if (columns > 1 && gap_deg[0] == 0.0) {
+    // The first gap was implausible: borrow the next plausible one.
+    for (int c = 1; c < columns; ++c)
+      if (gap_deg[c] > 0.0) {
+        gap_deg[0] = gap_deg[c];
+        break;
+      }
+  }
+}
+
+// One firing sequence of one column: where it points and when.
+struct Firing {
+  int sequence;
+  double block_az_deg, gap_deg, gap_rad, cos_block, sin_block;
+  double seq_offset_us, firing_az_deg;
+};
+
+// The 16 returns of one echo of a firing; block is the echo's block, other
+// the first echo's block in dual mode (nullptr otherwise).
+void decode_echo(const uint8_t* block, const uint8_t* other, const Firing& f, const DecodeOptions& options,
+                 std::vector<Return>* out, PacketInfo& pi) {
+  const Trig& t = trig();
+  const float min_r = static_cast<float>(options.min_range_m);
+  const float max_r = static_cast<float>(options.max_range_m);
+  const int s = f.sequence;
+  for (int l = 0; l < kLasers; ++l) {
+    const uint8_t* r = block + 4 + 3 * (s * kLasers + l);
+    const uint16_t count = read_u16le(r);
+    if (count == 0) continue;
+    if (other) {
+      const uint8_t* o = other + 4 + 3 * (s * kLasers + l);
+      if (read_u16le(o) == count && o[2] == r[2]) {
+        ++pi.dual_duplicates;
+        continue;
+      }
+    }
+    const float range = static_cast<float>(count * kDistanceUnitM);
+    if (range < min_r || range > max_r) {
+      ++pi.out_of_range;
+      continue;
+    }
+    // Azimuth interpolated by firing time within the block.
+    const double frac = (s * kSequencePeriodUs + l * kFiringIntervalUs) / kBlockPeriodUs;
+    double az = f.block_az_deg + f.gap_deg * frac;
+    if (az >= 360.0) az -= 360.0;
+    double ca, sa;
+    rotate_by_small_angle(f.cos_block, f.sin_block, f.gap_rad * frac, &ca, &sa);
+    const float horizontal = range * t.cos_el[l];
+    Return ret;
+    ret.x = horizontal * static_cast<float>(ca);
+    ret.y = -horizontal * static_cast<float>(sa);
+    ret.z = range * t.sin_el[l] + (options.vertical_offset_correction ? t.dz[l] : 0.0f);
+    ret.intensity = r[2];
+    ret.azimuth_deg = static_cast<float>(az);
+    ret.firing_azimuth_deg = static_cast<float>(f.firing_az_deg);
+    ret.time_offset_us = static_cast<float>(f.seq_offset_us + l * kFiringIntervalUs);
+    ret.ring = static_cast<uint8_t>(kLaserTable[static_cast<size_t>(l)].ring);
+    ret.laser = static_cast<uint8_t>(l);
+    out->push_back(ret);
+  }
+}
+
+}  // namespace
+
+PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions& options, std::vector<Return>* out,
+                           PacketInfo* info) {
+  if (size != kPacketSize || data == nullptr) return PacketStatus::kWrongSize;
+  int azimuth[kBlocksPerPacket];
+  if (PacketStatus st = read_azimuths(data, azimuth); st != PacketStatus::kOk) return st;
   const uint8_t mode = data[kReturnModeOffset];
   if (mode != kStrongest && mode != kLast && mode != kDual) return PacketStatus::kBadReturnMode;
   const bool dual = mode == kDual;
@@ -154,78 +236,27 @@ PacketStatus decode_packet(const uint8_t* data, size_t size, const DecodeOptions
   const int step = dual ? 2 : 1;
   const int columns = kBlocksPerPacket / step;
   pi.firings = columns * kSequencesPerBlock;
-  // Azimuth change over one block time, per column; the last column reuses
-  // the previous gap (the manual's rule), an implausible gap counts as none.
   double gap_deg[kBlocksPerPacket] = {};
-  for (int c = 0; c + 1 < columns; ++c) {
-    int d = azimuth_diff(azimuth[c * step], azimuth[(c + 1) * step]);
-    double g = d * kAzimuthUnitDeg;
-    gap_deg[c] = (g >= 0.0 && g <= kMaxBlockGapDeg) ? g : (c > 0 ? gap_deg[c - 1] : 0.0);
-  }
-  if (columns > 1) gap_deg[columns - 1] = gap_deg[columns - 2];
-  if (columns > 1 && gap_deg[0] == 0.0) {
-    // The first gap was implausible: borrow the next plausible one.
-    for (int c = 1; c < columns; ++c)
-      if (gap_deg[c] > 0.0) {
-        gap_deg[0] = gap_deg[c];
-        break;
-      }
-  }
+  column_gaps(azimuth, columns, step, gap_deg);
 
-  const Trig& t = trig();
-  const float min_r = static_cast<float>(options.min_range_m);
-  const float max_r = static_cast<float>(options.max_range_m);
   // Firing order: column (block, or block pair in dual mode), sequence,
   // echo (dual: block 2k then 2k+1), laser; the two echoes of a firing stay
   // together, so a revolution cut never separates them.
   for (int column = 0; column < columns; ++column) {
-    const double block_az = azimuth[column * step] * kAzimuthUnitDeg;
-    double cos_block, sin_block;
-    azimuth_cos_sin(azimuth[column * step], &cos_block, &sin_block);
-    const double gap_rad = gap_deg[column] * kDegToRad;
+    Firing f{};
+    f.block_az_deg = azimuth[column * step] * kAzimuthUnitDeg;
+    azimuth_cos_sin(azimuth[column * step], &f.cos_block, &f.sin_block);
+    f.gap_deg = gap_deg[column];
+    f.gap_rad = gap_deg[column] * kDegToRad;
     for (int s = 0; s < kSequencesPerBlock; ++s) {
-      const double seq_offset_us = column * kBlockPeriodUs + s * kSequencePeriodUs;
-      double firing_az = block_az + gap_deg[column] * s * kSequencePeriodUs / kBlockPeriodUs;
-      if (firing_az >= 360.0) firing_az -= 360.0;
+      f.sequence = s;
+      f.seq_offset_us = column * kBlockPeriodUs + s * kSequencePeriodUs;
+      f.firing_az_deg = f.block_az_deg + f.gap_deg * s * kSequencePeriodUs / kBlockPeriodUs;
+      if (f.firing_az_deg >= 360.0) f.firing_az_deg -= 360.0;
       for (int echo = 0; echo < step; ++echo) {
         const int b = column * step + echo;
-        const uint8_t* p = data + b * kBlockSize;
         const uint8_t* other = echo == 1 ? data + (b - 1) * kBlockSize : nullptr;  // dual: the first echo
-        for (int l = 0; l < kLasers; ++l) {
-          const uint8_t* r = p + 4 + 3 * (s * kLasers + l);
-          const uint16_t count = read_u16le(r);
-          if (count == 0) continue;
-          if (other) {
-            const uint8_t* o = other + 4 + 3 * (s * kLasers + l);
-            if (read_u16le(o) == count && o[2] == r[2]) {
-              ++pi.dual_duplicates;
-              continue;
-            }
-          }
-          const float range = static_cast<float>(count * kDistanceUnitM);
-          if (range < min_r || range > max_r) {
-            ++pi.out_of_range;
-            continue;
-          }
-          // Azimuth interpolated by firing time within the block.
-          const double frac = (s * kSequencePeriodUs + l * kFiringIntervalUs) / kBlockPeriodUs;
-          double az = block_az + gap_deg[column] * frac;
-          if (az >= 360.0) az -= 360.0;
-          double ca, sa;
-          rotate_by_small_angle(cos_block, sin_block, gap_rad * frac, &ca, &sa);
-          const float horizontal = range * t.cos_el[l];
-          Return ret;
-          ret.x = horizontal * static_cast<float>(ca);
-          ret.y = -horizontal * static_cast<float>(sa);
-          ret.z = range * t.sin_el[l] + (options.vertical_offset_correction ? t.dz[l] : 0.0f);
-          ret.intensity = r[2];
-          ret.azimuth_deg = static_cast<float>(az);
-          ret.firing_azimuth_deg = static_cast<float>(firing_az);
-          ret.time_offset_us = static_cast<float>(seq_offset_us + l * kFiringIntervalUs);
-          ret.ring = static_cast<uint8_t>(kLaserTable[static_cast<size_t>(l)].ring);
-          ret.laser = static_cast<uint8_t>(l);
-          out->push_back(ret);
-        }
+        decode_echo(data + b * kBlockSize, other, f, options, out, pi);
       }
     }
   }

@@ -154,4 +154,10 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& name) {
   return scenario_from_node(config::load_string(yaml_text, name));
 }
 
+std::vector<std::vector<double>> route_waypoints(const Scenario& scenario) {
+  std::vector<std::vector<double>> w;
+  for (const auto& p : scenario.route) w.push_back({p.x, p.y});
+  return w;
+}
+
 }  // namespace evade::sim

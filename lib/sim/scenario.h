@@ -85,5 +85,7 @@ struct Scenario {
 Scenario load_scenario(const std::string& path);
 Scenario parse_scenario(const std::string& yaml_text, const std::string& name);
 Scenario scenario_from_node(const config::Node& root);
+// The scenario's route as the route process takes it: [[x, y], ...] (m).
+std::vector<std::vector<double>> route_waypoints(const Scenario& scenario);
 
 }  // namespace evade::sim

@@ -55,6 +55,10 @@ int SimParams::dest_port(const std::string& model, LidarPort port) const {
   return port == LidarPort::kDifop ? rs_helios_difop_dest_port : rs_helios_msop_dest_port;
 }
 
+std::unique_ptr<SimCore> SimCore::from_config(const config::Node& root, const Scenario& scenario) {
+  return std::make_unique<SimCore>(scenario, SimParams::from_config(root));
+}
+
 SimCore::SimCore(const Scenario& scenario, const SimParams& params)
     : bus::Core("sim"), scenario_(scenario), params_(params) {
   params_.lidar.rate_hz = scenario_.lidar.rate_hz;

@@ -69,6 +69,9 @@ class SimCore : public bus::Core {
   // Throws std::invalid_argument when the scenario's LiDAR cannot be
   // simulated with these parameters (model rate, body above the sensor).
   SimCore(const Scenario& scenario, const SimParams& params);
+  // The core of the whole configuration (SimParams::from_config) for this
+  // scenario; throws ConfigError (file:line: key) or std::invalid_argument.
+  static std::unique_ptr<SimCore> from_config(const config::Node& root, const Scenario& scenario);
 
   void set_packet_sink(PacketSink sink) { packet_sink_ = std::move(sink); }
   void set_serial_sink(SerialSink sink) { serial_sink_ = std::move(sink); }

@@ -1,61 +1,37 @@
 #include "soak/live_report.h"
 
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+
+#include "soak/report_text.h"
 
 namespace evade::soak {
 namespace {
 
 using nlohmann::json;
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
-json parse_json(const std::string& text, const char* what) {
-  try {
-    return json::parse(text);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(std::string(what) + ": " + e.what());
-  }
-}
-
 std::map<int64_t, std::string> parse_pids(const std::string& text) {
   std::map<int64_t, std::string> out;
-  std::istringstream in(text);
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.empty() || line[0] == '#') continue;
+  for_each_line(text, true, [&](const std::string& line, int n) {
     std::istringstream ls(line);
     int64_t pid;
     std::string name;
     if (!(ls >> pid >> name)) throw std::runtime_error("pids.tsv line " + std::to_string(n) + ": want 'pid name'");
     out[pid] = name;
-  }
+  });
   return out;
 }
 
 // The last HEALTH of each process: channel -> received.
 std::map<std::string, std::map<std::string, int64_t>> last_health(const std::string& jsonl) {
   std::map<std::string, std::map<std::string, int64_t>> out;
-  std::istringstream in(jsonl);
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.empty()) continue;
-    try {
-      const json msg = json::parse(line).at("msg");
-      auto& inputs = out[msg.at("name").get<std::string>()];
-      inputs.clear();
-      for (const auto& i : msg.at("inputs"))
-        inputs[i.at("channel").get<std::string>()] = i.at("received").get<int64_t>();
-    } catch (const std::exception& e) {
-      throw std::runtime_error("HEALTH line " + std::to_string(n) + ": " + e.what());
-    }
-  }
+  for_each_json_line(jsonl, "HEALTH ", [&](const json& record) {
+    const json& msg = record.at("msg");
+    auto& inputs = out[msg.at("name").get<std::string>()];
+    inputs.clear();
+    for (const auto& i : msg.at("inputs")) inputs[i.at("channel").get<std::string>()] = i.at("received").get<int64_t>();
+  });
   return out;
 }
 
@@ -90,10 +66,7 @@ void judge(LiveReport& r) {
 
 std::vector<ProcessExit> parse_exits(const std::string& text) {
   std::vector<ProcessExit> out;
-  std::istringstream in(text);
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.empty() || line[0] == '#') continue;
+  for_each_line(text, true, [&](const std::string& line, int n) {
     std::istringstream ls(line);
     ProcessExit e;
     std::string status, early;
@@ -103,7 +76,7 @@ std::vector<ProcessExit> parse_exits(const std::string& text) {
     e.status = status == "unknown" ? -1 : std::stoi(status);
     e.early = early == "yes";
     out.push_back(e);
-  }
+  });
   return out;
 }
 
@@ -135,15 +108,11 @@ LiveReport make_live_report(const LiveFiles& f, double warmup_s) {
 std::string live_report_json(const LiveReport& r) {
   json exits = json::array(), rss = json::array(), channels = json::array();
   for (const auto& e : r.exits) exits.push_back({{"process", e.name}, {"exit_status", e.status}, {"early", e.early}});
-  for (const auto& [name, t] : r.rss)
-    rss.push_back({{"process", name},
-                   {"pid", t.pid},
-                   {"start_mib", t.start_mib},
-                   {"max_mib", t.max_mib},
-                   {"end_mib", t.end_mib},
-                   {"span_s", t.span_s},
-                   {"fitted_samples", t.fitted},
-                   {"growth_mib_per_h", t.growth_mib_per_h ? json(*t.growth_mib_per_h) : json(nullptr)}});
+  for (const auto& [name, t] : r.rss) {
+    json trend = trend_json(t);
+    trend["process"] = name;
+    rss.push_back(trend);
+  }
   for (const auto& c : r.channels)
     channels.push_back({{"channel", c.channel},
                         {"sent", c.sent},
@@ -193,8 +162,7 @@ std::string live_report_text(const LiveReport& r) {
       o << "; " << proc << " got " << n << (c.sent > 0 ? " (" + fmt("%.1f", 100.0 * n / c.sent) + " %)" : "");
     o << "\n";
   }
-  o << "verdict: " << (r.failures.empty() ? "PASS" : "FAIL") << "\n";
-  for (const auto& f : r.failures) o << "  - " << f << "\n";
+  o << verdict_text(r.failures);
   return o.str();
 }
 

@@ -5,14 +5,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "soak/report_text.h"
+
 namespace evade::soak {
 
 std::vector<RssSample> parse_rss_samples(const std::string& text) {
   std::vector<RssSample> out;
-  std::istringstream in(text);
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.empty() || line[0] == '#') continue;
+  for_each_line(text, true, [&](const std::string& line, int n) {
     std::istringstream ls(line);
     RssSample s;
     std::string extra;
@@ -20,7 +19,7 @@ std::vector<RssSample> parse_rss_samples(const std::string& text) {
         !std::isfinite(s.rss_kib))
       throw std::runtime_error("line " + std::to_string(n) + ": want 't_s pid rss_kib load1', got '" + line + "'");
     out.push_back(s);
-  }
+  });
   return out;
 }
 

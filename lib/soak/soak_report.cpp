@@ -1,21 +1,16 @@
 #include "soak/soak_report.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+
+#include "soak/report_text.h"
 
 namespace evade::soak {
 namespace {
 
 using nlohmann::json;
-
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
 
 std::string seed_list(const std::vector<uint64_t>& seeds) {
   std::string s;
@@ -111,32 +106,20 @@ std::string episode_line_json(const EpisodeLine& e) {
 
 std::vector<EpisodeLine> parse_episode_lines(const std::string& jsonl) {
   std::vector<EpisodeLine> out;
-  std::istringstream in(jsonl);
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.empty()) continue;
-    try {
-      out.push_back(from_json(json::parse(line)));
-    } catch (const std::exception& e) {
-      throw std::runtime_error("line " + std::to_string(n) + ": " + e.what());
-    }
-  }
+  for_each_json_line(jsonl, "", [&](const json& record) { out.push_back(from_json(record)); });
   return out;
 }
 
 std::vector<Crash> parse_crashes(const std::string& text) {
   std::vector<Crash> out;
-  std::istringstream in(text);
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.empty() || line[0] == '#') continue;
+  for_each_line(text, true, [&](const std::string& line, int n) {
     std::istringstream ls(line);
     Crash c;
     std::string extra;
     if (!(ls >> c.t_s >> c.seed >> c.status) || (ls >> extra))
       throw std::runtime_error("line " + std::to_string(n) + ": want 't_s seed exit_status', got '" + line + "'");
     out.push_back(c);
-  }
+  });
   return out;
 }
 
@@ -163,15 +146,11 @@ SoakReport make_report(const std::vector<EpisodeLine>& episodes, const std::vect
 std::string report_json(const SoakReport& r) {
   const auto trends = [](const std::vector<RssTrend>& ts) {
     json out = json::array();
-    for (const auto& t : ts)
-      out.push_back({{"pid", t.pid},
-                     {"samples", t.samples},
-                     {"span_s", t.span_s},
-                     {"start_mib", t.start_mib},
-                     {"max_mib", t.max_mib},
-                     {"end_mib", t.end_mib},
-                     {"fitted_samples", t.fitted},
-                     {"growth_mib_per_h", t.growth_mib_per_h ? json(*t.growth_mib_per_h) : json(nullptr)}});
+    for (const auto& t : ts) {
+      json trend = trend_json(t);
+      trend["samples"] = t.samples;
+      out.push_back(trend);
+    }
     return out;
   };
   json crashes = json::array();
@@ -228,8 +207,7 @@ std::string report_text(const SoakReport& r) {
   if (r.load1_mean)
     o << "  host load (1-min average): mean " << fmt("%.2f", *r.load1_mean) << ", max " << fmt("%.2f", *r.load1_max)
       << "\n";
-  o << "verdict: " << (r.failures.empty() ? "PASS" : "FAIL") << "\n";
-  for (const auto& f : r.failures) o << "  - " << f << "\n";
+  o << verdict_text(r.failures);
   return o.str();
 }
 

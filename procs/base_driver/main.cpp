@@ -27,103 +27,133 @@ constexpr const char* kName = "base_driver";
 constexpr int64_t kRepeatLogUs = 10'000'000;
 constexpr int kPollTimeoutMs = 50;
 
-int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
-  using evade::base::SerialLink;
-  namespace bus = evade::bus;
-  const auto& params = core.params();
-  bus::LiveBus live(url);
-  live.add(core);
-  SerialLink link(params.device, params.baud_rate, params.reopen_backoff_min_s, params.reopen_backoff_max_s);
-  std::fprintf(stderr, "%s: running on %s, device %s\n", kName, url.c_str(), params.device.c_str());
+// The serial link of a live run: opens and reopens the port, feeds the
+// core what arrives, writes what it queues, and mirrors the link's events
+// into the core's HEALTH.
+class LiveLink {
+ public:
+  LiveLink(evade::base::BaseDriverCore& core, evade::bus::LiveBus& live)
+      : core_(core),
+        live_(live),
+        link_(core.params().device, core.params().baud_rate, core.params().reopen_backoff_min_s,
+              core.params().reopen_backoff_max_s) {}
 
-  std::vector<uint8_t> rx;
-  int registered_fd = -1;
-  uint64_t leaked_reported = 0;
-  uint64_t dropped_reported = 0;
-  // Mirrors the link's own tallies into HEALTH counters.
-  auto report_link_counters = [&](int64_t now) {
-    if (link.leaked_ports() == leaked_reported && link.dropped_tx_bytes() == dropped_reported) return;
-    core.input(now, [&] {
-      core.count_link_event("serial_ports_leaked", static_cast<int64_t>(link.leaked_ports() - leaked_reported));
-      core.count_link_event("serial_tx_dropped_bytes",
-                            static_cast<int64_t>(link.dropped_tx_bytes() - dropped_reported));
-    });
-    leaked_reported = link.leaked_ports();
-    dropped_reported = link.dropped_tx_bytes();
-  };
-  std::string last_error;
-  int64_t last_error_log = 0;
-
-  auto lost = [&](int64_t now, const std::string& why) {
-    if (registered_fd >= 0) live.remove_fd(registered_fd);
-    registered_fd = -1;
-    std::fprintf(stderr, "%s: serial link lost: %s; reopening in %.2f s\n", kName, why.c_str(),
-                 (link.next_attempt() - now) * 1e-6);
-    core.input(now, [&] { core.on_link_lost(why); });
-    report_link_counters(now);
-    live.wake_at(link.next_attempt());
-  };
-  auto on_readable = [&](int64_t now) {
-    rx.clear();
-    std::string why;
-    const bool ok = link.read_available(now, &rx, &why);
-    if (!rx.empty())
-      core.input(
-          now, [&] { core.on_serial_bytes(rx.data(), rx.size()); }, "serial");
-    if (!ok) lost(now, why);
-  };
-
-  const auto& stop = bus::stop_on_signals();
-  while (!stop.load()) {
-    const int64_t now = bus::bus_utime();
+  // Opens the port when it is closed and a retry is due.
+  void try_open(int64_t now) {
+    using evade::base::SerialLink;
     std::string message;
-    switch (link.try_open(now, &message)) {
+    switch (link_.try_open(now, &message)) {
       case SerialLink::OpenResult::kOpened:
         std::fprintf(stderr, "%s: %s\n", kName, message.c_str());
-        last_error.clear();
-        registered_fd = link.fd();
-        live.add_fd(registered_fd, on_readable);
-        core.input(now, [&] { core.on_link_opened(); });
+        last_error_.clear();
+        registered_fd_ = link_.fd();
+        live_.add_fd(registered_fd_, [this](int64_t t) { on_readable(t); });
+        core_.input(now, [&] { core_.on_link_opened(); });
         break;
       case SerialLink::OpenResult::kFailed:
-        if (message != last_error || now - last_error_log >= kRepeatLogUs) {
-          std::fprintf(stderr, "%s: %s\n", kName, message.c_str());
-          last_error_log = now;
-        }
-        last_error = message;
-        core.input(now, [&] { core.count_link_event("serial_open_failures"); });
-        report_link_counters(now);
-        live.wake_at(link.next_attempt());
+        open_failed(now, message);
         break;
       default:
         break;
     }
-    live.spin_once(kPollTimeoutMs);
-    // The command timer fires inside spin_once; send what it queued.
-    std::vector<uint8_t> tx = core.take_tx();
-    if (!tx.empty() && link.is_open()) {
-      const int64_t t = bus::bus_utime();
-      std::string why;
-      if (!link.write(t, tx.data(), tx.size(), &why)) lost(t, why);
-      report_link_counters(t);
-    }
   }
+
+  // Writes what the core queued (the command timer fires inside spin_once).
+  void send_pending() {
+    std::vector<uint8_t> tx = core_.take_tx();
+    if (tx.empty() || !link_.is_open()) return;
+    const int64_t t = evade::bus::bus_utime();
+    std::string why;
+    if (!link_.write(t, tx.data(), tx.size(), &why)) lost(t, why);
+    report_link_counters(t);
+  }
+
   // Stopped (SIGTERM, SIGINT) while perhaps driving: the last frame the
   // base gets says zero speed, rather than the last command in force until
   // the base's own timeout.
-  if (link.is_open()) {
-    const int64_t t = bus::bus_utime();
-    core.input(t, [&] { core.stop(); });
-    std::vector<uint8_t> tx = core.take_tx();
-    std::string why;
-    if (link.write(t, tx.data(), tx.size(), &why))
-      std::fprintf(stderr, "%s: stopping: zero speed sent\n", kName);
-    else
-      std::fprintf(stderr, "%s: stopping: the zero-speed frame was not sent: %s\n", kName, why.c_str());
+  void stop_base() {
+    if (link_.is_open()) {
+      const int64_t t = evade::bus::bus_utime();
+      core_.input(t, [&] { core_.stop(); });
+      std::vector<uint8_t> tx = core_.take_tx();
+      std::string why;
+      if (link_.write(t, tx.data(), tx.size(), &why))
+        std::fprintf(stderr, "%s: stopping: zero speed sent\n", kName);
+      else
+        std::fprintf(stderr, "%s: stopping: the zero-speed frame was not sent: %s\n", kName, why.c_str());
+    }
+    if (link_.dropped_tx_bytes() > 0)
+      std::fprintf(stderr, "%s: %llu command bytes dropped (port busy)\n", kName,
+                   static_cast<unsigned long long>(link_.dropped_tx_bytes()));
   }
-  if (link.dropped_tx_bytes() > 0)
-    std::fprintf(stderr, "%s: %llu command bytes dropped (port busy)\n", kName,
-                 static_cast<unsigned long long>(link.dropped_tx_bytes()));
+
+ private:
+  void open_failed(int64_t now, const std::string& message) {
+    if (message != last_error_ || now - last_error_log_ >= kRepeatLogUs) {
+      std::fprintf(stderr, "%s: %s\n", kName, message.c_str());
+      last_error_log_ = now;
+    }
+    last_error_ = message;
+    core_.input(now, [&] { core_.count_link_event("serial_open_failures"); });
+    report_link_counters(now);
+    live_.wake_at(link_.next_attempt());
+  }
+
+  void on_readable(int64_t now) {
+    rx_.clear();
+    std::string why;
+    const bool ok = link_.read_available(now, &rx_, &why);
+    if (!rx_.empty())
+      core_.input(
+          now, [&] { core_.on_serial_bytes(rx_.data(), rx_.size()); }, "serial");
+    if (!ok) lost(now, why);
+  }
+
+  void lost(int64_t now, const std::string& why) {
+    if (registered_fd_ >= 0) live_.remove_fd(registered_fd_);
+    registered_fd_ = -1;
+    std::fprintf(stderr, "%s: serial link lost: %s; reopening in %.2f s\n", kName, why.c_str(),
+                 (link_.next_attempt() - now) * 1e-6);
+    core_.input(now, [&] { core_.on_link_lost(why); });
+    report_link_counters(now);
+    live_.wake_at(link_.next_attempt());
+  }
+
+  // Mirrors the link's own tallies into HEALTH counters.
+  void report_link_counters(int64_t now) {
+    if (link_.leaked_ports() == leaked_reported_ && link_.dropped_tx_bytes() == dropped_reported_) return;
+    core_.input(now, [&] {
+      core_.count_link_event("serial_ports_leaked", static_cast<int64_t>(link_.leaked_ports() - leaked_reported_));
+      core_.count_link_event("serial_tx_dropped_bytes",
+                             static_cast<int64_t>(link_.dropped_tx_bytes() - dropped_reported_));
+    });
+    leaked_reported_ = link_.leaked_ports();
+    dropped_reported_ = link_.dropped_tx_bytes();
+  }
+
+  evade::base::BaseDriverCore& core_;
+  evade::bus::LiveBus& live_;
+  evade::base::SerialLink link_;
+  std::vector<uint8_t> rx_;
+  int registered_fd_ = -1;
+  uint64_t leaked_reported_ = 0;
+  uint64_t dropped_reported_ = 0;
+  std::string last_error_;
+  int64_t last_error_log_ = 0;
+};
+
+int run_live(evade::base::BaseDriverCore& core, const std::string& url) {
+  evade::bus::LiveBus live(url);
+  live.add(core);
+  LiveLink link(core, live);
+  std::fprintf(stderr, "%s: running on %s, device %s\n", kName, url.c_str(), core.params().device.c_str());
+  const auto& stop = evade::bus::stop_on_signals();
+  while (!stop.load()) {
+    link.try_open(evade::bus::bus_utime());
+    live.spin_once(kPollTimeoutMs);
+    link.send_pending();
+  }
+  link.stop_base();
   return 0;
 }
 
@@ -146,27 +176,26 @@ int main(int argc, char** argv) {
   }
 
   evade::config::Node root = bus::load_config_or_exit(kName, opts);
-  base::BaseDriverParams params;
-  try {
-    params = base::BaseDriverParams::from_config(root);
-  } catch (const evade::config::ConfigError& e) {
-    std::fprintf(stderr, "%s: %s\n", kName, e.what());
-    return 2;
-  }
-  if (!device.empty()) params.device = device;
+  base::BaseDriverRun run;
+  run.device = device;
   if (!pose_text.empty()) {
     try {
-      params.initial_pose = base::parse_pose(pose_text);
+      run.initial_pose = base::parse_pose(pose_text);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "%s: --initial-pose: %s\n", kName, e.what());
       return 2;
     }
   }
-
   // ODOMETRY.epoch: this run's odometry frame (a restart resets the pose);
   // 0 in a replay, which stays deterministic.
-  params.epoch = opts.replay_in.empty() ? bus::bus_utime() : 0;
-  auto core = std::make_unique<base::BaseDriverCore>(params);
+  run.epoch = opts.replay_in.empty() ? bus::bus_utime() : 0;
+  std::unique_ptr<base::BaseDriverCore> core;
+  try {
+    core = base::BaseDriverCore::from_config(root, run);
+  } catch (const evade::config::ConfigError& e) {
+    std::fprintf(stderr, "%s: %s\n", kName, e.what());
+    return 2;
+  }
   // Signs ODOMETRY; acts on CMD_VEL and ESTOP only when they are signed.
   const auto auth = bus::authenticate_or_exit(kName, root, *core, /*publishes_signed=*/true);
   if (!opts.replay_in.empty()) {

@@ -130,9 +130,13 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   evade::config::Node root = evade::bus::load_config_or_exit(kName, opts);
-  LidarDriverParams params;
+  // A log replay and --from-scan decode LIDAR_SCAN messages; live and
+  // --pcap decode UDP payloads.
+  const bool scans = !opts.replay_in.empty() || from_scan;
+  std::unique_ptr<LidarDriverCore> core;
   try {
-    params = LidarDriverParams::from_config(root);
+    core =
+        LidarDriverCore::from_config(root, scans ? LidarDriverCore::Source::kScans : LidarDriverCore::Source::kPackets);
   } catch (const evade::config::ConfigError& e) {
     std::fprintf(stderr, "%s: %s\n", kName, e.what());
     return 2;
@@ -148,11 +152,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s: %s\n", kName, why.c_str());
       return 2;
     }
-    LidarDriverCore core(params, LidarDriverCore::Source::kScans);
     try {
       evade::bus::ReplayOptions ro;
       ro.channels = {evade::sensing::kLidarScanChannel};
-      int64_t n = evade::bus::replay_file({&core}, opts.replay_in, opts.replay_out, ro);
+      int64_t n = evade::bus::replay_file({core.get()}, opts.replay_in, opts.replay_out, ro);
       std::fprintf(stderr, "%s: replayed %s -> %s (%lld events out)\n", kName, opts.replay_in.c_str(),
                    opts.replay_out.c_str(), static_cast<long long>(n));
       return 0;
@@ -165,19 +168,17 @@ int main(int argc, char** argv) {
   const std::string url = opts.lcm_url.empty() ? evade::bus::default_lcm_url() : opts.lcm_url;
   try {
     if (from_scan) {
-      LidarDriverCore core(params, LidarDriverCore::Source::kScans);
       evade::bus::LiveBus bus(url);
-      bus.add(core);
+      bus.add(*core);
       std::fprintf(stderr, "%s: decoding %s from the bus\n", kName, evade::sensing::kLidarScanChannel);
       bus.run(evade::bus::stop_on_signals());
       return 0;
     }
-    LidarDriverCore core(params, LidarDriverCore::Source::kPackets);
-    evade::bus::guard_bus(kName, url, root, {&core});
+    evade::bus::guard_bus(kName, url, root, {core.get()});
     evade::bus::LiveBus bus(url);
-    bus.add(core);
-    if (!pcap_path.empty()) return run_pcap(core, bus, pcap_path, rate);
-    return run_live(core, bus);
+    bus.add(*core);
+    if (!pcap_path.empty()) return run_pcap(*core, bus, pcap_path, rate);
+    return run_live(*core, bus);
   } catch (const evade::config::ConfigError& e) {
     std::fprintf(stderr, "%s: %s\n", kName, e.what());
     return 2;

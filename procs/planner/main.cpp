@@ -8,11 +8,14 @@
 #include <string>
 
 #include "bus/process_main.h"
-#include "planning/params.h"
 #include "planning/planner_core.h"
 
 int main(int argc, char** argv) {
   std::string mode;
+  // The planner judges other hosts' stamps (the predictions' age):
+  // it measures the clock offset to the others (lib/bus/clock_sync.h).
+  evade::bus::ProcessOptions options{evade::planning::PlannerCore::conflated_inputs()};
+  options.clock_sync_requests = true;
   return evade::bus::process_main(
       argc, argv, "planner",
       [&](CLI::App& app) {
@@ -21,10 +24,5 @@ int main(int argc, char** argv) {
                        "(default: config planner.mode)")
             ->check(CLI::IsMember(evade::planning::mode_names()));
       },
-      [&](const evade::config::Node& root) -> std::unique_ptr<evade::bus::Core> {
-        evade::planning::PlannerParams params = evade::planning::PlannerParams::from_config(root);
-        if (!mode.empty()) params.mode = evade::planning::parse_mode(mode);
-        return std::make_unique<evade::planning::PlannerCore>(params);
-      },
-      evade::bus::ProcessOptions{evade::planning::PlannerCore::conflated_inputs()});
+      [&](const evade::config::Node& root) { return evade::planning::PlannerCore::from_config(root, mode); }, options);
 }

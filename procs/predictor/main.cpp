@@ -8,9 +8,6 @@ int main(int argc, char** argv) {
   using namespace evade;
   return bus::process_main(
       argc, argv, "predictor", nullptr,
-      [](const config::Node& root) {
-        const auto params = prediction::PredictorParams::from_config(root.section("predictor"));
-        return std::make_unique<prediction::PredictorCore>(params);
-      },
+      [](const config::Node& root) { return prediction::PredictorCore::from_config(root); },
       bus::ProcessOptions{{}, /*publishes_signed=*/true});
 }

@@ -12,16 +12,11 @@ int main(int argc, char** argv) {
       argc, argv, "route",
       [&](CLI::App& app) { app.add_option("--scenario", scenario, "take the route from this scenario file"); },
       [&](const evade::config::Node& root) {
-        auto params = evade::route::RouteParams::from_config(root.section("route"));
-        if (!scenario.empty()) {
-          evade::sim::Scenario sc = evade::sim::load_scenario(scenario);
-          params.waypoints.clear();
-          for (const auto& p : sc.route) params.waypoints.push_back({p.x, p.y});
-          std::string why = evade::route::validate_route(params.waypoints);
-          if (!why.empty()) throw evade::config::ConfigError(scenario + ":0: key 'route': " + why);
-        }
-        std::fprintf(stderr, "route: %zu points\n", params.waypoints.size());
-        return std::make_unique<evade::route::RoutePublisher>(params);
+        std::optional<std::vector<std::vector<double>>> waypoints;
+        if (!scenario.empty()) waypoints = evade::sim::route_waypoints(evade::sim::load_scenario(scenario));
+        auto core = evade::route::RoutePublisher::from_config(root, waypoints, scenario);
+        std::fprintf(stderr, "route: %zu points\n", static_cast<size_t>(core->path().n));
+        return core;
       },
       evade::bus::ProcessOptions{{}, /*publishes_signed=*/true});
 }

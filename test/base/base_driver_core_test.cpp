@@ -554,5 +554,30 @@ TEST(BaseDriverAuth, ForgedReplayedAndUnsignedCommandsNeverDrive) {
   EXPECT_TRUE(r.core.estop_engaged());
 }
 
+TEST(BaseDriverConfig, FactoryReadsTheWholeConfigAndAppliesTheRunsSettings) {
+  auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  const BaseDriverParams file = BaseDriverParams::from_config(root);
+  auto plain = BaseDriverCore::from_config(root);
+  EXPECT_EQ(plain->params().device, file.device);
+  EXPECT_EQ(plain->params().baud_rate, file.baud_rate);
+  EXPECT_DOUBLE_EQ(plain->pose().x, file.initial_pose.x);
+  EXPECT_EQ(plain->params().epoch, 0);  // a replay's: deterministic
+
+  BaseDriverRun run;
+  run.device = "/dev/ttyUSB7";
+  run.initial_pose = Pose2{1.5, -2.0, 0.25};
+  run.epoch = 1'700'000'000'000'000;
+  auto core = BaseDriverCore::from_config(root, run);
+  EXPECT_EQ(core->params().device, "/dev/ttyUSB7");
+  EXPECT_DOUBLE_EQ(core->pose().x, 1.5);
+  EXPECT_DOUBLE_EQ(core->pose().y, -2.0);
+  EXPECT_DOUBLE_EQ(core->pose().yaw, 0.25);
+  EXPECT_EQ(core->params().epoch, 1'700'000'000'000'000);
+  EXPECT_DOUBLE_EQ(core->params().watchdog_timeout_s, file.watchdog_timeout_s);  // the rest from the file
+
+  auto bad = config::load_string("robot: {max_v_mps: 1.0}\nbase_driver: {device: /dev/x}\n", "bad.yaml");
+  EXPECT_THROW(BaseDriverCore::from_config(bad, run), config::ConfigError);
+}
+
 }  // namespace
 }  // namespace evade::base

@@ -1,12 +1,11 @@
-// Test helper: the far end of a serial line, as a pseudo-terminal. The
-// master is "the base"; the slave (raw mode) is what the driver opens,
-// through a symlink at a fixed path, as the simulator does it.
+// Test helper: the far end of a serial line, the simulator's own
+// pseudo-terminal (lib/sim/pseudo_terminal.h). The master is "the base";
+// the slave (raw mode) is what the driver opens, through a symlink at a
+// fixed path, as the simulator does it.
 #pragma once
 
 #include <fcntl.h>
 #include <poll.h>
-#include <pty.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -14,53 +13,32 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "sim/pseudo_terminal.h"
 
 namespace evade::base::testing {
 
 class PtyPeer {
  public:
-  // Creates a pty and points `link_path` at its slave (replacing any link).
-  explicit PtyPeer(const std::string& link_path) : link_path_(link_path) {
-    char name[256];
-    if (::openpty(&master_, &slave_, name, nullptr, nullptr) != 0) throw std::runtime_error("openpty failed");
-    slave_name_ = name;
-    termios tio{};
-    ::tcgetattr(slave_, &tio);
-    ::cfmakeraw(&tio);
-    ::tcsetattr(slave_, TCSANOW, &tio);
-    ::fcntl(master_, F_SETFL, ::fcntl(master_, F_GETFL) | O_NONBLOCK);
-    ::unlink(link_path_.c_str());
-    if (::symlink(slave_name_.c_str(), link_path_.c_str()) != 0)
-      throw std::runtime_error("symlink " + link_path_ + " failed");
-  }
-  ~PtyPeer() { hang_up(); }
-  PtyPeer(const PtyPeer&) = delete;
-  PtyPeer& operator=(const PtyPeer&) = delete;
+  // Creates a pty and points `link_path` at its slave (replacing a stale link).
+  explicit PtyPeer(const std::string& link_path) : pty_(link_path) {}
 
   // Closes both ends (the driver sees a hang-up) and leaves the symlink
-  // dangling, as when the simulator exits.
-  void hang_up() {
-    if (slave_ >= 0) ::close(slave_);
-    if (master_ >= 0) ::close(master_);
-    slave_ = master_ = -1;
-  }
-  // Closes the test's own slave descriptor (the driver's stays open).
-  void close_own_slave() {
-    if (slave_ >= 0) ::close(slave_);
-    slave_ = -1;
-  }
+  // dangling, as when the simulator dies.
+  void hang_up() { pty_.hang_up(); }
 
   void write(const uint8_t* data, size_t size) {
     size_t done = 0;
     while (done < size) {
-      ssize_t n = ::write(master_, data + done, size - done);
+      ssize_t n = ::write(master(), data + done, size - done);
       if (n > 0) {
         done += static_cast<size_t>(n);
       } else if (n < 0 && (errno == EAGAIN || errno == EINTR)) {
-        pollfd p{master_, POLLOUT, 0};
+        pollfd p{master(), POLLOUT, 0};
         ::poll(&p, 1, 100);
       } else {
         throw std::runtime_error("pty master write failed");
@@ -79,12 +57,12 @@ class PtyPeer {
     auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     while (out.size() < n && std::chrono::steady_clock::now() < deadline) {
       uint8_t buf[256];
-      ssize_t r = ::read(master_, buf, std::min(sizeof buf, n - out.size()));
+      ssize_t r = ::read(master(), buf, std::min(sizeof buf, n - out.size()));
       if (r > 0) {
         out.insert(out.end(), buf, buf + r);
         continue;
       }
-      pollfd p{master_, POLLIN, 0};
+      pollfd p{master(), POLLIN, 0};
       ::poll(&p, 1, 20);
     }
     return out;
@@ -92,24 +70,21 @@ class PtyPeer {
   // Everything readable now, after a short settle (for "nothing more came").
   std::vector<uint8_t> drain(int settle_ms = 50) {
     std::vector<uint8_t> out;
-    pollfd p{master_, POLLIN, 0};
+    pollfd p{master(), POLLIN, 0};
     while (::poll(&p, 1, settle_ms) > 0) {
       uint8_t buf[256];
-      ssize_t r = ::read(master_, buf, sizeof buf);
+      ssize_t r = ::read(master(), buf, sizeof buf);
       if (r <= 0) break;
       out.insert(out.end(), buf, buf + r);
     }
     return out;
   }
 
-  int master() const { return master_; }
-  const std::string& slave_name() const { return slave_name_; }
+  int master() const { return pty_.master(); }
+  const std::string& slave_name() const { return pty_.slave_path(); }
 
  private:
-  std::string link_path_;
-  std::string slave_name_;
-  int master_ = -1;
-  int slave_ = -1;
+  evade::sim::PseudoTerminal pty_;
 };
 
 // A fresh directory under /tmp, removed with everything in it at scope exit.

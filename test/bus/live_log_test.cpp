@@ -66,22 +66,12 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 
-TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
-  ASSERT_EQ(std::getenv("EVADE_IN_NETNS") ? std::string(std::getenv("EVADE_IN_NETNS")) : "", "1")
-      << "must run inside tools/netns-run";
-  const std::string url = default_lcm_url();
-  const std::string dir = ::testing::TempDir();
-  const std::string log_path = dir + "/live_log_test.lcmlog";
-  std::remove(log_path.c_str());
-  const std::string bin = std::string(EVADE_BIN_DIR);
+constexpr int kCount = 200;
 
-  pid_t logger = spawn({"lcm-logger", "--lcm-url=" + url, "--quiet", "--force", log_path});
-  pid_t echo = spawn({bin + "/bus_echo", "--lcm-url", url});
-
-  LiveBus bus(url);
-  Listener listener;
-  bus.add(listener);
-  // Handshake: until the echo process answers, it is not listening yet.
+// Until the echo process answers, it is not listening yet. Then
+// lcm-logger subscribes too; meanwhile the echoes of the other probes
+// (sent before the first answer came back) are taken off the socket.
+void handshake(LiveBus& bus, Listener& listener) {
   auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   int64_t probe = -1;
   while (listener.heard.empty() && std::chrono::steady_clock::now() < deadline) {
@@ -92,13 +82,12 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
     bus.spin_once(50);
   }
   ASSERT_FALSE(listener.heard.empty()) << "bus_echo never answered";
-  // lcm-logger subscribes too; meanwhile the echoes of the other probes
-  // (sent before the first answer came back) are taken off the socket
   const auto settle = std::chrono::steady_clock::now() + std::chrono::milliseconds(300);
   while (std::chrono::steady_clock::now() < settle) bus.spin_once(10);
   listener.heard.clear();
+}
 
-  const int kCount = 200;
+std::vector<evade::odometry_t> odometry_series() {
   std::vector<evade::odometry_t> sent;
   for (int i = 0; i < kCount; ++i) {
     evade::odometry_t o{};
@@ -109,33 +98,38 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
     o.v = 0.5 + 1e-7 * i;
     o.omega = -0.25;
     sent.push_back(o);
+  }
+  return sent;
+}
+
+// Publishes `sent` to the echo process; every reply comes back in order.
+void send_and_hear_echoes(LiveBus& bus, Listener& listener, const std::vector<evade::odometry_t>& sent) {
+  for (const auto& o : sent) {
     bus.publish("ECHO_IN", 0, encode(o));
     bus.spin_once(0);
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
-  deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   // a probe's echo later still (a loaded machine) is not one of these
   auto drop_probe_echoes = [&] {
     listener.heard.erase(std::remove_if(listener.heard.begin(), listener.heard.end(),
                                         [](const evade::cmd_vel_t& c) { return c.utime < 0; }),
                          listener.heard.end());
   };
-  while (listener.heard.size() < static_cast<size_t>(kCount) && std::chrono::steady_clock::now() < deadline) {
+  while (listener.heard.size() < sent.size() && std::chrono::steady_clock::now() < deadline) {
     bus.spin_once(50);
     drop_probe_echoes();
   }
-  ASSERT_EQ(listener.heard.size(), static_cast<size_t>(kCount));
-  for (int i = 0; i < kCount; ++i) {
+  ASSERT_EQ(listener.heard.size(), sent.size());
+  for (size_t i = 0; i < sent.size(); ++i) {
     EXPECT_EQ(listener.heard[i].utime, sent[i].utime);
     EXPECT_EQ(listener.heard[i].v, 2.0 * sent[i].v);
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  stop(echo, SIGTERM);
-  stop(logger, SIGINT);
+}
 
-  // lcmlog-export reproduces every message exactly.
-  std::string json = run_capture(bin + "/lcmlog-export " + log_path + " --channel ECHO_IN --channel ECHO_OUT");
-  for (int i = 0; i < kCount; ++i) {
+// lcmlog-export reproduces every message exactly.
+void expect_exported(const std::string& json, const std::vector<evade::odometry_t>& sent) {
+  for (size_t i = 0; i < sent.size(); ++i) {
     const auto& o = sent[i];
     std::string msg = "\"type\":\"odometry_t\",\"msg\":{\"utime\":" + std::to_string(o.utime) +
                       ",\"x\":" + fmt("%.17g", o.x) + ",\"y\":" + fmt("%.17g", o.y) +
@@ -149,16 +143,23 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
                         ",\"auth_sender\":\"\",\"auth_seq\":0,";
     EXPECT_NE(json.find(reply), std::string::npos) << "missing reply " << i;
   }
+}
 
-  // The log adapter: same core over the logged inputs, twice -> identical,
-  // and equal to what the live process published.
+// The test's replies (not the probes') among `events`.
+std::vector<LogEvent> echo_replies(const std::vector<LogEvent>& events) {
+  std::vector<LogEvent> out;
+  for (const auto& e : events) {
+    evade::cmd_vel_t c;
+    if (e.channel == "ECHO_OUT" && decode(e.data.data(), e.data.size(), &c) && c.utime >= 1'000'000) out.push_back(e);
+  }
+  return out;
+}
+
+// The log adapter: same core over the logged inputs, twice -> identical,
+// and equal to what the live process published.
+void expect_replay_matches_live(const std::string& log_path) {
   auto events = read_log(log_path);
-  std::vector<LogEvent> logged_out;
-  for (const auto& e : events)
-    if (e.channel == "ECHO_OUT") {
-      evade::cmd_vel_t c;
-      if (decode(e.data.data(), e.data.size(), &c) && c.utime >= 1'000'000) logged_out.push_back(e);
-    }
+  std::vector<LogEvent> logged_out = echo_replies(events);
   ASSERT_EQ(logged_out.size(), static_cast<size_t>(kCount));
   ReplayOptions opt;
   opt.channels = {"ECHO_IN"};
@@ -171,13 +172,34 @@ TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
     EXPECT_EQ(out_a[i].data, out_b[i].data);
     EXPECT_EQ(out_a[i].timestamp, out_b[i].timestamp);
   }
-  std::vector<LogEvent> replayed_out;
-  for (const auto& e : out_a) {
-    evade::cmd_vel_t c;
-    if (decode(e.data.data(), e.data.size(), &c) && c.utime >= 1'000'000) replayed_out.push_back(e);
-  }
+  std::vector<LogEvent> replayed_out = echo_replies(out_a);
   ASSERT_EQ(replayed_out.size(), logged_out.size());
   for (size_t i = 0; i < replayed_out.size(); ++i) EXPECT_EQ(replayed_out[i].data, logged_out[i].data);
+}
+
+TEST(LiveAndLog, UdpmRoundTripLoggedExportedAndReplayed) {
+  ASSERT_EQ(std::getenv("EVADE_IN_NETNS") ? std::string(std::getenv("EVADE_IN_NETNS")) : "", "1")
+      << "must run inside tools/netns-run";
+  const std::string url = default_lcm_url();
+  const std::string dir = ::testing::TempDir();
+  const std::string log_path = dir + "/live_log_test.lcmlog";
+  std::remove(log_path.c_str());
+  const std::string bin = std::string(EVADE_BIN_DIR);
+
+  pid_t logger = spawn({"lcm-logger", "--lcm-url=" + url, "--quiet", "--force", log_path});
+  pid_t echo = spawn({bin + "/bus_echo", "--lcm-url", url});
+  LiveBus bus(url);
+  Listener listener;
+  bus.add(listener);
+  ASSERT_NO_FATAL_FAILURE(handshake(bus, listener));
+  const std::vector<evade::odometry_t> sent = odometry_series();
+  ASSERT_NO_FATAL_FAILURE(send_and_hear_echoes(bus, listener, sent));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  stop(echo, SIGTERM);
+  stop(logger, SIGINT);
+
+  expect_exported(run_capture(bin + "/lcmlog-export " + log_path + " --channel ECHO_IN --channel ECHO_OUT"), sent);
+  expect_replay_matches_live(log_path);
 }
 
 }  // namespace

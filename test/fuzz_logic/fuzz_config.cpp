@@ -9,6 +9,7 @@
 #include "base/base_driver_core.h"
 #include "bus/auth.h"
 #include "bus/bus_guard.h"
+#include "bus/clock_sync.h"
 #include "config/config.h"
 #include "config/safety.h"
 #include "mapping/elevation_map.h"
@@ -45,6 +46,7 @@ void robot_config(const std::string& text) {
   each([&] { sim::SimParams::from_config(root); });
   each([&] { bus::BusGuardParams::from_config(root); });
   each([&] { bus::AuthParams::from_config(root); });
+  each([&] { bus::ClockSyncParams::from_config(root); });
 }
 
 }  // namespace

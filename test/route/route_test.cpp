@@ -101,5 +101,22 @@ TEST(Route, RouteFilesAreReadStrictly) {
   std::remove(path.c_str());
 }
 
+TEST(Route, FactoryTakesAScenariosWaypointsAndNamesItsFileWhenBad) {
+  auto root = config::load_string("route:\n  waypoints: [[-10, 0], [9, 0]]\n  publish_period_s: 0.5\n", "robot.yaml");
+  auto own = RoutePublisher::from_config(root);
+  EXPECT_EQ(own->path().x, (std::vector<double>{-10, 9}));
+  using Waypoints = std::vector<std::vector<double>>;
+  auto scenario = RoutePublisher::from_config(root, Waypoints{{0, 0}, {3, 4}, {5, 4}}, "s.yaml");
+  ASSERT_EQ(scenario->path().n, 3);
+  EXPECT_EQ(scenario->path().x, (std::vector<double>{0, 3, 5}));
+  EXPECT_EQ(scenario->path().y, (std::vector<double>{0, 4, 4}));
+  try {
+    RoutePublisher::from_config(root, Waypoints{{1, 1}}, "s.yaml");
+    FAIL() << "a one-point route accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("s.yaml:0: key 'route': ", 0), 0u) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace evade::route

@@ -35,6 +35,29 @@ struct Truth {
   double x, y;
 };
 
+// The elevation map around the static cylinder as text ('#' obstacle,
+// 'h' high, '.' ground, ' ' unseen), for reading a failure.
+void print_map_window(const grid_map_t& gm) {
+  for (int row = gm.height - 1; row >= 0; --row) {
+    const double y = gm.origin[1] + (row + 0.5) * gm.resolution;
+    if (y < 0.8 || y > 2.6) continue;
+    for (int c = 0; c < gm.width; ++c) {
+      const double x = gm.origin[0] + (c + 0.5) * gm.resolution;
+      if (x < 1.8 || x > 3.6) continue;
+      const float z = gm.elevation[row][c];
+      std::printf("%c", gm.obstacle[row][c] ? '#' : std::isnan(z) ? ' ' : (z > 0.1 ? 'h' : '.'));
+    }
+    std::printf("\n");
+  }
+}
+
+const obstacle_t* nearest(const obstacle_list_t& list, const Truth& t) {
+  const obstacle_t* best = nullptr;
+  for (const auto& o : list.obstacles)
+    if (!best || std::hypot(o.x - t.x, o.y - t.y) < std::hypot(best->x - t.x, best->y - t.y)) best = &o;
+  return best;
+}
+
 // The robot drives +x at 0.5 m/s; a static cylinder stands ahead-left, a
 // moving one crosses from right to left in front at 1.5 m/s, passing 1 m
 // behind the static one (surfaces 0.5 m apart: obstacles closer than about
@@ -89,23 +112,8 @@ TEST(Pipeline, CylindersGetStableIdsAndEllipsesOnTheirSurface) {
     ++frames;
     for (int k = 0; k < 2; ++k) {
       const Truth t = k == 0 ? fixed : m;
-      const obstacle_t* best = nullptr;
-      const auto maps = bus.decoded<grid_map_t>("ELEVATION_MAP");
-      const auto& gm = maps.back();
-      if (f == 25)
-        for (int row = gm.height - 1; row >= 0; --row) {
-          const double y = gm.origin[1] + (row + 0.5) * gm.resolution;
-          if (y < 0.8 || y > 2.6) continue;
-          for (int c = 0; c < gm.width; ++c) {
-            const double x = gm.origin[0] + (c + 0.5) * gm.resolution;
-            if (x < 1.8 || x > 3.6) continue;
-            const float z = gm.elevation[row][c];
-            std::printf("%c", gm.obstacle[row][c] ? '#' : std::isnan(z) ? ' ' : (z > 0.1 ? 'h' : '.'));
-          }
-          std::printf("\n");
-        }
-      for (const auto& o : list.obstacles)
-        if (!best || std::hypot(o.x - t.x, o.y - t.y) < std::hypot(best->x - t.x, best->y - t.y)) best = &o;
+      if (f == 25) print_map_window(bus.decoded<grid_map_t>("ELEVATION_MAP").back());
+      const obstacle_t* best = nearest(list, t);
       const double err = std::hypot(best->x - t.x, best->y - t.y);
       (k == 0 ? worst_static : worst_mover) = std::max(k == 0 ? worst_static : worst_mover, err);
       if (!id_of.count(k)) id_of[k] = best->id;

@@ -59,10 +59,8 @@ WorldPoint centre(const std::vector<WorldPoint>& strip) {
 
 constexpr int64_t kT = 1'000'000'000;
 
-// A small world: the robot at (1, 2) facing +y, a route, a plan that fell
-// back, track 7 at (3, 1) going +x at 1 m/s with 5 predicted steps, two
-// obstacle cells, one true cylinder and a ray-cast revolution.
-void populate(WorldState& w) {
+// The robot at (1, 2) facing +y, a route and a plan that fell back.
+void feed_robot_route_plan(WorldState& w) {
   evade::odometry_t o{};
   for (int k = 0; k <= 20; ++k) {
     o.utime = kT + k * 10'000;
@@ -88,6 +86,10 @@ void populate(WorldState& w) {
   plan.omega = {0, 0};
   plan.min_barrier = 0.42;
   feed(w, "PLAN", plan, kT);
+}
+
+// Track 7 at (3, 1) going +x at 1 m/s with 5 predicted steps.
+void feed_track_and_prediction(WorldState& w) {
   evade::obstacle_list_t obs{};
   evade::obstacle_t t{};
   t.id = 7;
@@ -116,6 +118,10 @@ void populate(WorldState& w) {
   pl.tracks = {tp};
   pl.num_tracks = 1;
   feed(w, "OBSTACLE_PREDICTIONS", pl, kT);
+}
+
+// Two obstacle cells and one true cylinder.
+void feed_map_and_truth(WorldState& w) {
   evade::grid_map_t m{};
   m.origin[0] = 0;
   m.origin[1] = 0;
@@ -143,6 +149,10 @@ void populate(WorldState& w) {
   truth.num_obstacles = 1;
   truth.lidar_returns = {40};
   feed(w, "SIM_TRUTH", truth, kT);
+}
+
+// A ray-cast revolution of the true cylinder from the robot's pose.
+void feed_cloud(WorldState& w) {
   evade::mapping::SynthWorld world;
   world.cylinders.push_back({3.1, 1.0, 0.25, 0.5});
   evade::mapping::SynthScanOptions opt;
@@ -163,18 +173,25 @@ void populate(WorldState& w) {
   feed(w, "LIDAR_POINTS", c, kT + 120'000);
 }
 
-TEST(VizScene, EachMessageBecomesItsPrimitives) {
-  auto w = make_state();
-  populate(*w);
-  const VizParams p = params();
-  const Scene s = build_scene(*w, all_layers_on(), p);
+// A small world: the robot at (1, 2) facing +y, a route, a plan that fell
+// back, track 7 at (3, 1) going +x at 1 m/s with 5 predicted steps, two
+// obstacle cells, one true cylinder and a ray-cast revolution.
+void populate(WorldState& w) {
+  feed_robot_route_plan(w);
+  feed_track_and_prediction(w);
+  feed_map_and_truth(w);
+  feed_cloud(w);
+}
 
+// The cloud in the world frame: the ground at z 0, the cylinder up to 0.5,
+// coloured by height.
+void expect_cloud(const Scene& s, const VizParams& p) {
   const PointsPrim* cloud = find_points(s, "cloud");
   ASSERT_NE(cloud, nullptr);
   EXPECT_GT(cloud->xyz.size(), 1000u);
   ASSERT_EQ(cloud->rgb.size(), cloud->xyz.size());
   int on_cylinder = 0;
-  for (size_t i = 0; i < cloud->xyz.size(); ++i) {  // world frame: the ground at z 0, the cylinder up to 0.5
+  for (size_t i = 0; i < cloud->xyz.size(); ++i) {
     const auto& q = cloud->xyz[i];
     const Rgb want = height_colour(q.z, p.cloud_min_z_m, p.cloud_max_z_m);
     ASSERT_EQ(cloud->rgb[i].r, want.r);
@@ -187,7 +204,10 @@ TEST(VizScene, EachMessageBecomesItsPrimitives) {
     }
   }
   EXPECT_GT(on_cylinder, 10);
+}
 
+// Map cells, route, the plan and its HUD line.
+void expect_map_route_plan(const Scene& s) {
   const PointsPrim* cells = find_points(s, "map_obstacles");
   ASSERT_NE(cells, nullptr);
   ASSERT_EQ(cells->xyz.size(), 2u);
@@ -208,7 +228,10 @@ TEST(VizScene, EachMessageBecomesItsPrimitives) {
   EXPECT_FLOAT_EQ(plan->rgb.r, plan_colour(evade::plan_t::STATUS_FALLBACK).r);
   EXPECT_NE(s.hud[0].find("fallback"), std::string::npos) << s.hud[0];
   EXPECT_NE(s.hud[0].find("0.42"), std::string::npos) << s.hud[0];
+}
 
+// The track, its label and velocity arrow, the fading predicted steps.
+void expect_track_and_prediction(const Scene& s, const VizParams& p) {
   const LinesPrim* tracks = find_lines(s, "tracks");
   ASSERT_NE(tracks, nullptr);
   ASSERT_EQ(tracks->strips.size(), 1u);
@@ -232,7 +255,10 @@ TEST(VizScene, EachMessageBecomesItsPrimitives) {
   EXPECT_FLOAT_EQ(opacity.front(), 1.0f);
   EXPECT_FLOAT_EQ(opacity.back(), float(p.prediction_min_opacity));
   EXPECT_TRUE(std::is_sorted(opacity.rbegin(), opacity.rend()));
+}
 
+// The robot's footprint and the true obstacles.
+void expect_robot_and_truth(const Scene& s, const VizParams& p) {
   const LinesPrim* robot = find_lines(s, "robot");
   ASSERT_NE(robot, nullptr);
   const auto& fp = robot->strips[0];  // facing +y: length along y
@@ -245,6 +271,17 @@ TEST(VizScene, EachMessageBecomesItsPrimitives) {
   ASSERT_NE(truth, nullptr);
   EXPECT_EQ(truth->strips.size(), 3u);  // the cylinder's base and top, the true footprint
   EXPECT_NEAR(centre(truth->strips[0]).x, 3.1, 1e-5);
+}
+
+TEST(VizScene, EachMessageBecomesItsPrimitives) {
+  auto w = make_state();
+  populate(*w);
+  const VizParams p = params();
+  const Scene s = build_scene(*w, all_layers_on(), p);
+  expect_cloud(s, p);
+  expect_map_route_plan(s);
+  expect_track_and_prediction(s, p);
+  expect_robot_and_truth(s, p);
 }
 
 TEST(VizScene, ALayerSwitchedOffIsNotDrawn) {

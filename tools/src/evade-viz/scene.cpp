@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <map>
 
+#include "metrics/plan_status.h"
+
 namespace evade::viz {
 
 namespace {
@@ -165,7 +167,7 @@ void add_truth(const WorldState& w, const VizParams& p, Scene* s) {
 void add_hud(const WorldState& w, const LayerSwitches& on, Scene* s) {
   if (w.plan) {
     const auto& pl = *w.plan;
-    s->hud.push_back("plan: " + std::string(plan_status_name(pl.status)) + " (" + pl.mode + ")" +
+    s->hud.push_back("plan: " + std::string(evade::metrics::plan_status_name(pl.status)) + " (" + pl.mode + ")" +
                      fmt("  solve %.1f ms, %.0f iterations, min h %.2f m", pl.solve_time_us * 1e-3,
                          double(pl.iterations), pl.min_barrier) +
                      (pl.min_barrier >= 1e5 ? " (no obstacle)" : ""));
@@ -223,27 +225,6 @@ Rgb plan_colour(int8_t status) {
       return {0.6f, 0.6f, 0.6f};
     default:
       return kRed;  // stopping, stale input
-  }
-}
-
-const char* plan_status_name(int8_t status) {
-  switch (status) {
-    case evade::plan_t::STATUS_OK:
-      return "ok";
-    case evade::plan_t::STATUS_FALLBACK:
-      return "fallback";
-    case evade::plan_t::STATUS_STOPPING:
-      return "stopping";
-    case evade::plan_t::STATUS_STALE_INPUT:
-      return "stale input";
-    case evade::plan_t::STATUS_NO_ROUTE:
-      return "no route";
-    case evade::plan_t::STATUS_GOAL:
-      return "goal";
-    case evade::plan_t::STATUS_RECOVERING:
-      return "recovering";
-    default:
-      return "unknown";
   }
 }
 

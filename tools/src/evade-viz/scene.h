@@ -70,7 +70,6 @@ struct Scene {
 Rgb height_colour(double z, double min_z, double max_z);
 // Plan colour by plan_t status.
 Rgb plan_colour(int8_t status);
-const char* plan_status_name(int8_t status);
 
 Scene build_scene(const WorldState& w, const LayerSwitches& on, const VizParams& p);
 

@@ -45,9 +45,8 @@ std::vector<bus::LogEvent> run_core(bus::Core& core, const std::vector<bus::LogE
 }
 
 std::vector<bus::LogEvent> decode_scans(const std::vector<bus::LogEvent>& input, const config::Node& root) {
-  sensing::LidarDriverCore core(sensing::LidarDriverParams::from_config(root),
-                                sensing::LidarDriverCore::Source::kScans);
-  return run_core(core, only(input, {"LIDAR_SCAN"}));
+  auto core = sensing::LidarDriverCore::from_config(root, sensing::LidarDriverCore::Source::kScans);
+  return run_core(*core, only(input, {"LIDAR_SCAN"}));
 }
 
 // Stable merge by timestamp: the inputs of one process from two sources.
@@ -146,11 +145,11 @@ std::vector<bus::LogEvent> run_process(const ProcessCase& pc, const std::vector<
     auto core = tracking::TrackerCore::from_config(root);
     out = run_core(*core, only(input, pc.inputs), &keys);
   } else if (pc.process == "predictor") {
-    prediction::PredictorCore core(prediction::PredictorParams::from_config(root.section("predictor")));
-    out = run_core(core, only(input, pc.inputs), &keys);
+    auto core = prediction::PredictorCore::from_config(root);
+    out = run_core(*core, only(input, pc.inputs), &keys);
   } else if (pc.process == "planner") {
-    planning::PlannerCore core(planning::PlannerParams::from_config(root));
-    out = run_core(core, only(input, pc.inputs), &keys);
+    auto core = planning::PlannerCore::from_config(root);
+    out = run_core(*core, only(input, pc.inputs), &keys);
   } else {
     throw std::runtime_error("process-replay: unknown process " + pc.process);
   }

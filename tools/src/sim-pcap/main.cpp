@@ -9,6 +9,7 @@
 // Exit 0 written, 2 bad arguments or configuration, 1 I/O error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
 
 #include "bus/memory_bus.h"
 #include "config/config.h"
@@ -37,16 +38,16 @@ int main(int argc, char** argv) {
     evade::sim::SimParams params = evade::sim::SimParams::from_config(root);
     evade::sim::Scenario scenario = evade::sim::load_scenario(scenario_path);
     if (seed >= 0) scenario.seed = static_cast<uint64_t>(seed);
-    evade::sim::SimCore core(scenario, params);
+    std::unique_ptr<evade::sim::SimCore> core = evade::sim::SimCore::from_config(root, scenario);
     evade::sensing::PcapUdpWriter writer(out, "192.168.1.200", "192.168.1.102");
     int64_t now = kStartUtime, packets = 0;
-    core.set_packet_sink([&](const evade::sim::Packet& p) {
+    core->set_packet_sink([&](const evade::sim::Packet& p) {
       const int port = params.dest_port(scenario.lidar.model, p.port);
       writer.write(now, port, port, p.data(), p.size());
       ++packets;
     });
     evade::bus::MemoryBus bus;
-    bus.add(core);
+    bus.add(*core);
     const int64_t end = kStartUtime + std::llround(seconds * 1e6);
     for (; now <= end; now += 1000) bus.advance_to(now);
     writer.close();
