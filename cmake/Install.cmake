@@ -20,7 +20,7 @@ foreach(dir procs tools/src)
 endforeach()
 # The tools a robot or its operator uses (the benchmark tools stay in the tree).
 set(EVADE_INSTALLED_TOOLS launch goto bus-firewall health evade-viz lcm-spy lcm-logplayer-gui
-    lcmlog-export metrics perception-metrics plan-latency run_scenario netns-run netns-pair scenario-gen)
+    lcmlog-export metrics perception-metrics plan-latency run_scenario netns-run netns-pair scenario-gen config-dump)
 
 install(TARGETS ${EVADE_INSTALLED_PROGRAMS} RUNTIME DESTINATION ${EVADE_INSTALL_LIBEXEC}/bin)
 foreach(t ${EVADE_INSTALLED_TOOLS})

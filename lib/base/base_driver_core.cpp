@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "config/robot_params.h"
 #include "evade/base_status_t.hpp"
 #include "evade/cmd_vel_t.hpp"
 #include "evade/estop_t.hpp"
@@ -17,31 +18,32 @@ constexpr double kUsPerS = 1e6;
 int64_t to_us(double seconds) { return static_cast<int64_t>(std::llround(seconds * kUsPerS)); }
 }  // namespace
 
-BaseDriverParams BaseDriverParams::from_config(const config::Node& root) {
-  BaseDriverParams p;
-  const config::Node robot = root.section("robot");
-  p.limits.max_v_mps = robot.get_double("max_v_mps", 0.0, kMaxLinearMps);
-  p.limits.min_v_mps = robot.get_double("min_v_mps", -kMaxLinearMps, p.limits.max_v_mps);
-  p.limits.max_omega_radps = robot.get_double("max_omega_radps", 0.0, kMaxAngularRadps);
-  p.limits.max_accel_mps2 = robot.get_positive("max_accel_mps2");
-  p.limits.max_decel_mps2 = robot.get_positive("max_decel_mps2");
-  p.limits.max_alpha_radps2 = robot.get_positive("max_alpha_radps2");
+config::Converter<Pose2> BaseDriverParams::pose_converter() {
+  return {[](const config::Node& n, const std::string& key) {
+            const std::vector<double> pose = n.get_doubles(key, 3);
+            return Pose2{pose[0], pose[1], wrap_angle(pose[2])};
+          },
+          [](const Pose2& p) {
+            YAML::Node list(YAML::NodeType::Sequence);
+            for (double v : {p.x, p.y, p.yaw}) list.push_back(config::number_node(v));
+            return list;
+          }};
+}
 
-  const config::Node s = root.section("base_driver");
-  p.device = s.get<std::string>("device");
-  if (p.device.empty()) s.fail("device", "must not be empty");
-  p.baud_rate = std::stoi(s.get_choice("baud_rate", {"9600", "19200", "38400", "57600", "115200", "230400", "460800"}));
-  p.command_rate_hz = s.get_double("command_rate_hz", 1.0, 1000.0);
-  p.watchdog_timeout_s = s.get_double("watchdog_timeout_s", 0.001, 10.0);
-  p.cmd_vel_max_age_s = s.get_double("cmd_vel_max_age_s", 0.001, 10.0);
-  p.link_timeout_s = s.get_double("link_timeout_s", 0.001, 10.0);
-  p.status_rate_hz = s.get_double("status_rate_hz", 0.1, 1000.0);
-  p.max_odometry_gap_s = s.get_double("max_odometry_gap_s", 0.001, 10.0);
-  p.reopen_backoff_min_s = s.get_double("reopen_backoff_min_s", 0.001, 60.0);
-  p.reopen_backoff_max_s = s.get_double("reopen_backoff_max_s", p.reopen_backoff_min_s, 600.0);
-  std::vector<double> pose = s.get_doubles("initial_pose", 3);
-  p.initial_pose = Pose2{pose[0], pose[1], wrap_angle(pose[2])};
-  s.close();
+BaseDriverParams BaseDriverParams::from_config(const config::Node& root) {
+  const config::Node robot_node = root.section("robot");
+  const config::RobotParams robot = config::load<config::RobotParams>(robot_node);
+  if (robot.max_v_mps > kMaxLinearMps)
+    robot_node.fail("max_v_mps", "above the Scout's " + config::number_text(kMaxLinearMps) + " m/s");
+  if (robot.max_omega_radps > kMaxAngularRadps)
+    robot_node.fail("max_omega_radps", "above the Scout's " + config::number_text(kMaxAngularRadps) + " rad/s");
+  BaseDriverParams p = config::load<BaseDriverParams>(root.section("base_driver"));
+  p.limits.max_v_mps = robot.max_v_mps;
+  p.limits.min_v_mps = robot.min_v_mps;
+  p.limits.max_omega_radps = robot.max_omega_radps;
+  p.limits.max_accel_mps2 = robot.max_accel_mps2;
+  p.limits.max_decel_mps2 = robot.max_decel_mps2;
+  p.limits.max_alpha_radps2 = robot.max_alpha_radps2;
   return p;
 }
 

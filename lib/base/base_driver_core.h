@@ -56,6 +56,7 @@
 #include "base/scout_protocol.h"
 #include "bus/core.h"
 #include "config/config.h"
+#include "config/fields.h"
 
 namespace evade::base {
 
@@ -75,9 +76,34 @@ struct BaseDriverParams {
   double max_odometry_gap_s = 0.5;
   double reopen_backoff_min_s = 0.1;
   double reopen_backoff_max_s = 2.0;
-  Pose2 initial_pose;
-  VelocityLimits limits;
-  int64_t epoch = 0;  // ODOMETRY.epoch: not from config; the main sets its start time
+  Pose2 initial_pose;     // [x m, y m, yaw rad] in the YAML; yaw wrapped to (-pi, pi]
+  VelocityLimits limits;  // robot: (config/robot_params.h), not in this section's list
+  int64_t epoch = 0;      // ODOMETRY.epoch: not from config; the main sets its start time
+
+  // The `base_driver:` section.
+  template <class V>
+  void fields(V& v) {
+    v.field("device", device);
+    v.rule(!device.empty(), "device", "must not be empty");
+    v.choice("baud_rate", baud_rate,
+             config::Choices<int>{{"9600", 9600},
+                                  {"19200", 19200},
+                                  {"38400", 38400},
+                                  {"57600", 57600},
+                                  {"115200", 115200},
+                                  {"230400", 230400},
+                                  {"460800", 460800}});
+    v.field("command_rate_hz", command_rate_hz, config::between(1.0, 1000.0));
+    v.field("watchdog_timeout_s", watchdog_timeout_s, config::between(0.001, 10.0));
+    v.field("cmd_vel_max_age_s", cmd_vel_max_age_s, config::between(0.001, 10.0));
+    v.field("link_timeout_s", link_timeout_s, config::between(0.001, 10.0));
+    v.field("status_rate_hz", status_rate_hz, config::between(0.1, 1000.0));
+    v.field("max_odometry_gap_s", max_odometry_gap_s, config::between(0.001, 10.0));
+    v.field("reopen_backoff_min_s", reopen_backoff_min_s, config::between(0.001, 60.0));
+    v.field("reopen_backoff_max_s", reopen_backoff_max_s, config::between(reopen_backoff_min_s, 600.0));
+    v.convert("initial_pose", initial_pose, pose_converter());
+  }
+  static config::Converter<Pose2> pose_converter();
 
   // Reads the `base_driver:` section (closed) and the velocity and
   // acceleration limits of the shared `robot:` section (not closed: other

@@ -55,13 +55,7 @@ bool is_authenticated(const std::string& channel) {
 }
 
 AuthParams AuthParams::from_config(const config::Node& root) {
-  AuthParams p;
-  const config::Node s = root.section("bus").section("auth");
-  p.key_file = s.get<std::string>("key_file");
-  if (p.key_file.empty()) s.fail("key_file", "must name the key file");
-  p.window_s = s.get_double("window_s", 0.05, 60.0);
-  s.close();
-  return p;
+  return config::load<AuthParams>(root.section("bus").section("auth"));
 }
 
 std::string key_path(const AuthParams& params) {

@@ -31,6 +31,7 @@
 
 #include "bus/core.h"
 #include "config/config.h"
+#include "config/fields.h"
 
 namespace evade::bus {
 
@@ -44,8 +45,16 @@ inline constexpr size_t kMinKeyBytes = 32;
 
 // Parameters of the `bus.auth` section of the robot configuration.
 struct AuthParams {
-  std::string key_file;   // "~/" is the user's home; $EVADE_BUS_KEY overrides
-  double window_s = 2.0;  // |utime - bus time| accepted
+  std::string key_file = "~/.config/evade/bus.key";  // "~/" is the user's home; $EVADE_BUS_KEY overrides
+  double window_s = 2.0;                             // |utime - bus time| accepted
+
+  template <class V>
+  void fields(V& v) {
+    v.field("key_file", key_file);
+    v.rule(!key_file.empty(), "key_file", "must name the key file");
+    v.field("window_s", window_s, config::between(0.05, 60.0));
+  }
+  // root = the whole configuration; reads `bus.auth`.
   static AuthParams from_config(const config::Node& root);
 };
 

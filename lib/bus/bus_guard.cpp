@@ -47,16 +47,7 @@ std::string dotted(uint32_t a) {
 }  // namespace
 
 BusGuardParams BusGuardParams::from_config(const config::Node& root) {
-  BusGuardParams p;
-  const config::Node s = root.section("bus");
-  p.allowed_interfaces = s.get_strings("allowed_interfaces");
-  if (s.has("auth")) (void)s.section("auth");              // read and closed by AuthParams (auth.h)
-  if (s.has("clock_sync")) (void)s.section("clock_sync");  // by ClockSyncParams (clock_sync.h)
-  for (const auto& name : p.allowed_interfaces)
-    if (name.size() > 15 || name.find_first_of(" /\t:") != std::string::npos)
-      s.fail("allowed_interfaces", "'" + name + "' is not an interface name");
-  s.close();
-  return p;
+  return config::load<BusGuardParams>(root.section("bus"));
 }
 
 std::optional<BusAddress> parse_udpm_url(const std::string& url) {

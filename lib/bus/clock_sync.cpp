@@ -7,13 +7,7 @@
 namespace evade::bus {
 
 ClockSyncParams ClockSyncParams::from_config(const config::Node& root) {
-  ClockSyncParams p;
-  const config::Node s = root.section("bus").section("clock_sync");
-  p.period_s = s.get_double("period_s", 0.1, 60.0);
-  p.window_samples = s.get_int("window_samples", 1, 64);
-  p.max_offset_s = s.get_double("max_offset_s", 0.0001, 10.0);
-  s.close();
-  return p;
+  return config::load<ClockSyncParams>(root.section("bus").section("clock_sync"));
 }
 
 OffsetSample ntp_sample(int64_t t1, int64_t t2, int64_t t3, int64_t t4) {

@@ -37,6 +37,7 @@
 #include <string>
 
 #include "config/config.h"
+#include "config/fields.h"
 #include "evade/clock_sync_t.hpp"
 
 namespace evade::bus {
@@ -48,6 +49,14 @@ struct ClockSyncParams {
   double period_s = 1.0;       // a request every period (the requester)
   int window_samples = 8;      // samples kept per answering process
   double max_offset_s = 0.02;  // beyond: the requester warns and counts
+
+  template <class V>
+  void fields(V& v) {
+    v.field("period_s", period_s, config::between(0.1, 60.0));
+    v.field("window_samples", window_samples, config::between(1, 64));
+    v.field("max_offset_s", max_offset_s, config::between(0.0001, 10.0));
+  }
+  // root = the whole configuration; reads `bus.clock_sync`.
   static ClockSyncParams from_config(const config::Node& root);
 };
 

@@ -16,31 +16,7 @@ int ElevationMapParams::width() const { return int(std::lround(size_x_m / resolu
 int ElevationMapParams::height() const { return int(std::lround(size_y_m / resolution_m)); }
 
 ElevationMapParams ElevationMapParams::from_config(const config::Node& s) {
-  ElevationMapParams p;
-  p.size_x_m = s.get_double("size_x_m", 1.0, 200.0);
-  p.size_y_m = s.get_double("size_y_m", 1.0, 200.0);
-  p.resolution_m = s.get_double("resolution_m", 0.01, 2.0);
-  if (p.width() < 3 || p.height() < 3) s.fail("resolution_m", "the grid needs at least 3 x 3 cells");
-  if (p.width() > 4000 || p.height() > 4000) s.fail("resolution_m", "more than 4000 cells along a side");
-  p.min_z_m = s.get<double>("min_z_m");
-  p.max_z_m = s.get<double>("max_z_m");
-  if (p.max_z_m <= p.min_z_m) s.fail("max_z_m", "must be above min_z_m");
-  p.min_range_m = s.get_double("min_range_m", 0.0, 1000.0);
-  p.max_range_m = s.get_double("max_range_m", 0.0, 1000.0);
-  if (p.max_range_m <= p.min_range_m) s.fail("max_range_m", "must be above min_range_m");
-  p.sweep_slice_us = int64_t(s.get_double("sweep_slice_s", 1e-5, 0.1) * 1e6);
-  p.max_sweep_us = int64_t(s.get_double("max_sweep_s", 0.01, 1.0) * 1e6);
-  p.odometry_history_us = int64_t(s.get_double("odometry_history_s", 0.1, 60.0) * 1e6);
-  p.max_extrapolation_us = int64_t(s.get_double("max_extrapolation_s", 0.0, 1.0) * 1e6);
-  p.hole_fill_min_neighbors = s.get_int("hole_fill_min_neighbors", 1, 9);
-  p.sobel_max = s.get_positive("sobel_max");
-  p.laplace_max_per_m = s.get_positive("laplace_max_per_m");
-  p.step_max_m = s.get_positive("step_max_m");
-  p.step_includes_cell_extent = s.get<bool>("step_includes_cell_extent");
-  p.blind_ground_radius_m = s.get_double("blind_ground_radius_m", 0.0, 100.0);
-  p.blind_ground_step_max_m = s.get_positive("blind_ground_step_max_m");
-  s.close();
-  return p;
+  return config::load<ElevationMapParams>(s);
 }
 
 void ElevationLayers::reset(double ox, double oy, double res, int w, int h) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "config/config.h"
+#include "config/fields.h"
 #include "mapping/pose_buffer.h"
 
 namespace evade::mapping {
@@ -50,6 +51,32 @@ struct ElevationMapParams {
 
   int width() const;
   int height() const;
+
+  template <class V>
+  void fields(V& v) {
+    v.field("size_x_m", size_x_m, config::between(1.0, 200.0));
+    v.field("size_y_m", size_y_m, config::between(1.0, 200.0));
+    v.field("resolution_m", resolution_m, config::between(0.01, 2.0));
+    v.rule(width() >= 3 && height() >= 3, "resolution_m", "the grid needs at least 3 x 3 cells");
+    v.rule(width() <= 4000 && height() <= 4000, "resolution_m", "more than 4000 cells along a side");
+    v.field("min_z_m", min_z_m);
+    v.field("max_z_m", max_z_m);
+    v.rule(max_z_m > min_z_m, "max_z_m", "must be above min_z_m");
+    v.field("min_range_m", min_range_m, config::between(0.0, 1000.0));
+    v.field("max_range_m", max_range_m, config::between(0.0, 1000.0));
+    v.rule(max_range_m > min_range_m, "max_range_m", "must be above min_range_m");
+    v.convert("sweep_slice_s", sweep_slice_us, config::seconds_as_us_truncated(config::between(1e-5, 0.1)));
+    v.convert("max_sweep_s", max_sweep_us, config::seconds_as_us_truncated(config::between(0.01, 1.0)));
+    v.convert("odometry_history_s", odometry_history_us, config::seconds_as_us_truncated(config::between(0.1, 60.0)));
+    v.convert("max_extrapolation_s", max_extrapolation_us, config::seconds_as_us_truncated(config::between(0.0, 1.0)));
+    v.field("hole_fill_min_neighbors", hole_fill_min_neighbors, config::between(1, 9));
+    v.field("sobel_max", sobel_max, config::positive());
+    v.field("laplace_max_per_m", laplace_max_per_m, config::positive());
+    v.field("step_max_m", step_max_m, config::positive());
+    v.field("step_includes_cell_extent", step_includes_cell_extent);
+    v.field("blind_ground_radius_m", blind_ground_radius_m, config::between(0.0, 100.0));
+    v.field("blind_ground_step_max_m", blind_ground_step_max_m, config::positive());
+  }
   static ElevationMapParams from_config(const config::Node& section);
 };
 

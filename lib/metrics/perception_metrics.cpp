@@ -14,18 +14,7 @@
 
 namespace evade::metrics {
 
-PerceptionParams PerceptionParams::from_config(const config::Node& s) {
-  PerceptionParams p;
-  p.range_m = s.get_positive("range_m");
-  p.min_returns = s.get_int("min_returns", 1, 100000);
-  p.match_gate_m = s.get_positive("match_gate_m");
-  p.max_object_size_m = s.get_positive("max_object_size_m");
-  p.min_track_age_s = s.get_double("min_track_age_s", 0.0, 60.0);
-  p.walker_max_radius_m = s.get_positive("walker_max_radius_m");
-  p.walker_max_speed_mps = s.get_positive("walker_max_speed_mps");
-  s.close();
-  return p;
-}
+PerceptionParams PerceptionParams::from_config(const config::Node& s) { return config::load<PerceptionParams>(s); }
 
 namespace {
 

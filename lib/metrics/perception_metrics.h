@@ -11,6 +11,7 @@
 
 #include "bus/log.h"
 #include "config/config.h"
+#include "config/fields.h"
 #include "metrics/clear_mot.h"
 
 namespace evade::metrics {
@@ -23,6 +24,17 @@ struct PerceptionParams {
   double min_track_age_s = 0.5;       // calibration is judged on tracks at least this old
   double walker_max_radius_m = 0.35;  // a walker: a cylinder no wider ...
   double walker_max_speed_mps = 2.0;  // ... and no faster than this
+
+  template <class V>
+  void fields(V& v) {
+    v.field("range_m", range_m, config::positive());
+    v.field("min_returns", min_returns, config::between(1, 100000));
+    v.field("match_gate_m", match_gate_m, config::positive());
+    v.field("max_object_size_m", max_object_size_m, config::positive());
+    v.field("min_track_age_s", min_track_age_s, config::between(0.0, 60.0));
+    v.field("walker_max_radius_m", walker_max_radius_m, config::positive());
+    v.field("walker_max_speed_mps", walker_max_speed_mps, config::positive());
+  }
   static PerceptionParams from_config(const config::Node& section);
 };
 

@@ -118,19 +118,7 @@ const char* metrics_rules() {
   return rules.c_str();
 }
 
-MetricsParams MetricsParams::from_config(const config::Node& s) {
-  MetricsParams p;
-  p.local_map_size_m = s.get_positive("local_map_size_m");
-  p.motion_threshold_mps = s.get_positive("motion_threshold_mps");
-  p.dynamic_speed_threshold_mps = s.get_positive("dynamic_speed_threshold_mps");
-  p.react_match_radius_m = s.get_positive("react_match_radius_m");
-  p.react_owner_switch_s = s.get_positive("react_owner_switch_s");
-  p.react_plan_diff_m = s.get_positive("react_plan_diff_m");
-  p.react_max_s = s.get_positive("react_max_s");
-  p.fault_approach_speed_mps = s.get_positive("fault_approach_speed_mps");
-  s.close();
-  return p;
-}
+MetricsParams MetricsParams::from_config(const config::Node& s) { return config::load<MetricsParams>(s); }
 
 namespace {
 

@@ -11,6 +11,7 @@
 
 #include "bus/log.h"
 #include "config/config.h"
+#include "config/fields.h"
 #include "metrics/contacts.h"
 #include "metrics/geometry.h"
 #include "metrics/reaction.h"
@@ -27,6 +28,18 @@ struct MetricsParams {
   double react_plan_diff_m = 0.1;
   double react_max_s = 10.0;
   double fault_approach_speed_mps = 0.1;
+
+  template <class V>
+  void fields(V& v) {
+    v.field("local_map_size_m", local_map_size_m, config::positive());
+    v.field("motion_threshold_mps", motion_threshold_mps, config::positive());
+    v.field("dynamic_speed_threshold_mps", dynamic_speed_threshold_mps, config::positive());
+    v.field("react_match_radius_m", react_match_radius_m, config::positive());
+    v.field("react_owner_switch_s", react_owner_switch_s, config::positive());
+    v.field("react_plan_diff_m", react_plan_diff_m, config::positive());
+    v.field("react_max_s", react_max_s, config::positive());
+    v.field("fault_approach_speed_mps", fault_approach_speed_mps, config::positive());
+  }
   static MetricsParams from_config(const config::Node& section);
 };
 

@@ -1,10 +1,12 @@
 // Parameters of the predictor (config/robot.yaml, section `predictor:`).
-// Every key is read here; units are in the key names.
+// Every key is listed once, in the fields() of its struct (config/fields.h);
+// units are in the key names, the defaults are robot.yaml's.
 #pragma once
 
 #include <string>
 
 #include "config/config.h"
+#include "config/fields.h"
 
 namespace evade::prediction {
 
@@ -26,6 +28,18 @@ struct FilterParams {
   // Orientation of a near-circular MBE is noise: its measurement variance
   // grows as (axis std / max(a - b, this))^2.
   double orientation_min_elongation_m = 0.02;
+
+  template <class V>
+  void fields(V& v) {
+    v.field("init_speed_std_mps", init_speed_std_mps, config::positive());
+    v.field("init_accel_std_mps2", init_accel_std_mps2, config::positive());
+    v.field("jerk_psd_m2ps5", jerk_psd_m2ps5, config::positive());
+    v.field("axis_psd_m2ps", axis_psd_m2ps, config::positive());
+    v.field("theta_psd_rad2ps", theta_psd_rad2ps, config::positive());
+    v.field("r_axis_m2", r_axis_m2, config::positive());
+    v.field("r_theta_rad2", r_theta_rad2, config::positive());
+    v.field("orientation_min_elongation_m", orientation_min_elongation_m, config::positive());
+  }
 };
 
 // Manoeuvres: the low jerk noise that gives accurate velocities of steady
@@ -47,6 +61,16 @@ struct ManeuverParams {
   // acceleration of accel_psd_m2ps3 drives the velocity).
   std::string model = "cv";
   double accel_psd_m2ps3 = 1.0;
+
+  template <class V>
+  void fields(V& v) {
+    v.field("enabled", enabled);
+    v.field("jerk_psd_m2ps5", jerk_psd_m2ps5, config::positive());
+    v.field("mean_quiet_s", mean_quiet_s, config::positive());
+    v.field("mean_maneuver_s", mean_maneuver_s, config::positive());
+    v.choice("model", model, {"ca", "cv"});
+    v.field("accel_psd_m2ps3", accel_psd_m2ps3, config::positive());
+  }
 };
 
 // A third IMM mode for things that stand still (bins, parked cars, a
@@ -63,6 +87,14 @@ struct StationaryParams {
   double mean_stationary_s = 30.0;   // expected time standing before starting to move
   double stop_share = 0.5;           // share of ending manoeuvres that end standing (the rest in steady motion)
   double position_psd_m2ps = 0.002;  // random walk of the centre (the MBE's drift with the view)
+
+  template <class V>
+  void fields(V& v) {
+    v.field("enabled", enabled);
+    v.field("mean_stationary_s", mean_stationary_s, config::positive());
+    v.field("stop_share", stop_share, config::between(0.0, 1.0));
+    v.field("position_psd_m2ps", position_psd_m2ps, config::positive());
+  }
 };
 
 struct AdaptiveNoiseParams {
@@ -74,6 +106,20 @@ struct AdaptiveNoiseParams {
   double xi_max_m2 = 0.25;       // Xi_max,crit
   double r_pos_min_m2 = 0.0016;  // R_p,min
   double r_pos_max_m2 = 0.25;    // R_p,max
+
+  template <class V>
+  void fields(V& v) {
+    v.field("window_frames", window_frames, config::between(2, 1000));
+    v.choice("shape_variation_source", shape_variation_source, {"own", "tracker"});
+    v.field("kappa", kappa, config::positive());
+    v.field("gamma", gamma, config::positive());
+    v.field("xi_min_m2", xi_min_m2, config::positive());
+    v.field("xi_max_m2", xi_max_m2, config::positive());
+    v.rule(xi_max_m2 > xi_min_m2, "xi_max_m2", "must be greater than xi_min_m2");
+    v.field("r_pos_min_m2", r_pos_min_m2, config::positive());
+    v.field("r_pos_max_m2", r_pos_max_m2, config::positive());
+    v.rule(r_pos_max_m2 >= r_pos_min_m2, "r_pos_max_m2", "must be at least r_pos_min_m2");
+  }
 };
 
 struct UncertaintyParams {
@@ -85,12 +131,27 @@ struct UncertaintyParams {
   // and unbounded it makes every moving obstacle cover the road by k = 25,
   // which leaves the planner no feasible plan.
   double max_inflation_m = 0.5;
+
+  template <class V>
+  void fields(V& v) {
+    v.field("confidence", confidence, config::between(0.5, 0.999999));
+    v.field("min_axis_m", min_axis_m, config::positive());
+    v.field("root_tolerance_m", root_tolerance_m, config::between(1e-15, 1e-3));
+    v.field("max_inflation_m", max_inflation_m, config::between(0.0, 100.0));
+  }
 };
 
 struct LimitParams {
   double max_speed_mps = 5.0;     // predicted speed is clipped to this
   double max_accel_mps2 = 1.5;    // predicted acceleration magnitude is clipped to this
   double max_accel_time_s = 1.5;  // the acceleration acts for at most this long into the prediction
+
+  template <class V>
+  void fields(V& v) {
+    v.field("max_speed_mps", max_speed_mps, config::positive());
+    v.field("max_accel_mps2", max_accel_mps2, config::positive());
+    v.field("max_accel_time_s", max_accel_time_s, config::between(0.0, 1e3));
+  }
 };
 
 // A mover's cluster can split (a bicycle's front and side seen apart, a
@@ -106,7 +167,15 @@ struct FragmentParams {
   double min_parent_speed_mps = 0.3;  // only tracks at least this fast pass their motion on
   double margin_m = 0.3;              // born within the parent's semi-major axis + this of its centre
   double extra_speed_std_mps = 0.3;   // added (in quadrature) to the parent's velocity std per axis
-  bool enabled = true;
+  bool enabled = false;               // off in config/robot.yaml: it no longer changes a perception figure
+
+  template <class V>
+  void fields(V& v) {
+    v.field("enabled", enabled);
+    v.field("min_parent_speed_mps", min_parent_speed_mps, config::between(0.0, 100.0));
+    v.field("margin_m", margin_m, config::between(0.0, 10.0));
+    v.field("extra_speed_std_mps", extra_speed_std_mps, config::between(0.0, 100.0));
+  }
 };
 
 struct PredictorParams {
@@ -121,9 +190,29 @@ struct PredictorParams {
   ManeuverParams maneuver;
   StationaryParams stationary;
   FragmentParams fragment;
-  AdaptiveNoiseParams adaptive;
+  AdaptiveNoiseParams adaptive_noise;
   UncertaintyParams uncertainty;
   LimitParams limits;
+
+  template <class V>
+  void fields(V& v) {
+    v.field("prediction_steps", prediction_steps, config::between(1, 1000));
+    v.field("prediction_dt_s", prediction_dt_s, config::between(1e-3, 10.0));
+    v.field("max_frame_gap_s", max_frame_gap_s, config::between(1e-3, 60.0));
+    v.field("coast_max_s", coast_max_s, config::between(0.0, 60.0));
+    v.field("coast_min_frames", coast_min_frames, config::between(1, 1000));
+    v.field("max_abs_coordinate_m", max_abs_coordinate_m, config::positive());
+    v.field("max_axis_m", max_axis_m, config::positive());
+    v.section("filter", filter);
+    v.section("maneuver", maneuver);
+    v.section("stationary", stationary);
+    v.rule(!stationary.enabled || maneuver.enabled, "stationary.enabled",
+           "the stationary mode needs maneuver.enabled (a start from rest is a manoeuvre)");
+    v.section("fragment", fragment);
+    v.section("adaptive_noise", adaptive_noise);
+    v.section("uncertainty", uncertainty);
+    v.section("limits", limits);
+  }
 
   static PredictorParams from_config(const config::Node& section);
 };

@@ -103,7 +103,7 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
   x_(kTheta) = wrap_half_pi(z.theta);
   P_.setZero();
   // Position: the noise of one steady MBE (R_p,min); the shape window fills from here.
-  P_(kX, kX) = P_(kY, kY) = params.adaptive.r_pos_min_m2;
+  P_(kX, kX) = P_(kY, kY) = params.adaptive_noise.r_pos_min_m2;
   P_(kA, kA) = P_(kB, kB) = f.r_axis_m2;
   P_(kTheta, kTheta) =
       f.r_theta_rad2 + f.r_axis_m2 / std::pow(std::max(std::fabs(z.a - z.b), f.orientation_min_elongation_m), 2);
@@ -124,11 +124,11 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
   for (int j = 0; j < num_modes_; ++j) total += share[j];
   for (int j = 0; j < kMaxModes; ++j) mu_[j] = j < num_modes_ ? share[j] / total : 0.0;
   combine();
-  window_.reserve(static_cast<size_t>(params.adaptive.window_frames));
+  window_.reserve(static_cast<size_t>(params.adaptive_noise.window_frames));
   window_.push_back({z.a, z.b, x_(kTheta)});
   last_theta_ = x_(kTheta);
-  use_tracker_variation_ = params.adaptive.shape_variation_source == "tracker";
-  window_next_ = window_.size() % static_cast<size_t>(params.adaptive.window_frames);
+  use_tracker_variation_ = params.adaptive_noise.shape_variation_source == "tracker";
+  window_next_ = window_.size() % static_cast<size_t>(params.adaptive_noise.window_frames);
   updates_ = 0;
 }
 
@@ -318,7 +318,7 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
   // Shape window, theta unwrapped against the previous entry so that its mean is meaningful.
   const Shape aligned{ma, mb, last_theta_ + wrap_half_pi(mt - last_theta_)};
   last_theta_ = aligned.theta;
-  const size_t m = static_cast<size_t>(params_->adaptive.window_frames);
+  const size_t m = static_cast<size_t>(params_->adaptive_noise.window_frames);
   if (window_.size() < m)
     window_.push_back(aligned);
   else
@@ -326,7 +326,7 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
   window_next_ = (window_next_ + 1) % m;
 
   info.xi_eta = use_tracker_variation_ ? std::max(0.0, z.tracker_shape_variation) : own_shape_variation();
-  info.r_position = adaptive_position_variance(info.xi_eta, params_->adaptive, &info.k);
+  info.r_position = adaptive_position_variance(info.xi_eta, params_->adaptive_noise, &info.k);
 
   Eigen::Matrix<double, kMeasSize, 1> r_diag;
   const double elongation = std::max(std::fabs(ma - mb), f.orientation_min_elongation_m);

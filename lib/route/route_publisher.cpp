@@ -5,15 +5,7 @@
 
 namespace evade::route {
 
-RouteParams RouteParams::from_config(const config::Node& section) {
-  RouteParams p;
-  p.waypoints = section.get_points("waypoints");
-  std::string why = validate_route(p.waypoints);
-  if (!why.empty()) section.fail("waypoints", why);
-  p.publish_period_s = section.get_double("publish_period_s", 0.01, 60.0);
-  section.close();
-  return p;
-}
+RouteParams RouteParams::from_config(const config::Node& section) { return config::load<RouteParams>(section); }
 
 std::string validate_route(const std::vector<std::vector<double>>& waypoints) {
   if (waypoints.size() < 2) return "a route needs at least two points";

@@ -13,22 +13,31 @@
 
 #include "bus/core.h"
 #include "config/config.h"
+#include "config/fields.h"
 #include "evade/path_t.hpp"
 
 namespace evade::route {
-
-struct RouteParams {
-  std::vector<std::vector<double>> waypoints;  // m, [[x, y], ...] in the odometry/world frame
-  double publish_period_s = 1.0;               // s between ROUTE messages
-
-  // Reads the `route:` section; errors name file, line and key.
-  static RouteParams from_config(const config::Node& section);
-};
 
 // Checks a polyline: at least two points, finite, no zero-length segment.
 // Returns an empty string when valid, else the reason.
 std::string validate_route(const std::vector<std::vector<double>>& waypoints);
 std::string validate_route(const evade::path_t& path);
+
+struct RouteParams {
+  std::vector<std::vector<double>> waypoints{{0.0, 0.0}, {20.0, 0.0}};  // m, [[x, y], ...] in the odometry/world frame
+  double publish_period_s = 1.0;                                        // s between ROUTE messages
+
+  template <class V>
+  void fields(V& v) {
+    v.field("waypoints", waypoints);
+    const std::string why = validate_route(waypoints);
+    v.rule(why.empty(), "waypoints", why);
+    v.field("publish_period_s", publish_period_s, config::between(0.01, 60.0));
+  }
+
+  // Reads the `route:` section; errors name file, line and key.
+  static RouteParams from_config(const config::Node& section);
+};
 
 // A ROUTE message of these waypoints (not validated).
 evade::path_t make_path(const std::vector<std::vector<double>>& waypoints, int64_t utime);

@@ -2,51 +2,44 @@
 
 #include <arpa/inet.h>
 
+#include "config/robot_params.h"
 #include "sensing/rs_helios.h"
 #include "sensing/vlp16.h"
 
 namespace evade::sensing {
 
-LidarDriverParams LidarDriverParams::from_config(const config::Node& root) {
-  LidarDriverParams p;
-  const config::Node lidar = root.section("lidar");
-  const std::string model = lidar.get_choice("model", {"vlp16", "rs_helios"});
-  p.decoder.model = model == "vlp16" ? LidarModel::kVlp16 : LidarModel::kRsHelios;
-  const config::Node mount = lidar.section("mount");
-  p.decoder.mount.x = mount.get<double>("x_m");
-  p.decoder.mount.y = mount.get<double>("y_m");
-  p.decoder.mount.z = mount.get<double>("z_m");
-  p.decoder.mount.roll = mount.get_double("roll_rad", -M_PI, M_PI);
-  p.decoder.mount.pitch = mount.get_double("pitch_rad", -M_PI, M_PI);
-  p.decoder.mount.yaw = mount.get_double("yaw_rad", -M_PI, M_PI);
-
-  const config::Node s = root.section("lidar_driver");
-  p.bind_address = s.get<std::string>("bind_address");
+bool LidarDriverParams::is_ipv4(const std::string& address) {
   in_addr addr{};
-  if (inet_pton(AF_INET, p.bind_address.c_str(), &addr) != 1) s.fail("bind_address", "not an IPv4 address");
-  p.vlp16_data_port = s.get_int("vlp16_data_port", 1, 65535);
-  p.rs_helios_msop_port = s.get_int("rs_helios_msop_port", 1, 65535);
-  p.rs_helios_difop_port = s.get_int("rs_helios_difop_port", 1, 65535);
-  if (p.rs_helios_msop_port == p.rs_helios_difop_port)
-    s.fail("rs_helios_difop_port", "must differ from rs_helios_msop_port");
-  p.socket_receive_buffer_bytes = s.get_int("socket_receive_buffer_bytes", 65536, 1 << 30);
-  p.decoder.cut_azimuth_deg = s.get_double("cut_azimuth_deg", 0.0, 360.0);
-  p.decoder.min_range_m = s.get_double("min_range_m", 0.0, 10.0);
-  const double sensor_max =
-      p.decoder.model == LidarModel::kVlp16 ? vlp16::kMaxEncodableRangeM : rs_helios::kMaxEncodableRangeM;
-  p.decoder.max_range_m = s.get_double("max_range_m", 0.0, sensor_max);
-  if (p.decoder.max_range_m <= p.decoder.min_range_m) s.fail("max_range_m", "must exceed min_range_m");
-  p.decoder.vertical_offset_correction = s.get<bool>("vertical_offset_correction");
-  p.decoder.time_source =
-      s.get_choice("time_source", {"receive", "sensor"}) == "receive" ? TimeSource::kReceive : TimeSource::kSensor;
-  p.decoder.max_packets_per_revolution = s.get_int("max_packets_per_revolution", 1, 100000);
-  p.publish_scan = s.get<bool>("publish_scan");
-  p.decoder.self_filter.enabled = s.get<bool>("self_filter");
-  p.decoder.self_filter.margin_m = s.get_double("self_filter_margin_m", 0.0, 1.0);
-  s.close();
-  const config::Node robot = root.section("robot");
-  p.decoder.self_filter.footprint_length_m = robot.get_positive("footprint_length_m");
-  p.decoder.self_filter.footprint_width_m = robot.get_positive("footprint_width_m");
+  return inet_pton(AF_INET, address.c_str(), &addr) == 1;
+}
+
+LidarDecoderParams LidarDriverParams::default_decoder() {
+  LidarDecoderParams d;
+  d.min_range_m = 0.4;
+  d.max_range_m = 100.0;
+  d.self_filter.enabled = true;
+  d.self_filter.margin_m = 0.05;
+  return d;
+}
+
+double LidarDriverParams::max_encodable_range_m(LidarModel model) {
+  return model == LidarModel::kVlp16 ? vlp16::kMaxEncodableRangeM : rs_helios::kMaxEncodableRangeM;
+}
+
+LidarDriverParams LidarDriverParams::from_config(const config::Node& root) {
+  const config::LidarParams lidar = config::load<config::LidarParams>(root.section("lidar"));
+  LidarDriverParams p;
+  p.decoder.model = lidar.model == "vlp16" ? LidarModel::kVlp16 : LidarModel::kRsHelios;
+  p.decoder.mount.x = lidar.mount.x_m;
+  p.decoder.mount.y = lidar.mount.y_m;
+  p.decoder.mount.z = lidar.mount.z_m;
+  p.decoder.mount.roll = lidar.mount.roll_rad;
+  p.decoder.mount.pitch = lidar.mount.pitch_rad;
+  p.decoder.mount.yaw = lidar.mount.yaw_rad;
+  config::load_into(root.section("lidar_driver"), p);
+  const config::RobotParams robot = config::load<config::RobotParams>(root.section("robot"));
+  p.decoder.self_filter.footprint_length_m = robot.footprint_length_m;
+  p.decoder.self_filter.footprint_width_m = robot.footprint_width_m;
   return p;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "config/config.h"
+#include "config/fields.h"
 
 namespace evade::sim::gen {
 
@@ -31,11 +32,13 @@ struct RobotFacts {
   // blind_ground_step_max_m, the larger): lower obstacles are not seen.
   double step_max_m = 0.15;
 
-  // Reads robot, planner, lidar.mount and elevation_map (shared sections,
-  // not closed).
+  // Reads robot and lidar (through their field lists, config/robot_params.h),
+  // planner.reference_speed_mps and elevation_map's step thresholds.
   static RobotFacts from_config(const config::Node& root);
 };
 
+// Defaults: config/scenario_families.yaml's values (test_scenario_gen
+// checks that a default-constructed FamilyParams equals the file).
 struct CommonParams {
   Range route_length_m{16.0, 24.0};
   double goal_tolerance_m = 0.3;
@@ -62,64 +65,74 @@ struct BoxKind {  // bikes, vehicles, benches, planters, walls
 };
 
 struct Shapes {
-  CylinderKind walker, jogger, ball, dog;
-  BoxKind bike, parked_vehicle;
-  Range wall_thickness_m, wall_height_m;
+  CylinderKind walker{{0.2, 0.3}, {1.5, 1.9}, {0.8, 1.6}};
+  CylinderKind jogger{{0.2, 0.3}, {1.5, 1.9}, {2.0, 3.2}};
+  CylinderKind ball{{0.11, 0.11}, {0.22, 0.22}, {1.0, 3.0}};  // as high as it is wide
+  CylinderKind dog{{0.15, 0.3}, {0.3, 0.6}, {1.0, 3.0}};
+  BoxKind bike{{1.6, 1.9}, {0.5, 0.7}, {1.4, 1.8}, {2.5, 5.0}};
+  BoxKind parked_vehicle{{3.8, 5.0}, {1.7, 2.0}, {1.45, 2.2}, {}};
+  Range wall_thickness_m{0.15, 0.3}, wall_height_m{1.0, 2.5};
 };
 
 struct CrossingParams {
-  Count movers;
-  double bike_share = 0.0;
-  Range crossing_angle_deg, lead_s, approach_m, exit_m;
+  Count movers{1, 4};
+  double bike_share = 0.2;
+  Range crossing_angle_deg{60.0, 120.0}, lead_s{-2.0, 2.0}, approach_m{3.0, 8.0}, exit_m{3.0, 6.0};
 };
 struct HeadonParams {
-  Count movers;
-  double bike_share = 0.0;
-  double group_share = 0.0;  // of the walkers: a group abreast
-  Count group_size;
-  Range group_spacing_m;
-  Range lateral_offset_m, start_past_goal_m, start_delay_s;
+  Count movers{1, 3};
+  double bike_share = 0.35;
+  double group_share = 0.3;  // of the walkers: a group abreast
+  Count group_size{2, 3};
+  Range group_spacing_m{0.7, 1.0};
+  Range lateral_offset_m{-0.8, 0.8}, start_past_goal_m{-4.0, 6.0}, start_delay_s{0.0, 8.0};
 };
 struct OvertakingParams {
-  Count movers;
-  double jogger_share = 0.0, bike_share = 0.0;
-  Range walker_speed_mps, lateral_offset_m, start_behind_m, start_delay_s;
+  Count movers{1, 3};
+  double jogger_share = 0.3, bike_share = 0.4;
+  Range walker_speed_mps{1.3, 1.8}, lateral_offset_m{0.7, 1.6}, start_behind_m{3.0, 12.0}, start_delay_s{0.0, 10.0};
 };
 struct CrowdParams {
-  Count walkers;
-  Range street_width_m, crossing_angle_deg, crossing_share, along_length_m, along_lateral_m;
+  Count walkers{5, 15};
+  Range street_width_m{4.0, 8.0}, crossing_angle_deg{70.0, 110.0}, crossing_share{0.3, 0.7}, along_length_m{4.0, 12.0},
+      along_lateral_m{0.3, 2.0};
   double min_separation_m = 0.2;
 };
 struct DoorwayParams {
-  Range gap_m, gap_offset_m, wall_at, wall_half_length_m;
+  Range gap_m{0.61, 2.0}, gap_offset_m{-1.0, 1.0}, wall_at{0.35, 0.65}, wall_half_length_m{4.0, 8.0};
   double straight_m = 2.0;
-  double through_share = 0.0, same_way_share = 0.0;
-  Range lead_s, approach_m, exit_m, exit_aside_m;
+  double through_share = 0.7, same_way_share = 0.3;
+  Range lead_s{-3.0, 3.0}, approach_m{3.0, 6.0}, exit_m{4.0, 8.0}, exit_aside_m{1.0, 4.0};
 };
 struct OcclusionParams {
-  Count vehicles;
-  Range kerb_offset_m, vehicle_gap_m, hidden_from_front_m;
+  Count vehicles{1, 3};
+  Range kerb_offset_m{0.6, 1.2}, vehicle_gap_m{1.0, 3.0}, hidden_from_front_m{0.5, 1.5};
   double behind_m = 0.15;
-  double jogger_share = 0.0;
-  Range lead_s, exit_m;
+  double jogger_share = 0.3;
+  Range lead_s{0.0, 2.0}, exit_m{2.0, 4.0};
 };
 struct FastSmallParams {
-  Count movers;
-  double ball_share = 0.0;
-  Range crossing_angle_deg, lead_s, approach_m, exit_m, zigzag_leg_m, zigzag_turn_deg;
+  Count movers{1, 4};
+  double ball_share = 0.5;
+  Range crossing_angle_deg{45.0, 135.0}, lead_s{-1.5, 1.5}, approach_m{3.0, 8.0}, exit_m{2.0, 6.0},
+      zigzag_leg_m{1.0, 2.5}, zigzag_turn_deg{30.0, 70.0};
 };
 struct ClutterParams {
-  Count items;
-  Range lateral_m, vehicle_lateral_m;
-  double bin_share = 0.0, post_share = 0.0, bench_share = 0.0, planter_share = 0.0;
-  CylinderKind bin, post;
-  BoxKind bench, planter;
+  Count items{4, 12};
+  Range lateral_m{-2.5, 2.5}, vehicle_lateral_m{1.6, 3.0};
+  double bin_share = 0.3, post_share = 0.25, bench_share = 0.15, planter_share = 0.2;
+  CylinderKind bin{{0.2, 0.4}, {0.8, 1.1}, {}};
+  CylinderKind post{{0.06, 0.1}, {0.9, 1.3}, {}};
+  BoxKind bench{{1.4, 2.0}, {0.4, 0.6}, {0.45, 0.55}, {}};
+  BoxKind planter{{0.6, 1.2}, {0.6, 1.2}, {0.4, 0.8}, {}};
 };
 struct MixedParams {
-  Count families;
+  Count families{2, 3};
   // Weight of each family it may draw from (family_names() order, 0 = never;
-  // mixed and doorway, whose route bends, are never drawn).
-  std::vector<std::pair<std::string, double>> weights;
+  // mixed and doorway, whose route bends, are never drawn; a family the
+  // file does not list is left out).
+  std::vector<std::pair<std::string, double>> weights{{"crossing", 1.0},  {"headon", 1.0},     {"overtaking", 1.0},
+                                                      {"occlusion", 1.0}, {"fast_small", 1.0}, {"static_clutter", 1.0}};
 };
 
 struct FamilyParams {
@@ -134,6 +147,14 @@ struct FamilyParams {
   FastSmallParams fast_small;
   ClutterParams static_clutter;
   MixedParams mixed;
+  // Not in the file: the robot the families are checked against (the
+  // doorway's narrowest gap, the lowest visible obstacle).
+  RobotFacts robot;
+
+  // The whole file, every key once (config/fields.h; scenario_gen_params.cpp
+  // instantiates it for config::Loader and config::Writer).
+  template <class V>
+  void fields(V& v);
 
   // Reads the whole file (every section closed). `robot` is checked
   // against it: the doorway's narrowest gap must let the robot through

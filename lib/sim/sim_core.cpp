@@ -3,50 +3,30 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "config/robot_params.h"
+
 namespace evade::sim {
 namespace {
-int64_t period_us_from_hz(const config::Node& n, const std::string& key) {
-  return std::llround(1e6 / n.get_double(key, 1.0, 10000.0));
-}
 int64_t us_from_s(double s) { return std::llround(s * 1e6); }
 }  // namespace
 
+config::Converter<uint8_t> SimParams::byte_converter() {
+  return {[](const config::Node& n, const std::string& key) { return static_cast<uint8_t>(n.get_int(key, 0, 255)); },
+          [](const uint8_t& b) { return config::number_node(b); }};
+}
+
 SimParams SimParams::from_config(const config::Node& root) {
-  SimParams p;
-  config::Node s = root.section("sim");
-  p.device_path = s.get<std::string>("device_path");
-  p.lidar_dest_host = s.get<std::string>("lidar_dest_host");
-  p.lidar_dest_port = s.get_int("lidar_dest_port", 1, 65535);
-  p.rs_helios_msop_dest_port = s.get_int("rs_helios_msop_dest_port", 1, 65535);
-  p.rs_helios_difop_dest_port = s.get_int("rs_helios_difop_dest_port", 1, 65535);
-  if (p.rs_helios_msop_dest_port == p.rs_helios_difop_dest_port)
-    s.fail("rs_helios_difop_dest_port", "must differ from rs_helios_msop_dest_port");
-  p.robot_body_height_m = s.get_double("robot_body_height_m", 0.0, 10.0);
-  p.truth_period_us = period_us_from_hz(s, "truth_rate_hz");
-  p.status_period_us = period_us_from_hz(s, "status_rate_hz");
-  p.lidar_period_us = us_from_s(s.get_double("lidar_send_period_s", 1e-4, 0.01));
-  p.lidar_max_lag_us = us_from_s(s.get_double("lidar_max_lag_s", 0.01, 1.0));
-  p.robot.step_us = us_from_s(s.get_double("physics_step_s", 1e-5, 0.01));
-  p.robot.command_timeout_us = us_from_s(s.get_positive("command_timeout_s"));
-  p.lidar.max_range_m = s.get_positive("lidar_max_range_m");
-  p.lidar.ground_reflectivity = static_cast<uint8_t>(s.get_int("ground_reflectivity", 0, 255));
-  p.lidar.obstacle_reflectivity = static_cast<uint8_t>(s.get_int("obstacle_reflectivity", 0, 255));
-  p.battery_voltage_v = s.get_double("battery_voltage_v", 0.0, 6553.5);
-  p.pty_backlog_bytes = s.get_int("pty_backlog_bytes", static_cast<int>(2 * base::kFrameSize), 1 << 20);
-  p.stop_at_duration = s.get<bool>("stop_at_duration");
-  s.close();
-
-  config::Node robot = root.section("robot");
-  p.robot.max_accel_mps2 = robot.get_positive("max_accel_mps2");
-  p.robot.max_decel_mps2 = robot.get_positive("max_decel_mps2");
-  p.robot.max_alpha_radps2 = robot.get_positive("max_alpha_radps2");
-
-  config::Node mount = root.section("lidar").section("mount");
-  p.lidar.mount_x_m = mount.get<double>("x_m");
-  p.lidar.mount_y_m = mount.get<double>("y_m");
-  p.lidar.mount_roll_rad = mount.get<double>("roll_rad");
-  p.lidar.mount_pitch_rad = mount.get<double>("pitch_rad");
-  p.lidar.mount_yaw_rad = mount.get<double>("yaw_rad");
+  SimParams p = config::load<SimParams>(root.section("sim"));
+  const config::RobotParams robot = config::load<config::RobotParams>(root.section("robot"));
+  p.robot.max_accel_mps2 = robot.max_accel_mps2;
+  p.robot.max_decel_mps2 = robot.max_decel_mps2;
+  p.robot.max_alpha_radps2 = robot.max_alpha_radps2;
+  const config::LidarParams lidar = config::load<config::LidarParams>(root.section("lidar"));
+  p.lidar.mount_x_m = lidar.mount.x_m;
+  p.lidar.mount_y_m = lidar.mount.y_m;
+  p.lidar.mount_roll_rad = lidar.mount.roll_rad;
+  p.lidar.mount_pitch_rad = lidar.mount.pitch_rad;
+  p.lidar.mount_yaw_rad = lidar.mount.yaw_rad;
   return p;
 }
 

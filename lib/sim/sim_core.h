@@ -20,6 +20,7 @@
 #include "base/scout_protocol.h"
 #include "bus/core.h"
 #include "config/config.h"
+#include "config/fields.h"
 #include "evade/sim_truth_t.hpp"
 #include "sim/lidar_sim.h"
 #include "sim/motion.h"
@@ -37,7 +38,7 @@ struct SimParams {
   int rs_helios_difop_dest_port = 7788;  // RS-Helios device info packets
   // The robot's own body as the LiDAR sees it: a box over the footprint
   // from the ground to this height (0: no body). Below the sensor.
-  double robot_body_height_m = 0.0;
+  double robot_body_height_m = 0.3;
 
   int64_t truth_period_us = 20'000;
   int64_t status_period_us = 20'000;
@@ -48,14 +49,42 @@ struct SimParams {
   double battery_voltage_v = 25.5;
   // Unread status bytes in the pty beyond which nobody is reading: the
   // queue is flushed so that a driver that (re)connects gets fresh frames.
-  int pty_backlog_bytes = 130;
+  int pty_backlog_bytes = 260;
   bool stop_at_duration = true;
 
   RobotLimits robot;
   LidarSimParams lidar;  // scenario-dependent fields filled by SimCore
 
-  // Reads the `sim` section (closed), the accelerations of `robot` and
-  // `lidar.mount` (those sections are shared: not closed here).
+  // The `sim:` section. Rates and times are converted to the periods in
+  // microseconds the simulator steps by; the physics and LiDAR keys go
+  // into `robot` and `lidar` (their accelerations and mount come from the
+  // `robot:` and `lidar:` sections, from_config).
+  template <class V>
+  void fields(V& v) {
+    v.field("device_path", device_path);
+    v.field("lidar_dest_host", lidar_dest_host);
+    v.field("lidar_dest_port", lidar_dest_port, config::between(1, 65535));
+    v.field("rs_helios_msop_dest_port", rs_helios_msop_dest_port, config::between(1, 65535));
+    v.field("rs_helios_difop_dest_port", rs_helios_difop_dest_port, config::between(1, 65535));
+    v.rule(rs_helios_msop_dest_port != rs_helios_difop_dest_port, "rs_helios_difop_dest_port",
+           "must differ from rs_helios_msop_dest_port");
+    v.field("robot_body_height_m", robot_body_height_m, config::between(0.0, 10.0));
+    v.convert("truth_rate_hz", truth_period_us, config::hz_as_period_us(config::between(1.0, 10000.0)));
+    v.convert("status_rate_hz", status_period_us, config::hz_as_period_us(config::between(1.0, 10000.0)));
+    v.convert("lidar_send_period_s", lidar_period_us, config::seconds_as_us_rounded(config::between(1e-4, 0.01)));
+    v.convert("lidar_max_lag_s", lidar_max_lag_us, config::seconds_as_us_rounded(config::between(0.01, 1.0)));
+    v.convert("physics_step_s", robot.step_us, config::seconds_as_us_rounded(config::between(1e-5, 0.01)));
+    v.convert("command_timeout_s", robot.command_timeout_us, config::seconds_as_us_rounded(config::positive()));
+    v.field("lidar_max_range_m", lidar.max_range_m, config::positive());
+    v.convert("ground_reflectivity", lidar.ground_reflectivity, byte_converter());
+    v.convert("obstacle_reflectivity", lidar.obstacle_reflectivity, byte_converter());
+    v.field("battery_voltage_v", battery_voltage_v, config::between(0.0, 6553.5));
+    v.field("pty_backlog_bytes", pty_backlog_bytes, config::between(2.0 * base::kFrameSize, 1 << 20));
+    v.field("stop_at_duration", stop_at_duration);
+  }
+  static config::Converter<uint8_t> byte_converter();  // 0..255
+
+  // Reads the `sim:` section and the shared `robot:` and `lidar:` ones.
   static SimParams from_config(const config::Node& root);
   // The UDP port a packet goes to.
   int dest_port(const std::string& model, LidarPort port) const;

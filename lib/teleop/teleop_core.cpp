@@ -12,18 +12,7 @@ int64_t period_us(double hz) { return std::max<int64_t>(1, std::llround(1e6 / hz
 }  // namespace
 
 TeleopParams TeleopParams::from_config(const config::Node& root) {
-  TeleopParams p;
-  const config::Node s = root.section("teleop");
-  p.rate_hz = s.get_double("rate_hz", 5.0, 100.0);
-  p.linear_step_mps = s.get_double("linear_step_mps", 0.01, 1.0);
-  p.angular_step_radps = s.get_double("angular_step_radps", 0.01, 2.0);
-  p.max_v_mps = s.get_double("max_v_mps", 0.01, 3.0);
-  p.max_omega_radps = s.get_double("max_omega_radps", 0.01, 6.0);
-  p.hold_s = s.get_double("hold_s", 0.1, 2.0);
-  p.estop_rate_hz = s.get_double("estop_rate_hz", 1.0, 100.0);
-  p.estop_repeats = s.get_int("estop_repeats", 1, 1000);
-  s.close();
-  return p;
+  return config::load<TeleopParams>(root.section("teleop"));
 }
 
 TeleopCore::TeleopCore(const TeleopParams& params) : bus::Core("teleop"), params_(params) {

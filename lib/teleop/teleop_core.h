@@ -10,6 +10,7 @@
 
 #include "bus/core.h"
 #include "config/config.h"
+#include "config/fields.h"
 
 namespace evade::teleop {
 
@@ -23,6 +24,19 @@ struct TeleopParams {
   double hold_s = 0.6;          // no key for this long: zero (a held key repeats faster)
   double estop_rate_hz = 10.0;  // ESTOP repeated at this rate
   int estop_repeats = 5;        // this many times (UDP may drop one)
+
+  template <class V>
+  void fields(V& v) {
+    v.field("rate_hz", rate_hz, config::between(5.0, 100.0));
+    v.field("linear_step_mps", linear_step_mps, config::between(0.01, 1.0));
+    v.field("angular_step_radps", angular_step_radps, config::between(0.01, 2.0));
+    v.field("max_v_mps", max_v_mps, config::between(0.01, 3.0));
+    v.field("max_omega_radps", max_omega_radps, config::between(0.01, 6.0));
+    v.field("hold_s", hold_s, config::between(0.1, 2.0));
+    v.field("estop_rate_hz", estop_rate_hz, config::between(1.0, 100.0));
+    v.field("estop_repeats", estop_repeats, config::between(1, 1000));
+  }
+  // root = the whole configuration; reads `teleop:`.
   static TeleopParams from_config(const config::Node& root);
 };
 

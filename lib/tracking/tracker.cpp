@@ -12,42 +12,14 @@ namespace {
 double gap_seconds(int64_t now, int64_t then) { return (static_cast<double>(now) - static_cast<double>(then)) * 1e-6; }
 }  // namespace
 
-TrackerParams TrackerParams::from_config(const config::Node& s) {
-  TrackerParams p;
-  p.eps_m = s.get_positive("dbscan_eps_m");
-  p.min_points = s.get_int("dbscan_min_points", 1, 10000);
-  p.gate_m = s.get_positive("gate_m");
-  p.max_missed_frames = s.get_int("max_missed_frames", 0, 1000);
-  p.shape_history = s.get_int("shape_history_frames", 2, 1000);
-  p.max_tracks = s.get_int("max_tracks", 1, 100000);
-  p.max_cluster_extent_m = s.get_positive("max_cluster_extent_m");
-  const std::string policy = s.get_choice("large_cluster", {"keep", "drop", "split"});
-  p.large_cluster = policy == "keep"   ? LargeClusterPolicy::kKeep
-                    : policy == "drop" ? LargeClusterPolicy::kDrop
-                                       : LargeClusterPolicy::kSplit;
-  p.split_tile_m = s.get_positive("split_tile_m");
-  p.mbe.tolerance = s.get_double("mbe_tolerance", 1e-12, 0.5);
-  p.mbe.max_iterations = s.get_int("mbe_max_iterations", 1, 1000000);
-  p.mbe.min_semi_axis = s.get_positive("min_semi_axis_m");
-  p.predict_with_velocity = s.get<bool>("predict_with_velocity");
-  p.velocity_smoothing = s.get_double("velocity_smoothing", 0.0, 1.0);
-  p.tentative_penalty_m = s.get_double("tentative_penalty_m", 0.0, 100.0);
-  p.near_side_shift_b = s.get_double("near_side_shift_b", 0.0, 2.0);
-  p.velocity_window_frames = s.get_int("velocity_window_frames", 0, 1000);
-  p.max_prediction_gap_s = s.get_double("max_prediction_gap_s", 0.0, 60.0);
-  p.theta_variation = s.get_choice("shape_variation_theta", {"raw", "boundary"}) == "raw" ? ThetaVariation::kRaw
-                                                                                          : ThetaVariation::kBoundary;
-  const config::Node m = s.section("merge");
-  p.merge.split = m.get<bool>("split");
-  p.merge.min_track_frames = m.get_int("min_track_frames", 1, 1000);
-  p.merge.reach_m = m.get_double("reach_m", 0.0, 10.0);
-  p.merge.min_separation_m = m.get_double("min_separation_m", 0.0, 10.0);
-  p.merge.min_growth_m = m.get_double("min_growth_m", 0.0, 10.0);
-  p.merge.min_relative_speed_mps = m.get_double("min_relative_speed_mps", 0.0, 100.0);
-  p.merge.hold_motion = m.get<bool>("hold_motion");
-  m.close();
-  s.close();
-  return p;
+TrackerParams TrackerParams::from_config(const config::Node& s) { return config::load<TrackerParams>(s); }
+
+MbeOptions TrackerParams::mbe() const {
+  MbeOptions o;
+  o.tolerance = mbe_tolerance;
+  o.max_iterations = mbe_max_iterations;
+  o.min_semi_axis = min_semi_axis_m;
+  return o;
 }
 
 double shape_variation(const std::deque<Ellipse>& h, ThetaVariation mode) {
@@ -73,7 +45,7 @@ double shape_variation(const std::deque<Ellipse>& h, ThetaVariation mode) {
   return sum / double(m - 1);
 }
 
-Tracker::Tracker(const TrackerParams& p) : p_(p), dbscan_(1.0, p.min_points), dbscan_resolution_(-1.0) {}
+Tracker::Tracker(const TrackerParams& p) : p_(p), dbscan_(1.0, p.dbscan_min_points), dbscan_resolution_(-1.0) {}
 
 Ellipse Tracker::fit(const GridView& g, const std::vector<int32_t>& cells) {
   // The hull of a set of cells is the hull of each row's extreme corners.
@@ -99,7 +71,7 @@ Ellipse Tracker::fit(const GridView& g, const std::vector<int32_t>& cells) {
     corners_.push_back({xr, y0});
     corners_.push_back({xr, y0 + res});
   }
-  return min_bounding_ellipse(corners_, p_.mbe);
+  return min_bounding_ellipse(corners_, p_.mbe());
 }
 
 Ellipse Tracker::near_side_corrected(const GridView& g, Ellipse e) const {
@@ -202,7 +174,7 @@ bool Tracker::partition(const GridView& g, const std::vector<int32_t>& cells) {
     size_t smallest = 0;
     for (size_t k = 1; k < parts_.size(); ++k)
       if (parts_[k].size() < parts_[smallest].size()) smallest = k;
-    if (int(parts_[smallest].size()) >= p_.min_points) return true;
+    if (int(parts_[smallest].size()) >= p_.dbscan_min_points) return true;
     owners_.erase(owners_.begin() + long(smallest));
   }
   return false;
@@ -233,7 +205,7 @@ void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) 
 void Tracker::detect(const GridView& g) {
   detections_.clear();
   if (dbscan_resolution_ != g.resolution) {
-    dbscan_ = GridDbscan(p_.eps_m / g.resolution, p_.min_points);
+    dbscan_ = GridDbscan(p_.dbscan_eps_m / g.resolution, p_.dbscan_min_points);
     dbscan_resolution_ = g.resolution;
   }
   const auto& clusters = dbscan_.run(g.obstacle, g.width, g.height);
@@ -363,7 +335,7 @@ void Tracker::correct_tracks(const GridView& g, const std::vector<int>& det_trac
     tr.missed = 0;
     ++tr.hits;
     tr.history.push_back(e);
-    while (int(tr.history.size()) > p_.shape_history) tr.history.pop_front();
+    while (int(tr.history.size()) > p_.shape_history_frames) tr.history.pop_front();
     tr.seen = true;
   }
 }
@@ -430,7 +402,7 @@ void Tracker::emit(const GridView& g, const std::vector<int>& det_track, const s
     TrackedObstacle o;
     o.id = tr->id;
     o.ellipse = det.ellipse;
-    o.shape_variation = shape_variation(tr->history, p_.theta_variation);
+    o.shape_variation = shape_variation(tr->history, p_.shape_variation_theta);
     o.num_cells = det.num_cells;
     o.age = tr->age;
     out_.push_back(o);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "config/config.h"
+#include "config/fields.h"
 #include "tracking/dbscan.h"
 #include "tracking/geometry.h"
 
@@ -30,19 +31,32 @@ struct MergeSplitParams {
   double min_growth_m = 0.1;            // the cluster's semi-major axis exceeds every owner's last one by this
   double min_relative_speed_mps = 0.3;  // and two of them move apart at least this fast (not one rigid body)
   bool hold_motion = true;              // a grown cluster that cannot be cut: its track moves on as predicted
+
+  template <class V>
+  void fields(V& v) {
+    v.field("split", split);
+    v.field("min_track_frames", min_track_frames, config::between(1, 1000));
+    v.field("reach_m", reach_m, config::between(0.0, 10.0));
+    v.field("min_separation_m", min_separation_m, config::between(0.0, 10.0));
+    v.field("min_growth_m", min_growth_m, config::between(0.0, 10.0));
+    v.field("min_relative_speed_mps", min_relative_speed_mps, config::between(0.0, 100.0));
+    v.field("hold_motion", hold_motion);
+  }
 };
 
 struct TrackerParams {
-  double eps_m = 0.15;                // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
-  int min_points = 3;                 // DBSCAN minPts (the cell itself included)
+  double dbscan_eps_m = 0.15;         // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
+  int dbscan_min_points = 3;          // DBSCAN minPts (the cell itself included)
   double gate_m = 0.8;                // d_max: farthest centre distance accepted as the same obstacle
   int max_missed_frames = 10;         // K: a track unseen for more frames is dropped
-  int shape_history = 10;             // m: frames in the shape-variation window
+  int shape_history_frames = 10;      // m: frames in the shape-variation window
   int max_tracks = 256;               // hard bound on the track table
   double max_cluster_extent_m = 3.0;  // a cluster whose bounding box side exceeds this is "large"
   LargeClusterPolicy large_cluster = LargeClusterPolicy::kSplit;
   double split_tile_m = 1.5;          // kSplit: tile size on the odometry-frame lattice
-  MbeOptions mbe;                     // tolerance, iterations, min semi-axis
+  double mbe_tolerance = 1e-5;        // MbeOptions::tolerance (geometry.h)
+  int mbe_max_iterations = 2000;      // MbeOptions::max_iterations
+  double min_semi_axis_m = 0.05;      // MbeOptions::min_semi_axis
   bool predict_with_velocity = true;  // cost = min(distance to predicted centre, to last centre)
   double velocity_smoothing = 0.5;    // weight of the newest centre difference in the velocity estimate
   int velocity_window_frames =
@@ -50,8 +64,39 @@ struct TrackerParams {
   double near_side_shift_b = 0.3;  // centre moved away from the robot by this times the semi-minor axis
   double tentative_penalty_m = 0.3;   // added to the cost of a track matched in fewer than merge.min_track_frames
   double max_prediction_gap_s = 1.0;  // beyond this gap the last centre is used as is
-  ThetaVariation theta_variation = ThetaVariation::kBoundary;
+  ThetaVariation shape_variation_theta = ThetaVariation::kBoundary;
   MergeSplitParams merge;
+
+  // The minimum bounding ellipse's options from the three mbe keys.
+  MbeOptions mbe() const;
+
+  template <class V>
+  void fields(V& v) {
+    v.field("dbscan_eps_m", dbscan_eps_m, config::positive());
+    v.field("dbscan_min_points", dbscan_min_points, config::between(1, 10000));
+    v.field("gate_m", gate_m, config::positive());
+    v.field("max_missed_frames", max_missed_frames, config::between(0, 1000));
+    v.field("shape_history_frames", shape_history_frames, config::between(2, 1000));
+    v.field("max_tracks", max_tracks, config::between(1, 100000));
+    v.field("max_cluster_extent_m", max_cluster_extent_m, config::positive());
+    v.choice("large_cluster", large_cluster,
+             config::Choices<LargeClusterPolicy>{{"keep", LargeClusterPolicy::kKeep},
+                                                 {"drop", LargeClusterPolicy::kDrop},
+                                                 {"split", LargeClusterPolicy::kSplit}});
+    v.field("split_tile_m", split_tile_m, config::positive());
+    v.field("mbe_tolerance", mbe_tolerance, config::between(1e-12, 0.5));
+    v.field("mbe_max_iterations", mbe_max_iterations, config::between(1, 1000000));
+    v.field("min_semi_axis_m", min_semi_axis_m, config::positive());
+    v.field("predict_with_velocity", predict_with_velocity);
+    v.field("velocity_smoothing", velocity_smoothing, config::between(0.0, 1.0));
+    v.field("velocity_window_frames", velocity_window_frames, config::between(0, 1000));
+    v.field("near_side_shift_b", near_side_shift_b, config::between(0.0, 2.0));
+    v.field("tentative_penalty_m", tentative_penalty_m, config::between(0.0, 100.0));
+    v.field("max_prediction_gap_s", max_prediction_gap_s, config::between(0.0, 60.0));
+    v.choice("shape_variation_theta", shape_variation_theta,
+             config::Choices<ThetaVariation>{{"raw", ThetaVariation::kRaw}, {"boundary", ThetaVariation::kBoundary}});
+    v.section("merge", merge);
+  }
 
   static TrackerParams from_config(const config::Node& section);
 };

@@ -32,6 +32,7 @@
 
 #include "bus/live_bus.h"
 #include "bus/process_main.h"
+#include "config/robot_params.h"
 #include "sim/pseudo_terminal.h"
 #include "sim/scenario.h"
 #include "sim/sim_core.h"
@@ -74,17 +75,14 @@ Options parse_options(int argc, char** argv) {
 // The drivers decode what the configuration says; warn when it is not what
 // the scenario simulates.
 void warn_on_lidar_mismatch(const evade::config::Node& root, const evade::sim::Scenario& scenario) {
-  const evade::config::Node lidar = root.section("lidar");
-  if (lidar.has("model") && lidar.get<std::string>("model") != scenario.lidar.model)
+  const auto lidar = evade::config::load<evade::config::LidarParams>(root.section("lidar"));
+  if (lidar.model != scenario.lidar.model)
     std::fprintf(stderr, "sim: warning: scenario lidar model %s differs from lidar.model %s in the config\n",
-                 scenario.lidar.model.c_str(), lidar.get<std::string>("model").c_str());
-  if (lidar.section("mount").has("z_m")) {
-    double z = lidar.section("mount").get<double>("z_m");
-    if (std::abs(z - scenario.lidar.height) > 1e-6)
-      std::fprintf(stderr,
-                   "sim: warning: scenario lidar height %.3f m differs from lidar.mount.z_m %.3f m in the config\n",
-                   scenario.lidar.height, z);
-  }
+                 scenario.lidar.model.c_str(), lidar.model.c_str());
+  if (std::abs(lidar.mount.z_m - scenario.lidar.height) > 1e-6)
+    std::fprintf(stderr,
+                 "sim: warning: scenario lidar height %.3f m differs from lidar.mount.z_m %.3f m in the config\n",
+                 scenario.lidar.height, lidar.mount.z_m);
 }
 
 // The parameters with the command line's overrides (pty link, LiDAR

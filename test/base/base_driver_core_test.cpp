@@ -97,8 +97,8 @@ TEST(BaseDriverConfig, ReadsRobotYaml) {
 
 TEST(BaseDriverConfig, UnknownKeyIsAnError) {
   auto root = config::load_string(
-      "robot: {max_v_mps: 1.0, min_v_mps: 0.0, max_omega_radps: 0.5, max_accel_mps2: 1.0,\n"
-      "        max_decel_mps2: 1.5, max_alpha_radps2: 3.0}\n"
+      "robot: {footprint_length_m: 0.42, footprint_width_m: 0.31, max_v_mps: 1.0, min_v_mps: 0.0,\n"
+      "        max_omega_radps: 0.5, max_accel_mps2: 1.0, max_decel_mps2: 1.5, max_alpha_radps2: 3.0}\n"
       "base_driver: {device: /dev/ttyUSB0, baud_rate: 115200, command_rate_hz: 50.0,\n"
       "  watchdog_timeout_s: 0.25, cmd_vel_max_age_s: 0.4, link_timeout_s: 0.5, status_rate_hz: 10.0, "
       "max_odometry_gap_s: 0.5,\n"

@@ -81,17 +81,25 @@ TEST(BusGuard, RoutedToLoIsClosedUnlessAnotherInterfaceJoinedTheGroup) {
   EXPECT_NE(e.reasons[0].find("/proc/net/igmp"), std::string::npos);
 }
 
+// bus.auth and bus.clock_sync, which the bus: section holds beside
+// allowed_interfaces (auth.h, clock_sync.h).
+const std::string kAuth =
+    "  auth: {key_file: /k, window_s: 2.0}\n"
+    "  clock_sync: {period_s: 1.0, window_samples: 8, max_offset_s: 0.02}\n";
+
 TEST(BusGuard, ConfigNamesTheAllowedInterfaces) {
-  auto p = BusGuardParams::from_config(config::load_string("bus:\n  allowed_interfaces: [lo, eth1]\n", "t.yaml"));
+  auto p =
+      BusGuardParams::from_config(config::load_string("bus:\n  allowed_interfaces: [lo, eth1]\n" + kAuth, "t.yaml"));
   EXPECT_EQ(p.allowed_interfaces, (std::vector<std::string>{"lo", "eth1"}));
   try {
-    BusGuardParams::from_config(config::load_string("bus:\n  allowed_interfaces: []\n", "t.yaml"));
+    BusGuardParams::from_config(config::load_string("bus:\n  allowed_interfaces: []\n" + kAuth, "t.yaml"));
     FAIL() << "an empty list must be refused";
   } catch (const config::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("t.yaml:2: key 'bus.allowed_interfaces'"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(BusGuardParams::from_config(config::load_string("bus:\n  allowed_interfaces: [lo]\n  x: 1\n", "t")),
-               config::ConfigError);
+  EXPECT_THROW(
+      BusGuardParams::from_config(config::load_string("bus:\n  allowed_interfaces: [lo]\n  x: 1\n" + kAuth, "t")),
+      config::ConfigError);
   EXPECT_NO_THROW(
       BusGuardParams::from_config(config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml")));
 }

@@ -150,7 +150,7 @@ TEST(Filter, AxisSwapOfTheSameEllipseIsNotAShapeChange) {
 // Own Xi_eta is the paper's sample variance over the window: known answer.
 TEST(Filter, OwnShapeVariationKnownAnswer) {
   PredictorParams params = testing::default_params();
-  params.adaptive.window_frames = 4;
+  params.adaptive_noise.window_frames = 4;
   TrackFilter f(params, mbe(0, 0, 1.0, 0.5, 0.0));
   // window after 3 updates: a = 1.0, 1.2, 1.0, 1.2 (b, theta constant)
   for (double a : {1.2, 1.0, 1.2}) {

@@ -211,7 +211,7 @@ TEST(Predictor, JitteringShapeDampsPositionJitter) {
   noise.coupled_shift = 0.5;  // ... that drags the centre by half of it
   const PredictorParams adaptive = default_params();
   PredictorParams fixed = adaptive;
-  fixed.adaptive.r_pos_max_m2 = fixed.adaptive.r_pos_min_m2;
+  fixed.adaptive_noise.r_pos_max_m2 = fixed.adaptive_noise.r_pos_min_m2;
   const RunStats a = run(adaptive, truth, noise, 8.0, 2.0, kSeeds);
   const RunStats f = run(fixed, truth, noise, 8.0, 2.0, kSeeds);
   report("shape jitter, adaptive R_p", a);
@@ -232,7 +232,7 @@ TEST(Predictor, JitteringShapeDampsPositionJitter) {
   const TrackFilter* tf = p.track(7);
   ASSERT_NE(tf, nullptr);
   double k = 0;
-  adaptive_position_variance(tf->own_shape_variation(), adaptive.adaptive, &k);
+  adaptive_position_variance(tf->own_shape_variation(), adaptive.adaptive_noise, &k);
   EXPECT_GT(k, 0.3);
 }
 
@@ -646,7 +646,7 @@ TEST(Predictor, RandomInputNeverPublishesNonFinite) {
 // shape_variation_source: tracker uses the message's Xi_eta instead of our own window.
 TEST(Predictor, TrackerShapeVariationSource) {
   PredictorParams params = default_params();
-  params.adaptive.shape_variation_source = "tracker";
+  params.adaptive_noise.shape_variation_source = "tracker";
   TrackFilter f(params, Measurement{});
   Measurement z;
   z.a = 0.4;
@@ -656,7 +656,7 @@ TEST(Predictor, TrackerShapeVariationSource) {
   const UpdateInfo info = f.update(z);
   EXPECT_DOUBLE_EQ(info.xi_eta, 0.0123);
   double k = 0;
-  EXPECT_DOUBLE_EQ(info.r_position, adaptive_position_variance(0.0123, params.adaptive, &k));
+  EXPECT_DOUBLE_EQ(info.r_position, adaptive_position_variance(0.0123, params.adaptive_noise, &k));
 }
 
 TEST(Predictor, LongFrameGapRestartsTracks) {
@@ -822,8 +822,8 @@ TEST(PredictorConfig, DefaultsLoadAndTyposAreRejected) {
   const PredictorParams p = default_params();
   EXPECT_EQ(p.prediction_steps, 25);
   EXPECT_DOUBLE_EQ(p.prediction_dt_s, 0.1);
-  EXPECT_DOUBLE_EQ(p.adaptive.kappa, 5.5);
-  EXPECT_DOUBLE_EQ(p.adaptive.gamma, 1.3);
+  EXPECT_DOUBLE_EQ(p.adaptive_noise.kappa, 5.5);
+  EXPECT_DOUBLE_EQ(p.adaptive_noise.gamma, 1.3);
   const auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
   std::string text;
   {

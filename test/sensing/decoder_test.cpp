@@ -360,7 +360,8 @@ lidar_driver:
   publish_scan: true
   self_filter: true
   self_filter_margin_m: 0.05
-robot: {footprint_length_m: 0.42, footprint_width_m: 0.31}
+robot: {footprint_length_m: 0.42, footprint_width_m: 0.31, max_v_mps: 1.0, min_v_mps: 0.0, max_omega_radps: 0.5,
+        max_accel_mps2: 1.0, max_decel_mps2: 1.5, max_alpha_radps2: 3.0}
 )",
                              "test.yaml");
 }

@@ -53,6 +53,24 @@ std::string families_error(const std::string& from, const std::string& to) {
   return "";
 }
 
+std::string lines(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& l : v) s += "  " + l + "\n";
+  return s;
+}
+
+// Through FamilyParams' field list: the file loaded and written back is
+// the file key by key (every key a field, every field a key), and a
+// default-constructed FamilyParams is the file (its defaults cannot drift).
+TEST(ScenarioGenConfig, TheFileWrittenBackAndTheCppDefaultsAreTheFile) {
+  const config::Node root = config::load_file(kFamiliesYaml);
+  const YAML::Node written = config::to_yaml(FamilyParams::from_config(root, robot()));
+  const auto d = config::yaml_differences(written, root.yaml());
+  EXPECT_TRUE(d.empty()) << "written (first) vs the file (second):\n" << lines(d);
+  const auto drift = config::yaml_differences(config::to_yaml(FamilyParams{}), written);
+  EXPECT_TRUE(drift.empty()) << "C++ default (first) vs the file (second):\n" << lines(drift);
+}
+
 TEST(ScenarioGen, SameFamilyAndSeedGiveTheSameBytes) {
   for (const std::string& family : family_names()) {
     SCOPED_TRACE(family);

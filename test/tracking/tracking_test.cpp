@@ -289,11 +289,11 @@ TEST(Config, RobotYamlTrackerSectionLoads) {
   const auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
   const auto p = TrackerParams::from_config(root.section("tracker"));
   const auto d = params();
-  EXPECT_DOUBLE_EQ(p.eps_m, d.eps_m);
-  EXPECT_EQ(p.min_points, d.min_points);
+  EXPECT_DOUBLE_EQ(p.dbscan_eps_m, d.dbscan_eps_m);
+  EXPECT_EQ(p.dbscan_min_points, d.dbscan_min_points);
   EXPECT_DOUBLE_EQ(p.gate_m, d.gate_m);
   EXPECT_EQ(p.max_missed_frames, d.max_missed_frames);
-  EXPECT_EQ(p.shape_history, d.shape_history);
+  EXPECT_EQ(p.shape_history_frames, d.shape_history_frames);
   EXPECT_EQ(p.large_cluster, d.large_cluster);
 }
 
@@ -590,7 +590,7 @@ TEST(ShapeVariation, KnownAnswers) {
 
 TEST(ShapeVariation, UsesOnlyTheLastMFrames) {
   auto p = params();
-  p.shape_history = 4;
+  p.shape_history_frames = 4;
   Tracker t(p);
   for (int f = 0; f < 12; ++f) {
     Scene s;

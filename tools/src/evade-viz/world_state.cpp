@@ -3,32 +3,17 @@
 #include <cmath>
 
 #include "bus/core.h"
+#include "config/robot_params.h"
 #include "evade/lidar_scan_t.hpp"
 #include "mapping/sweep.h"
 
 namespace evade::viz {
 
 VizParams VizParams::from_config(const config::Node& root) {
-  VizParams p;
-  const config::Node s = root.section("viz");
-  p.window_width_px = s.get_int("window_width_px", 160, 8192);
-  p.window_height_px = s.get_int("window_height_px", 120, 8192);
-  p.refresh_period_s = s.get_double("refresh_period_s", 0.01, 10.0);
-  p.cloud_min_z_m = s.get_double("cloud_min_z_m", -10.0, 10.0);
-  p.cloud_max_z_m = s.get_double("cloud_max_z_m", -10.0, 20.0);
-  if (p.cloud_max_z_m <= p.cloud_min_z_m) s.fail("cloud_max_z_m", "must exceed cloud_min_z_m");
-  p.point_size_px = s.get_double("point_size_px", 1.0, 20.0);
-  p.cell_size_px = s.get_double("cell_size_px", 1.0, 50.0);
-  p.ellipse_segments = s.get_int("ellipse_segments", 8, 256);
-  p.prediction_min_opacity = s.get_double("prediction_min_opacity", 0.0, 1.0);
-  p.velocity_arrow_s = s.get_double("velocity_arrow_s", 0.0, 10.0);
-  p.camera_distance_m = s.get_double("camera_distance_m", 0.0, 200.0);
-  p.camera_height_m = s.get_double("camera_height_m", 0.1, 200.0);
-  p.seek_step_s = s.get_double("seek_step_s", 0.1, 3600.0);
-  s.close();
-  const config::Node robot = root.section("robot");
-  p.footprint_length_m = robot.get_positive("footprint_length_m");
-  p.footprint_width_m = robot.get_positive("footprint_width_m");
+  VizParams p = config::load<VizParams>(root.section("viz"));
+  const config::RobotParams robot = config::load<config::RobotParams>(root.section("robot"));
+  p.footprint_length_m = robot.footprint_length_m;
+  p.footprint_width_m = robot.footprint_width_m;
   return p;
 }
 

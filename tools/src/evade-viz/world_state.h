@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "config/config.h"
+#include "config/fields.h"
 #include "evade/grid_map_t.hpp"
 #include "evade/obstacle_list_t.hpp"
 #include "evade/odometry_t.hpp"
@@ -41,7 +42,26 @@ struct VizParams {
   double seek_step_s = 5.0;
   double footprint_length_m = 0.42;  // robot.footprint_length_m
   double footprint_width_m = 0.31;   // robot.footprint_width_m
-  // The `viz:` section (closed) and the robot's footprint from `robot:`.
+
+  // The `viz:` section (the footprint is robot:'s, from_config).
+  template <class V>
+  void fields(V& v) {
+    v.field("window_width_px", window_width_px, config::between(160, 8192));
+    v.field("window_height_px", window_height_px, config::between(120, 8192));
+    v.field("refresh_period_s", refresh_period_s, config::between(0.01, 10.0));
+    v.field("cloud_min_z_m", cloud_min_z_m, config::between(-10.0, 10.0));
+    v.field("cloud_max_z_m", cloud_max_z_m, config::between(-10.0, 20.0));
+    v.rule(cloud_max_z_m > cloud_min_z_m, "cloud_max_z_m", "must exceed cloud_min_z_m");
+    v.field("point_size_px", point_size_px, config::between(1.0, 20.0));
+    v.field("cell_size_px", cell_size_px, config::between(1.0, 50.0));
+    v.field("ellipse_segments", ellipse_segments, config::between(8, 256));
+    v.field("prediction_min_opacity", prediction_min_opacity, config::between(0.0, 1.0));
+    v.field("velocity_arrow_s", velocity_arrow_s, config::between(0.0, 10.0));
+    v.field("camera_distance_m", camera_distance_m, config::between(0.0, 200.0));
+    v.field("camera_height_m", camera_height_m, config::between(0.1, 200.0));
+    v.field("seek_step_s", seek_step_s, config::between(0.1, 3600.0));
+  }
+  // The `viz:` section and the robot's footprint from `robot:`.
   static VizParams from_config(const config::Node& root);
 };
 

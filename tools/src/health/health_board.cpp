@@ -6,14 +6,7 @@
 
 namespace evade::health {
 
-HealthBoardParams HealthBoardParams::from_config(const config::Node& s) {
-  HealthBoardParams p;
-  p.stale_after_s = s.get_double("stale_after_s", 0.1, 3600.0);
-  p.once_listen_s = s.get_double("once_listen_s", 0.1, 60.0);
-  p.refresh_period_s = s.get_double("refresh_period_s", 0.05, 60.0);
-  s.close();
-  return p;
-}
+HealthBoardParams HealthBoardParams::from_config(const config::Node& s) { return config::load<HealthBoardParams>(s); }
 
 void HealthBoard::add(const evade::health_t& msg, int64_t received_utime) {
   auto it = latest_.find(msg.name);

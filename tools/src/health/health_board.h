@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "config/config.h"
+#include "config/fields.h"
 #include "evade/health_t.hpp"
 
 namespace evade::health {
@@ -17,6 +18,13 @@ struct HealthBoardParams {
   double stale_after_s = 2.5;     // a heartbeat older than this is stale (processes beat once a second)
   double once_listen_s = 3.0;     // --once listens this long before it judges
   double refresh_period_s = 1.0;  // s between redraws
+
+  template <class V>
+  void fields(V& v) {
+    v.field("stale_after_s", stale_after_s, config::between(0.1, 3600.0));
+    v.field("once_listen_s", once_listen_s, config::between(0.1, 60.0));
+    v.field("refresh_period_s", refresh_period_s, config::between(0.05, 60.0));
+  }
   // Reads the `health_board:` section (closed); errors name file, line and key.
   static HealthBoardParams from_config(const config::Node& section);
 };
