@@ -43,6 +43,10 @@ install(PROGRAMS ${gen}/evade DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(FILES ${EVADE_SOURCE_DIR}/config/robot.yaml ${EVADE_SOURCE_DIR}/config/scenario_families.yaml
               ${EVADE_SOURCE_DIR}/cmake/install/evade.env
         DESTINATION ${EVADE_INSTALL_FULL_SYSCONF})
+# The robot profiles beside robot.yaml (lib/config/README.md): the shipped
+# scenarios name them (paper_sim: jackal).
+install(DIRECTORY ${EVADE_SOURCE_DIR}/config/robots/ DESTINATION ${EVADE_INSTALL_FULL_SYSCONF}/robots
+        FILES_MATCHING PATTERN "*.yaml")
 install(DIRECTORY ${EVADE_SOURCE_DIR}/config/scenarios/ DESTINATION ${CMAKE_INSTALL_DATADIR}/evade/scenarios
         FILES_MATCHING PATTERN "*.yaml")
 foreach(jar evade_lcmtypes evade_tools)

@@ -3,7 +3,7 @@
 #   <libexecdir>/evade/bin     the programs (procs/ and tools/src/)
 #   <libexecdir>/evade/tools   the tools (tools/, they find bin/ beside them)
 #   <bindir>/evade             `evade COMMAND ...`: runs a tool or a program
-#   <sysconfdir>/evade         robot.yaml, scenario_families.yaml, evade.env
+#   <sysconfdir>/evade         robot.yaml, robots/*.yaml (profiles), scenario_families.yaml, evade.env
 #   <datadir>/evade/scenarios  the shipped scenarios
 #   <datadir>/java             evade_lcmtypes.jar, evade_tools.jar
 #   <prefix>/lib/systemd/system  evade@.service, evade-bus.service, evade.target

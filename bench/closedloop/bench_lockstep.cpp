@@ -13,6 +13,7 @@
 
 #include "closedloop/closed_loop.h"
 #include "config/config.h"
+#include "config/robot_profile.h"
 #include "sim/scenario.h"
 
 namespace {
@@ -27,8 +28,10 @@ double process_cpu_s() { return cpu_s_of(CLOCK_PROCESS_CPUTIME_ID); }
 
 void run_scenario(benchmark::State& state, const std::string& file) {
   const std::string src = EVADE_SOURCE_DIR;
-  const evade::config::Node root = evade::config::load_robot_config(src + "/config/robot.yaml");
-  const evade::sim::Scenario scenario = evade::sim::load_scenario(src + "/config/scenarios/" + file);
+  const std::string path = src + "/config/scenarios/" + file;  // its robot: robot.yaml <- profile <- the scenario's
+  const evade::config::Node root = evade::config::load_robot_config(src + "/config/robot.yaml", {"", path});
+  evade::sim::Scenario scenario = evade::sim::load_scenario(path);
+  evade::sim::resolve_robot(&scenario, root);
   double sim_s = 0.0, cpu_s = 0.0, process_s = 0.0;
   for (auto _ : state) {
     evade::closedloop::ClosedLoop loop(root, scenario, evade::closedloop::LockstepRun{});

@@ -9,13 +9,30 @@
 #include "bus/clock_sync.h"
 #include "bus/live_bus.h"
 #include "bus/log_replay.h"
+#include "config/robot_profile.h"
 
 namespace evade::bus {
 
-void add_common_options(CLI::App& app, CommonOptions& opts) {
+void add_robot_options(CLI::App& app, CommonOptions& opts, bool with_scenario) {
   app.add_option("--config", opts.config_path,
                  "robot configuration (default: $EVADE_CONFIG, ./config/robot.yaml, the source tree's, or the "
                  "installed <sysconfdir>/evade/robot.yaml; lib/config/README.md)");
+  app.add_option("--robot", opts.robot,
+                 "robot profile: config/robots/NAME.yaml beside the configuration overrides it (default: the "
+                 "scenario's robot.profile, else none)");
+  if (with_scenario && !app.get_option_no_throw("--scenario"))
+    app.add_option("--scenario", opts.scenario,
+                   "a scenario whose own robot values (robot.profile, robot.footprint, lidar.model, lidar.height) "
+                   "override the profile's");
+}
+
+void robot_options_from(const CLI::App& app, CommonOptions& opts) {
+  const CLI::Option* own = app.get_option_no_throw("--scenario");
+  if (opts.scenario.empty() && own && own->count() > 0) opts.scenario = own->as<std::string>();
+}
+
+void add_common_options(CLI::App& app, CommonOptions& opts) {
+  add_robot_options(app, opts);
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   app.add_option("--replay", opts.replay_in, "run over this lcm-logger log instead of live LCM");
   app.add_option("--replay-out", opts.replay_out, "with --replay: write the outputs to this log (a new file)");
@@ -24,7 +41,10 @@ void add_common_options(CLI::App& app, CommonOptions& opts) {
 
 config::Node load_config_or_exit(const std::string& process, const CommonOptions& opts) {
   try {
-    return config::load_robot_config(opts.config_path.empty() ? config::default_config_path() : opts.config_path);
+    const std::string path = opts.config_path.empty() ? config::default_config_path() : opts.config_path;
+    config::Node root = config::load_robot_config(path, {opts.robot, opts.scenario});
+    std::fprintf(stderr, "%s: %s\n", process.c_str(), config::footprint_line(root).c_str());
+    return root;
   } catch (const config::ConfigError& e) {
     std::fprintf(stderr, "%s: %s\n", process.c_str(), e.what());
     std::exit(2);
@@ -73,13 +93,14 @@ int process_main(int argc, char** argv, const std::string& name, const std::func
                  const CoreFactory& make, const ProcessOptions& options) {
   CLI::App app{"evade " + name};
   CommonOptions opts;
-  add_common_options(app, opts);
   if (add_flags) add_flags(app);
+  add_common_options(app, opts);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  robot_options_from(app, opts);
   config::Node root = load_config_or_exit(name, opts);
   std::unique_ptr<Core> core;
   try {

@@ -17,16 +17,29 @@ namespace evade::bus {
 
 struct CommonOptions {
   std::string config_path;
+  std::string robot;     // --robot NAME: the profile config/robots/NAME.yaml (lib/config/robot_profile.h)
+  std::string scenario;  // --scenario FILE: its own robot values go on top of the profile's
   std::string lcm_url;
   std::string replay_in;
   std::string replay_out;
   bool force = false;  // --force: --replay-out may replace an existing file
 };
 
+// --config, --robot, --scenario (unless the app has its own, whose value
+// then counts: robot_options_from), --lcm-url, --replay, --replay-out, --force.
 void add_common_options(CLI::App& app, CommonOptions& opts);
+// --config, --robot and --scenario alone (tools that load the robot
+// configuration but are no bus process); the same rule for --scenario.
+void add_robot_options(CLI::App& app, CommonOptions& opts, bool with_scenario = true);
+// After parsing: an app's own --scenario (route, sim, lockstep) is the
+// scenario whose robot values the configuration takes.
+void robot_options_from(const CLI::App& app, CommonOptions& opts);
 
-// Loads the configuration named by opts (or the default one); on error prints
-// "<process>: <file>:<line>: key '...': reason" and exits with status 2.
+// Loads the configuration named by opts (or the default one) merged with
+// the robot profile and the scenario's own values (config/robot_profile.h)
+// and prints "<process>: footprint L x W m, profile P, source FILE:LINE"
+// on stderr; on error prints "<process>: <file>:<line>: key '...': reason"
+// and exits with status 2.
 config::Node load_config_or_exit(const std::string& process, const CommonOptions& opts);
 
 // For a live process: reads the `bus:` section, warns once on stderr when

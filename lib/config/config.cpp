@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "config/robot_profile.h"
 #include "config/safety.h"
 
 namespace evade::config {
@@ -47,20 +48,30 @@ std::string Node::key_path(const std::string& key) const { return path_.empty() 
 
 int Node::line_of(const YAML::Node& n) const { return n.Mark().line >= 0 ? n.Mark().line + 1 : 0; }
 
-void Node::fail(const std::string& key, const std::string& reason) const {
+std::string Node::source(const std::string& key) const {
+  std::string file = file_;
   int line = line_of(node_);
   if (!key.empty() && node_.IsMap()) {
-    // Point at the key itself where it exists.
+    // Point at the key itself where it exists; a value merged in from
+    // another file (robot_profile.h) at that value, in that file.
     for (auto it = node_.begin(); it != node_.end(); ++it) {
       std::string k;
       if (key_text(it->first, &k) && k == key) {
         line = line_of(it->first);
+        if (const std::string* from = prov_ ? prov_->file_of(it->second) : nullptr) {
+          file = *from;
+          line = line_of(it->second);
+        }
         break;
       }
     }
   }
+  return file + ":" + std::to_string(line);
+}
+
+void Node::fail(const std::string& key, const std::string& reason) const {
   std::ostringstream os;
-  os << file_ << ":" << line << ": key '" << (key.empty() ? path_ : key_path(key)) << "': " << reason;
+  os << source(key) << ": key '" << (key.empty() ? path_ : key_path(key)) << "': " << reason;
   throw ConfigError(os.str());
 }
 
@@ -77,7 +88,9 @@ YAML::Node Node::child(const std::string& key) const {
 Node Node::section(const std::string& key) const {
   YAML::Node c = child(key);
   if (!c.IsMap()) fail(key, "expected a map, found " + type_name(c));
-  return Node(c, file_, key_path(key));
+  Node out(c, file_, key_path(key));
+  out.prov_ = prov_;
+  return out;
 }
 
 template <>
@@ -269,12 +282,16 @@ const std::vector<std::string>& robot_sections() {
   return sections;
 }
 
-Node load_robot_config(const std::string& path) {
-  Node root = load_file(path);
+void check_robot_config(const Node& root) {
   const auto& known = robot_sections();
   for (const auto& k : root.keys())
     if (k != kTestConfigKey && std::find(known.begin(), known.end(), k) == known.end()) root.fail(k, "unknown section");
   check_safety(root);
+}
+
+Node load_robot_config(const std::string& path) {
+  Node root = load_file(path);
+  check_robot_config(root);
   return root;
 }
 

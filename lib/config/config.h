@@ -18,6 +18,8 @@
 
 namespace evade::config {
 
+struct Provenance;  // robot_profile.h: which file each merged value came from
+
 // The one error type for bad configuration: "file:line: key 'a.b': reason".
 class ConfigError : public std::runtime_error {
  public:
@@ -55,6 +57,14 @@ class Node {
   const YAML::Node& yaml() const { return node_; }
   std::vector<std::string> keys() const;
 
+  // "file:line" of the value under `key` (of this node itself for ""):
+  // the file it came from when the configuration was merged from several
+  // (robot_profile.h), else this node's file.
+  std::string source(const std::string& key) const;
+  // Set by the merge (robot_profile.cpp) on the root; sections inherit it.
+  void set_provenance(std::shared_ptr<const Provenance> p) { prov_ = std::move(p); }
+  const Provenance* provenance() const { return prov_.get(); }
+
  private:
   YAML::Node child(const std::string& key) const;  // marks used, errors if missing
   std::string key_path(const std::string& key) const;
@@ -64,6 +74,7 @@ class Node {
   std::string file_;
   std::string path_;
   std::shared_ptr<std::set<std::string>> used_;
+  std::shared_ptr<const Provenance> prov_;  // null: every value is from file_
 };
 
 // Loads a YAML file; parse errors become ConfigError with file and line.
@@ -80,6 +91,9 @@ const std::vector<std::string>& robot_sections();
 // is not one of robot_sections() (or the flag `test_config`), and the
 // cross-section safety rules of config/safety.h.
 Node load_robot_config(const std::string& path);
+// The checks of load_robot_config on a configuration already loaded (or
+// merged: robot_profile.h).
+void check_robot_config(const Node& root);
 
 // Where a process finds a configuration file NAME (robot.yaml,
 // scenario_families.yaml) when no --config names one. One rule, the first

@@ -5,6 +5,8 @@
 #include <limits>
 #include <sstream>
 
+#include "config/robot_profile.h"
+
 namespace evade::config {
 
 std::string number_text(double v) {
@@ -153,8 +155,9 @@ std::string flow_text(const YAML::Node& n) {
   return scalar_text(n.Scalar());
 }
 
+// `prov`: where merged values came from (robot_profile.h; null: all from `file`).
 void emit(std::ostringstream& os, const YAML::Node& values, const YAML::Node* source, const std::string& file,
-          int indent) {
+          int indent, const Provenance* prov = nullptr) {
   const std::string pad(static_cast<size_t>(indent), ' ');
   for (auto it = values.begin(); it != values.end(); ++it) {
     const std::string key = it->first.Scalar();
@@ -166,11 +169,14 @@ void emit(std::ostringstream& os, const YAML::Node& values, const YAML::Node* so
     }
     if (it->second.IsMap()) {
       os << pad << key << ":\n";
-      emit(os, it->second, have ? &src : nullptr, file, indent + 2);
+      emit(os, it->second, have ? &src : nullptr, file, indent + 2, prov);
       continue;
     }
     os << pad << key << ": " << flow_text(it->second);
-    if (source) os << "  # " << (have ? file + ":" + std::to_string(src.Mark().line + 1) : std::string("default"));
+    const std::string* from = have && prov ? prov->file_of(src) : nullptr;
+    if (source)
+      os << "  # "
+         << (have ? (from ? *from : file) + ":" + std::to_string(src.Mark().line + 1) : std::string("default"));
     os << "\n";
   }
 }
@@ -198,7 +204,7 @@ std::string dump_yaml(const std::string& name, const YAML::Node& values, const N
   std::ostringstream os;
   os << name << ":\n";
   const YAML::Node src = source.yaml();
-  emit(os, values, &src, source.file(), 2);
+  emit(os, values, &src, source.file(), 2, source.provenance());
   return os.str();
 }
 

@@ -100,10 +100,15 @@ Scenario read_scenario(const config::Node& root) {
   sc.goal = Vec2{goal.get<double>("x"), goal.get<double>("y")};
   sc.goal_tolerance = goal.get_positive("tolerance");
   goal.close();
-  config::Node footprint = robot.section("footprint");
-  sc.footprint_length = footprint.get_positive("length");
-  sc.footprint_width = footprint.get_positive("width");
-  footprint.close();
+  if (robot.has("profile")) sc.profile = robot.get<std::string>("profile");
+  if (robot.has("footprint")) {
+    config::Node footprint = robot.section("footprint");
+    sc.footprint_length = footprint.get_positive("length");
+    sc.footprint_width = footprint.get_positive("width");
+    footprint.close();
+  } else if (sc.profile.empty()) {
+    robot.fail("footprint", "missing (give the footprint, or name the robot: robot.profile)");
+  }
   robot.close();
 
   if (root.has("route")) {
@@ -114,11 +119,14 @@ Scenario read_scenario(const config::Node& root) {
   }
 
   config::Node lidar = root.section("lidar");
-  sc.lidar.model = lidar.get_choice("model", {"vlp16", "rs_helios"});
+  // model and height: the robot profile's when the scenario names one and
+  // leaves them out (resolve_robot checks the rate against the model then).
+  const bool from_profile = !sc.profile.empty();
+  sc.lidar.model = from_profile && !lidar.has("model") ? "" : lidar.get_choice("model", {"vlp16", "rs_helios"});
   sc.lidar.rate_hz = lidar.get_double("rate_hz", 5.0, 20.0);  // VLP-16 motor range (300-1200 rpm)
   if (sc.lidar.model == "rs_helios" && sc.lidar.rate_hz != 10.0 && sc.lidar.rate_hz != 20.0)
     lidar.fail("rate_hz", "the RS-Helios turns at 10 or 20 Hz (600 or 1200 rpm)");
-  sc.lidar.height = lidar.get_double("height", 0.0, 10.0);
+  sc.lidar.height = from_profile && !lidar.has("height") ? 0.0 : lidar.get_double("height", 0.0, 10.0);
   sc.lidar.range_noise_std = lidar.get_double("range_noise_std", 0.0, 1.0);
   lidar.close();
 
@@ -158,6 +166,30 @@ std::vector<std::vector<double>> route_waypoints(const Scenario& scenario) {
   std::vector<std::vector<double>> w;
   for (const auto& p : scenario.route) w.push_back({p.x, p.y});
   return w;
+}
+
+}  // namespace evade::sim
+
+namespace evade::sim {
+
+bool robot_resolved(const Scenario& sc) {
+  return sc.footprint_length > 0.0 && sc.footprint_width > 0.0 && !sc.lidar.model.empty() && sc.lidar.height > 0.0;
+}
+
+void resolve_robot(Scenario* sc, const config::Node& robot_root) {
+  const config::Node robot = robot_root.section("robot");
+  const config::Node lidar = robot_root.section("lidar");
+  const config::Node mount = lidar.section("mount");
+  if (sc->footprint_length <= 0.0) sc->footprint_length = robot.get_positive("footprint_length_m");
+  if (sc->footprint_width <= 0.0) sc->footprint_width = robot.get_positive("footprint_width_m");
+  if (sc->lidar.model.empty()) {
+    sc->lidar.model = lidar.get_choice("model", {"vlp16", "rs_helios"});
+    if (sc->lidar.model == "rs_helios" && sc->lidar.rate_hz != 10.0 && sc->lidar.rate_hz != 20.0)
+      throw config::ConfigError(sc->file +
+                                ":0: key 'lidar.rate_hz': the RS-Helios of the robot profile turns at "
+                                "10 or 20 Hz (600 or 1200 rpm)");
+  }
+  if (sc->lidar.height <= 0.0) sc->lidar.height = mount.get_double("z_m", 0.0, 10.0);
 }
 
 }  // namespace evade::sim

@@ -55,9 +55,9 @@ struct ObstacleSpec {
 };
 
 struct LidarSpec {
-  std::string model = "vlp16";
+  std::string model = "vlp16";   // "" until resolve_robot when the scenario leaves it to the robot
   double rate_hz = 10.0;         // rotation rate
-  double height = 0.5;           // m, sensor origin above the ground
+  double height = 0.5;           // m, sensor origin above the ground (0 until resolve_robot, likewise)
   double range_noise_std = 0.0;  // m, Gaussian noise added to each range
 };
 
@@ -69,7 +69,12 @@ struct Scenario {
   double duration_s = 0.0;
   Pose2 start;
   Vec2 goal;
-  double goal_tolerance = 0.0;    // m
+  double goal_tolerance = 0.0;  // m
+  // The robot: `robot.profile` names its profile (config/robots/NAME.yaml;
+  // "" none). The footprint and the LiDAR's model and height are the
+  // scenario's own where it gives them, else 0 / "" until resolve_robot
+  // takes them from the effective robot configuration.
+  std::string profile;
   double footprint_length = 0.0;  // m, rectangle centred on the base, along the heading
   double footprint_width = 0.0;   // m
   std::vector<Vec2> route;
@@ -87,5 +92,14 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& name);
 Scenario scenario_from_node(const config::Node& root);
 // The scenario's route as the route process takes it: [[x, y], ...] (m).
 std::vector<std::vector<double>> route_waypoints(const Scenario& scenario);
+
+// The robot values the scenario leaves out (footprint, lidar.model,
+// lidar.height) from the effective robot configuration (robot.yaml <-
+// profile <- this scenario: config/robot_profile.h), which holds the
+// scenario's own where it gives them; a runner calls it once it has both.
+// Throws config::ConfigError on a bad robot or lidar section.
+void resolve_robot(Scenario* sc, const config::Node& robot_root);
+// Whether resolve_robot has run or was not needed.
+bool robot_resolved(const Scenario& sc);
 
 }  // namespace evade::sim

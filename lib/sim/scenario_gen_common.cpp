@@ -93,7 +93,8 @@ Draft straight_draft(Ctx& c) {
   d.sc.footprint_length = c.robot.footprint_length_m;
   d.sc.footprint_width = c.robot.footprint_width_m;
   d.sc.route = {Vec2{-half, 0.0}, d.sc.goal};
-  d.sc.lidar.model = "vlp16";
+  d.sc.profile = c.robot.profile;
+  d.sc.lidar.model = c.robot.lidar_model;
   d.sc.lidar.rate_hz = k.lidar_rate_hz;
   d.sc.lidar.height = c.robot.lidar_height_m;
   d.sc.lidar.range_noise_std = k.range_noise_std_m;

@@ -249,9 +249,10 @@ struct DoorwayKeys {
   template <class V>
   void fields(V& v) {
     v.convert("gap_m", p.gap_m, positive_length());
+    // Gaps narrower than this are left out when drawing (scenario_gen_places.cpp).
     const double narrowest = robot.footprint_width_m + c.passage_margin_m;
-    v.rule(p.gap_m.lo >= narrowest, "gap_m",
-           "the narrowest gap must be at least footprint width + passage_margin_m (" + num(narrowest) + " m)");
+    v.rule(p.gap_m.hi >= narrowest, "gap_m",
+           "the widest gap must be at least footprint width + passage_margin_m (" + num(narrowest) + " m)");
     v.convert("gap_offset_m", p.gap_offset_m, signed_length());
     v.convert("wall_at", p.wall_at, range_in(0.1, 0.9));
     v.convert("wall_half_length_m", p.wall_half_length_m, positive_length());

@@ -31,6 +31,11 @@ struct RobotFacts {
   // Highest step the map lets pass (elevation_map.step_max_m and
   // blind_ground_step_max_m, the larger): lower obstacles are not seen.
   double step_max_m = 0.15;
+  // The robot profile the configuration was merged with (config/
+  // robot_profile.h; "" none): generated scenarios name it (robot.profile)
+  // so that runs of them use the same robot. Set by the caller.
+  std::string profile;
+  std::string lidar_model = "vlp16";  // lidar.model, set by the caller likewise
 
   // Reads robot and lidar (through their field lists, config/robot_params.h),
   // planner.reference_speed_mps and elevation_map's step thresholds.
@@ -157,8 +162,9 @@ struct FamilyParams {
   void fields(V& v);
 
   // Reads the whole file (every section closed). `robot` is checked
-  // against it: the doorway's narrowest gap must let the robot through
-  // (footprint width + passage margin), and no obstacle kind may be lower
+  // against it: the doorway's gaps are drawn from what lets the robot
+  // through (footprint width + passage margin) up (a range wholly below it
+  // is an error), and no obstacle kind may be lower
   // than the map's step threshold + min_visible_height_m.
   static FamilyParams from_config(const config::Node& root, const RobotFacts& robot);
 };

@@ -96,8 +96,11 @@ bool doorway(Ctx& c, Draft& d) {
   const DoorwayParams& k = c.p.doorway;
   const double length = d.sc.goal.x - d.sc.start.x;
   double xw = q(d.sc.start.x + c.rng.uniform(k.wall_at) * length);
-  double yc = q(c.rng.uniform(k.gap_offset_m)), gap = q(c.rng.uniform(k.gap_m));
-  if (gap < k.gap_m.lo) gap = k.gap_m.lo;  // rounding never narrows it below the floor
+  // Gaps the robot cannot pass are left out: a wider robot (a profile,
+  // config/robots/) draws from the part of the range it fits through.
+  const Range gaps{std::max(k.gap_m.lo, c.robot.footprint_width_m + c.p.common.passage_margin_m), k.gap_m.hi};
+  double yc = q(c.rng.uniform(k.gap_offset_m)), gap = q(c.rng.uniform(gaps));
+  if (gap < gaps.lo) gap = gaps.lo;  // rounding never narrows it below the floor
   double half = c.rng.uniform(k.wall_half_length_m), thick = q(c.rng.uniform(c.p.shapes.wall_thickness_m));
   double height = q(c.rng.uniform(c.p.shapes.wall_height_m));
   double before = xw - k.straight_m - d.sc.start.x;

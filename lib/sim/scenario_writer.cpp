@@ -71,12 +71,16 @@ std::string scenario_yaml(const Scenario& sc, const std::vector<std::string>& he
     << ", yaw: " << yaml_number(sc.start.yaw) << "}\n";
   y << "  goal: {x: " << yaml_number(sc.goal.x) << ", y: " << yaml_number(sc.goal.y)
     << ", tolerance: " << yaml_number(sc.goal_tolerance) << "}\n";
-  y << "  footprint: {length: " << yaml_number(sc.footprint_length) << ", width: " << yaml_number(sc.footprint_width)
-    << "}\n";
+  if (!sc.profile.empty()) y << "  profile: " << sc.profile << "\n";
+  if (sc.footprint_length > 0.0)  // else the profile's (robot_resolved)
+    y << "  footprint: {length: " << yaml_number(sc.footprint_length) << ", width: " << yaml_number(sc.footprint_width)
+      << "}\n";
   y << "route: " << points(sc.route) << "\n";
-  y << "lidar: {model: " << sc.lidar.model << ", rate_hz: " << yaml_number(sc.lidar.rate_hz)
-    << ", height: " << yaml_number(sc.lidar.height) << ", range_noise_std: " << yaml_number(sc.lidar.range_noise_std)
-    << "}\n";
+  y << "lidar: {";
+  if (!sc.lidar.model.empty()) y << "model: " << sc.lidar.model << ", ";
+  y << "rate_hz: " << yaml_number(sc.lidar.rate_hz);
+  if (sc.lidar.height > 0.0) y << ", height: " << yaml_number(sc.lidar.height);
+  y << ", range_noise_std: " << yaml_number(sc.lidar.range_noise_std) << "}\n";
   y << "obstacles_start: " << (sc.obstacles_start == ObstaclesStart::kAtStart ? "at_start" : "on_robot_motion") << "\n";
   y << "obstacles:" << (sc.obstacles.empty() ? " []" : "") << "\n";
   for (size_t i = 0; i < sc.obstacles.size(); ++i) {

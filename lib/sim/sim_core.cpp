@@ -41,6 +41,10 @@ std::unique_ptr<SimCore> SimCore::from_config(const config::Node& root, const Sc
 
 SimCore::SimCore(const Scenario& scenario, const SimParams& params)
     : bus::Core("sim"), scenario_(scenario), params_(params) {
+  if (!robot_resolved(scenario_))
+    throw std::invalid_argument("scenario " + scenario_.name +
+                                ": its robot (footprint, lidar model and height) is not resolved from the robot "
+                                "configuration (sim::resolve_robot)");
   params_.lidar.rate_hz = scenario_.lidar.rate_hz;
   params_.lidar.range_noise_std_m = scenario_.lidar.range_noise_std;
   params_.lidar.mount_height_m = scenario_.lidar.height;

@@ -10,6 +10,7 @@
 #include "closedloop/closed_loop.h"
 #include "closedloop/run_monitor.h"
 #include "config/config.h"
+#include "config/robot_profile.h"
 #include "sim/scenario_gen.h"
 
 namespace evade::soak {
@@ -43,12 +44,20 @@ const char* outcome_name(int outcome) {
 }  // namespace
 
 EpisodeInputs EpisodeInputs::load(const std::string& robot_path, const std::string& families_path,
-                                  const std::string& mode) {
+                                  const std::string& mode, const std::string& profile) {
   EpisodeInputs in;
   in.robot_path = robot_path;
-  const config::Node root = config::load_robot_config(robot_path);
-  in.robot_text = read_text(robot_path);
+  const config::Node root = config::load_robot_config(robot_path, {profile, ""});
+  if (profile.empty()) {
+    in.robot_text = read_text(robot_path);
+  } else {
+    YAML::Emitter merged;
+    merged << root.yaml();
+    in.robot_text = merged.c_str();
+  }
   in.robot = sim::gen::RobotFacts::from_config(root);
+  in.robot.profile = profile;
+  in.robot.lidar_model = root.section("lidar").get<std::string>("model");
   in.families = sim::gen::FamilyParams::from_config(config::load_file(families_path), in.robot);
   in.metrics = metrics::MetricsParams::from_config(root.section("metrics"));
   in.mode = mode;

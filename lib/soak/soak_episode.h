@@ -19,12 +19,14 @@ namespace evade::soak {
 // What every episode shares, loaded once. Throws config::ConfigError.
 struct EpisodeInputs {
   std::string robot_path;  // the robot configuration (checked as a process would)
-  std::string robot_text;  // its text, the base of each episode's run configuration
+  std::string robot_text;  // its text merged with the profile, the base of each episode's run configuration
   sim::gen::RobotFacts robot;
   sim::gen::FamilyParams families;
   metrics::MetricsParams metrics;
   std::string mode;  // planner mode; empty: the configuration's
-  static EpisodeInputs load(const std::string& robot_path, const std::string& families_path, const std::string& mode);
+  // `profile`: a robot profile merged onto robot_path (config/robot_profile.h; "" none).
+  static EpisodeInputs load(const std::string& robot_path, const std::string& families_path, const std::string& mode,
+                            const std::string& profile = "");
 };
 
 struct EpisodeResult {

@@ -48,8 +48,9 @@ using evade::sim::SimCore;
 }
 
 struct Options {
-  std::string scenario_path, config_path, lcm_url, device, lidar_dest;
+  std::string scenario_path, lcm_url, device, lidar_dest;
   double speed = 1.0;
+  evade::bus::CommonOptions common;  // --config, --robot; the scenario's robot values too
 };
 
 // Parses the command line; exits on --help or a parse error.
@@ -57,7 +58,7 @@ Options parse_options(int argc, char** argv) {
   CLI::App app{"evade sim: the simulated world (VLP-16 or RS-Helios UDP packets, Scout UART on a pty, SIM_TRUTH)"};
   Options o;
   app.add_option("--scenario", o.scenario_path, "scenario YAML (SPEC.md format)")->required();
-  app.add_option("--config", o.config_path, "robot configuration (default config/robot.yaml)");
+  evade::bus::add_robot_options(app, o.common);  // --config, --robot
   app.add_option("--lcm-url", o.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   app.add_option("--device", o.device, "link the emulated Scout's pty here (default: sim.device_path)");
   app.add_option("--lidar-dest", o.lidar_dest,
@@ -69,6 +70,7 @@ Options parse_options(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::exit(app.exit(e));
   }
+  evade::bus::robot_options_from(app, o.common);
   return o;
 }
 
@@ -163,14 +165,14 @@ void run_live(const evade::config::Node& root, const evade::sim::Scenario& scena
 
 int main(int argc, char** argv) {
   const Options o = parse_options(argc, argv);
-  evade::bus::CommonOptions common;
-  common.config_path = o.config_path;
+  const evade::bus::CommonOptions& common = o.common;
   evade::config::Node root = evade::bus::load_config_or_exit("sim", common);
   evade::sim::SimParams params;
   evade::sim::Scenario scenario;
   try {
     params = evade::sim::SimParams::from_config(root);
     scenario = evade::sim::load_scenario(o.scenario_path);
+    evade::sim::resolve_robot(&scenario, root);
   } catch (const std::exception& e) {  // ConfigError: file:line: key: reason
     die(e.what(), 2);
   }

@@ -46,6 +46,18 @@ TEST(ConfigDumpTool, PrintsEveryValueWithItsLine) {
     EXPECT_NE(("\n" + out).find(std::string("\n") + section), std::string::npos) << section;
 }
 
+// With a robot profile and a scenario the merged values name the file they
+// came from (config/robot_profile.h): the profile's, the scenario's.
+TEST(ConfigDumpTool, MergedValuesNameTheProfileOrScenario) {
+  const std::string src = EVADE_SOURCE_DIR;
+  const auto [out, rc] =
+      run(kTool + " --config " + kRobotYaml + " --scenario " + src + "/config/scenarios/paper_sim.yaml");
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("  footprint_length_m: 0.46  # " + src + "/config/robots/jackal.yaml:"), std::string::npos) << out;
+  EXPECT_NE(out.find("    z_m: 0.5  # " + src + "/config/scenarios/paper_sim.yaml:"), std::string::npos) << out;
+  EXPECT_NE(out.find("  predictions_max_age_s: 0.25  # " + kRobotYaml + ":"), std::string::npos) << out;
+}
+
 TEST(ConfigDumpTool, AWrongValueExitsTwoNamingFileLineAndKey) {
   const std::string bad = ::testing::TempDir() + "/config_dump_bad_" + std::to_string(::getpid()) + ".yaml";
   {

@@ -83,6 +83,19 @@ grep -q "$CONF/robot.yaml:.*bogus_section" "$S/route.out" || fail "route's error
 echo "ok: installed route reads ${CONF#$R}/robot.yaml: $(cat "$S/route.out")"
 cp "$S/robot.yaml.good" "$CONF/robot.yaml"
 
+# The installed scenarios name robot profiles; the installed ones beside
+# robot.yaml resolve them (paper_sim: jackal), --robot names them too.
+SCEN=$(dirname "$(find "$R" -path '*/evade/scenarios/paper_sim.yaml' | head -1)")
+set +e
+env -u EVADE_CONFIG "$BIN/planner" --scenario "$SCEN/paper_sim.yaml" --replay /dev/null > "$S/planner.out" 2>&1
+env -u EVADE_CONFIG "$BIN/tracker" --robot scout2 --replay /dev/null > "$S/tracker.out" 2>&1
+set -e
+grep -q "^planner: footprint 0.46 x 0.42 m, profile jackal, source $CONF/robots/jackal.yaml:" "$S/planner.out" ||
+  fail "installed planner did not take paper_sim's profile from ${CONF#$R}/robots: $(cat "$S/planner.out")"
+grep -q "^tracker: footprint 0.93 x 0.7 m, profile scout2, source $CONF/robots/scout2.yaml:" "$S/tracker.out" ||
+  fail "installed tracker --robot scout2: $(cat "$S/tracker.out")"
+echo "ok: installed profiles: $(head -1 "$S/planner.out")"
+
 # The installed tools find the installed programs and configuration.
 EVADE=$(find "$R" -path '*/bin/evade' -type f | head -1)
 [ -x "$EVADE" ] || fail "the evade dispatcher is not installed"

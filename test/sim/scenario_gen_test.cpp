@@ -295,7 +295,7 @@ TEST(ScenarioGen, FamiliesFileIsReadStrictly) {
   EXPECT_EQ(families_error("    bike_share: 0.2\n", "    bike_share: 0.2\n    bikes: 3\n"),
             "families.yaml:" + std::to_string(bike_share_line + 1) + ": key 'families.crossing.bikes': unknown key");
   EXPECT_NE(
-      families_error("gap_m: [0.61, 2.0]", "gap_m: [0.5, 2.0]").find("key 'families.doorway.gap_m': the narrowest gap"),
+      families_error("gap_m: [0.61, 2.0]", "gap_m: [0.3, 0.5]").find("key 'families.doorway.gap_m': the widest gap"),
       std::string::npos);
   EXPECT_NE(families_error("ball: {radius_m: [0.11, 0.11]", "ball: {radius_m: [0.05, 0.11]")
                 .find("key 'shapes.ball.radius_m': lowest height 0.1 m is not above"),

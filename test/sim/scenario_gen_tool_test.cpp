@@ -54,6 +54,27 @@ TEST(ScenarioGenTool, StdoutAndOutGiveTheLibrarysBytes) {
   std::filesystem::remove(file);
 }
 
+// --robot NAME: the scene is drawn for the profile's footprint and LiDAR
+// and names the profile, so that its runs use the same robot.
+TEST(ScenarioGenTool, RobotProfileSetsTheFootprintAndIsNamed) {
+  const std::string flags = " --config " + kRobot + " --families " + kFamilies;
+  for (const std::string family : {"crossing", "doorway"}) {
+    Ran r = run("--family " + family + " --seed 2 --robot scout2" + flags);
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find("  profile: scout2\n  footprint: {length: 0.93, width: 0.7}"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("lidar: {model: rs_helios, rate_hz: 10.0, height: 0.55,"), std::string::npos) << r.out;
+    const Scenario sc = parse_scenario(r.out, family + ".yaml");
+    EXPECT_EQ(sc.profile, "scout2");
+    EXPECT_DOUBLE_EQ(sc.footprint_width, 0.7);
+  }
+  Ran jackal = run("--family headon --seed 2 --robot jackal" + flags);
+  EXPECT_EQ(jackal.status, 0) << jackal.out;
+  EXPECT_NE(jackal.out.find("footprint: {length: 0.46, width: 0.42}"), std::string::npos) << jackal.out;
+  Ran none = run("--family headon --seed 2 --robot nosuch" + flags);
+  EXPECT_EQ(none.status, 2);
+  EXPECT_NE(none.out.find("scenario-gen: --robot nosuch: no robot profile 'nosuch'"), std::string::npos) << none.out;
+}
+
 TEST(ScenarioGenTool, CheckNamesTheRulesAFileBreaks) {
   std::string flags = " --config " + kRobot + " --families " + kFamilies;
   std::string good = std::string(EVADE_SOURCE_DIR) + "/config/scenarios/paper_sim.yaml";
@@ -67,7 +88,8 @@ TEST(ScenarioGenTool, CheckNamesTheRulesAFileBreaks) {
   }
   r = run("--check " + bad + flags);
   EXPECT_EQ(r.status, 1);
-  EXPECT_EQ(r.out, bad + ": obstacles[8]: comes 0.190 m from the robot's start footprint in the first 2.0 s\n");
+  // 0.17 m: paper_sim's robot is the jackal profile's, 0.46 m long (its front at x = -9.77)
+  EXPECT_EQ(r.out, bad + ": obstacles[8]: comes 0.170 m from the robot's start footprint in the first 2.0 s\n");
   std::filesystem::remove(bad);
 }
 

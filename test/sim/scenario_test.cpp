@@ -146,6 +146,35 @@ TEST(Scenario, MissingFieldNamesFileLineKey) {
   EXPECT_EQ(error_of(text), "bad.yaml:14: key 'obstacles[3].speed': missing");
 }
 
+// robot.profile names the robot: the footprint and the LiDAR's model and
+// height may then be left to it (resolve_robot fills them from the merged
+// configuration); without a profile the footprint is required.
+TEST(Scenario, AProfileMayGiveTheFootprintAndLidar) {
+  const std::string named =
+      replace(replace(kSpecExample, "  footprint: {length: 0.42, width: 0.31}\n", "  profile: small\n"),
+              "lidar: {model: vlp16, rate_hz: 10, height: 0.5, range_noise_std: 0.01}",
+              "lidar: {rate_hz: 10, range_noise_std: 0.01}");
+  Scenario sc = parse_scenario(named, "named.yaml");
+  EXPECT_EQ(sc.profile, "small");
+  EXPECT_FALSE(robot_resolved(sc));
+  const config::Node root = config::load_string(
+      "robot: {footprint_length_m: 0.93, footprint_width_m: 0.7}\nlidar: {model: rs_helios, mount: {z_m: 0.55}}\n",
+      "merged.yaml");
+  resolve_robot(&sc, root);
+  EXPECT_TRUE(robot_resolved(sc));
+  EXPECT_DOUBLE_EQ(sc.footprint_length, 0.93);
+  EXPECT_DOUBLE_EQ(sc.footprint_width, 0.7);
+  EXPECT_EQ(sc.lidar.model, "rs_helios");
+  EXPECT_DOUBLE_EQ(sc.lidar.height, 0.55);
+  // the scenario's own values stay its own
+  Scenario own = parse_scenario(kSpecExample, "own.yaml");
+  resolve_robot(&own, root);
+  EXPECT_DOUBLE_EQ(own.footprint_length, 0.42);
+  EXPECT_EQ(own.lidar.model, "vlp16");
+  EXPECT_EQ(error_of(replace(kSpecExample, "  footprint: {length: 0.42, width: 0.31}\n", "")),
+            "bad.yaml:4: key 'robot.footprint': missing (give the footprint, or name the robot: robot.profile)");
+}
+
 TEST(Scenario, BadValuesAreRejected) {
   EXPECT_EQ(error_of(replace(kSpecExample, "mode: pingpong", "mode: bounce")),
             "bad.yaml:16: key 'obstacles[3].mode': 'bounce' is not one of: pingpong, loop, once");

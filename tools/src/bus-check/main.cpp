@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   namespace bus = evade::bus;
   CLI::App app{"evade bus-check: is the LCM bus reachable from an interface it should not be?"};
   bus::CommonOptions opts;
-  app.add_option("--config", opts.config_path, "robot configuration (default config/robot.yaml)");
+  bus::add_robot_options(app, opts, false);  // --config, --robot
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   bool allowed = false, group = false;
   app.add_flag("--allowed", allowed, "print bus.allowed_interfaces, one a line");

@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   bus::CommonOptions opts;
   bool release = false, hold = false;
   std::string reason = "operator";
-  app.add_option("--config", opts.config_path, "robot configuration (default config/robot.yaml)");
+  bus::add_robot_options(app, opts, false);  // --config, --robot
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   app.add_flag("--release", release, "release the e-stop instead");
   app.add_flag("--hold", hold, "keep sending until interrupted");

@@ -174,8 +174,7 @@ int snapshot_moments(evade::viz::LogTimeline& t, WorldState& w, const VizParams&
 int main(int argc, char** argv) {
   CLI::App app{"evade-viz: what the robot sees and plans, live or from a log"};
   evade::bus::CommonOptions opts;
-  app.add_option("--config", opts.config_path,
-                 "robot configuration (default: the robot.yaml beside --log's log, else config/robot.yaml)");
+  evade::bus::add_robot_options(app, opts, false);  // --config (default: the robot.yaml beside --log's log), --robot
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local)");
   std::string log, png;
   double at = 0.0, speed = 1.0;

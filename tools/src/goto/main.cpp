@@ -19,7 +19,9 @@
 #include "bus/auth.h"
 #include "bus/core.h"
 #include "bus/live_bus.h"
+#include "bus/process_main.h"
 #include "config/config.h"
+#include "config/robot_profile.h"
 #include "evade/odometry_t.hpp"
 #include "route/route_publisher.h"
 
@@ -48,12 +50,13 @@ std::optional<evade::odometry_t> wait_for_odometry(lcm::LCM& lcm, double wait_s)
 int main(int argc, char** argv) {
   CLI::App app{"evade goto: a new route at run time, on ROUTE"};
   std::vector<double> goal;
-  std::string route_file, url, config_path;
+  std::string route_file, url;
+  evade::bus::CommonOptions opts;
   double wait_s = 2.0;
   app.add_option("goal", goal, "X Y: the goal (m, odometry/world frame)")->expected(2);
   app.add_option("--route", route_file, "a route file (route: [[x, y], ...]) instead of X Y");
   app.add_option("--lcm-url", url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
-  app.add_option("--config", config_path, "robot configuration naming the bus key (default config/robot.yaml)");
+  evade::bus::add_robot_options(app, opts, false);  // --config (naming the bus key), --robot
   app.add_option("--odometry-wait-s", wait_s, "with X Y: how long to wait for the robot's ODOMETRY")
       ->check(CLI::Range(0.1, 60.0));
   try {
@@ -68,9 +71,8 @@ int main(int argc, char** argv) {
   // ROUTE is authenticated (lib/bus/auth.h): unsigned, route and the planner ignore it.
   std::unique_ptr<evade::bus::HmacAuth> signer;
   try {
-    signer = evade::bus::load_auth(evade::config::load_robot_config(
-                                       config_path.empty() ? evade::config::default_config_path() : config_path))
-                 .make("goto");
+    const std::string path = opts.config_path.empty() ? evade::config::default_config_path() : opts.config_path;
+    signer = evade::bus::load_auth(evade::config::load_robot_config(path, {opts.robot, ""})).make("goto");
   } catch (const std::exception& e) {  // ConfigError, KeyError
     std::fprintf(stderr, "goto: %s\n", e.what());
     return 2;

@@ -56,7 +56,7 @@ void print(const Listener& l, const std::vector<std::string>& expected, const ev
 int main(int argc, char** argv) {
   CLI::App app{"evade health board: one row per process from HEALTH"};
   evade::bus::CommonOptions opts;
-  app.add_option("--config", opts.config_path, "robot configuration (default config/robot.yaml)");
+  evade::bus::add_robot_options(app, opts, false);  // --config, --robot
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local)");
   bool once = false, no_colour = false;
   std::vector<std::string> expected;

@@ -17,18 +17,20 @@
 
 #include "bus/lcm_schema.h"
 #include "bus/log.h"
+#include "bus/process_main.h"
 #include "config/config.h"
+#include "config/robot_profile.h"
 #include "pcd_export.h"
 
 namespace {
 
-int export_pcd(const std::string& log, const std::string& dir, std::string config) {
+int export_pcd(const std::string& log, const std::string& dir, std::string config, const std::string& robot) {
   if (config.empty()) {
     const auto beside = std::filesystem::path(log).parent_path() / "robot.yaml";
     config = std::filesystem::exists(beside) ? beside.string() : evade::config::default_config_path();
   }
   try {
-    const auto options = evade::pcd_export::Options::from_config(evade::config::load_robot_config(config));
+    const auto options = evade::pcd_export::Options::from_config(evade::config::load_robot_config(config, {robot, ""}));
     const auto st = evade::pcd_export::export_log(log, dir, options);
     std::fprintf(stderr,
                  "lcmlog-export: %s -> %s (config %s): %lld clouds (%s, %lld points), %lld maps; "
@@ -59,17 +61,18 @@ int main(int argc, char** argv) {
   std::vector<std::string> channels;
   app.add_option("log", path, "lcm-logger file")->required();
   app.add_option("--channel", channels, "only these channels (repeatable)");
-  std::string pcd_dir, config;
+  std::string pcd_dir;
+  evade::bus::CommonOptions opts;
   auto* pcd = app.add_option("--pcd", pcd_dir, "write clouds and elevation maps as PCD files into DIR instead");
-  app.add_option("--config", config, "with --pcd: robot configuration (default: robot.yaml beside the log)")
-      ->needs(pcd);
+  evade::bus::add_robot_options(app, opts,
+                                false);  // with --pcd: --config (default: robot.yaml beside the log), --robot
   CLI11_PARSE(app, argc, argv);
   if (!pcd_dir.empty()) {
     if (!channels.empty()) {
       std::fprintf(stderr, "lcmlog-export: --pcd and --channel exclude each other\n");
       return 2;
     }
-    return export_pcd(path, pcd_dir, config);
+    return export_pcd(path, pcd_dir, opts.config_path, opts.robot);
   }
 
   const auto& schema = evade::bus::LcmSchema::evade();

@@ -1,4 +1,4 @@
-// lockstep --scenario FILE --out RUN.lcmlog [--config FILE] [--seed K]
+// lockstep --scenario FILE --out RUN.lcmlog [--config FILE] [--robot NAME] [--seed K]
 //          [--mode M] [--planner-compute fixed|iterations|measured]
 //          [--cpu-cores N] [--background-load-cores B] [--profile [--samples CSV]]
 //          [--progress] [--force]
@@ -63,13 +63,14 @@ void write_samples(const evade::closedloop::LockstepResult& r, const std::string
 
 int main(int argc, char** argv) {
   CLI::App app{"evade lockstep: the whole stack and the simulator in simulated time, one process"};
-  std::string scenario_path, out, config_path, mode, compute, samples;
+  std::string scenario_path, out, mode, compute, samples;
+  evade::bus::CommonOptions common;
   int64_t seed = -1;
   bool progress = false, force = false, profile = false;
   double cpu_cores = -1, background = -1;
   app.add_option("--scenario", scenario_path, "scenario YAML (docs/SPEC.md format)")->required();
   app.add_option("--out", out, "write the run's log here")->required();
-  app.add_option("--config", config_path, "robot configuration (default config/robot.yaml)");
+  evade::bus::add_robot_options(app, common);  // --config, --robot
   app.add_option("--seed", seed, "the simulator's sensor-noise seed (default: the scenario's seed)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--mode", mode, "planner mode (default: the configuration's)");
@@ -89,11 +90,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lockstep: %s exists; not overwriting it without --force\n", out.c_str());
     return 2;
   }
-  evade::bus::CommonOptions common;
-  common.config_path = config_path;
+  evade::bus::robot_options_from(app, common);
   const evade::config::Node root = evade::bus::load_config_or_exit("lockstep", common);
   try {
-    const evade::sim::Scenario scenario = evade::sim::load_scenario(scenario_path);
+    evade::sim::Scenario scenario = evade::sim::load_scenario(scenario_path);
+    evade::sim::resolve_robot(&scenario, root);
     evade::closedloop::LockstepRun run;
     if (seed >= 0) run.seed = static_cast<uint64_t>(seed);
     run.planner_mode = mode;

@@ -32,7 +32,9 @@
 #include "bus/auth.h"
 #include "bus/core.h"
 #include "bus/log.h"
+#include "bus/process_main.h"
 #include "config/config.h"
+#include "config/robot_profile.h"
 #include "evade/cmd_vel_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "evade/path_t.hpp"
@@ -185,9 +187,10 @@ struct AuthType {
   }
 };
 
-int migrate_auth_sign(std::vector<evade::bus::LogEvent>* events, const std::string& config_path) {
+int migrate_auth_sign(std::vector<evade::bus::LogEvent>* events, const evade::bus::CommonOptions& opts) {
   namespace bus = evade::bus;
-  const bus::AuthSetup keys = bus::load_auth(evade::config::load_robot_config(config_path));
+  const std::string path = opts.config_path.empty() ? evade::config::default_config_path() : opts.config_path;
+  const bus::AuthSetup keys = bus::load_auth(evade::config::load_robot_config(path, {opts.robot, ""}));
   struct Kind {
     std::string channel, sender;
     bool (*upgrade)(std::vector<uint8_t>*, bool*);
@@ -234,11 +237,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> names;
   for (const auto& [n, m] : migrations()) names.push_back(n);
   names.push_back("auth-sign");
-  std::string config_path = evade::config::default_config_path();
+  bus::CommonOptions opts;
   app.add_option("migration", name, "odometry-epoch | plan-predictions-utime | sim-truth-returns | auth-sign")
       ->required()
       ->check(CLI::IsMember(names));
-  app.add_option("--config", config_path, "auth-sign: the configuration naming the key (bus.auth)");
+  bus::add_robot_options(app, opts, false);  // auth-sign: --config naming the key (bus.auth), --robot
   app.add_option("in", in, "input log")->required()->check(CLI::ExistingFile);
   app.add_option("out", out, "output log")->required();
   app.add_flag("--force", force, "replace OUT if it exists (also IN itself)");
@@ -251,7 +254,7 @@ int main(int argc, char** argv) {
   if (name == "auth-sign") {
     int status = 0;
     try {
-      status = migrate_auth_sign(&events, config_path);
+      status = migrate_auth_sign(&events, opts);
     } catch (const std::exception& e) {  // a bad configuration or key
       std::fprintf(stderr, "log-migrate: %s\n", e.what());
       return 2;

@@ -8,6 +8,8 @@
 
 #include "benchmark/benchmark_summary.h"
 #include "bus/log.h"
+#include "bus/process_main.h"
+#include "config/robot_profile.h"
 #include "metrics/run_metrics.h"
 #include "metrics/trajectory_plot.h"
 #include "planning/params.h"
@@ -44,8 +46,8 @@ struct Params {
 };
 
 // Throws evade::config::ConfigError.
-Params load_params(const std::string& path) {
-  auto root = evade::config::load_robot_config(path);
+Params load_params(const std::string& path, const std::string& robot) {
+  auto root = evade::config::load_robot_config(path, {robot, ""});
   Params p;
   p.metrics = evade::metrics::MetricsParams::from_config(root.section("metrics"));
   p.planner = evade::planning::PlannerParams::from_config(root);
@@ -60,7 +62,7 @@ std::string config_for(const std::string& log, const std::string& config_path) {
   return std::filesystem::exists(beside) ? beside.string() : evade::config::default_config_path();
 }
 
-void print_table(const std::vector<std::string>& pairs, const std::string& config_path) {
+void print_table(const std::vector<std::string>& pairs, const std::string& config_path, const std::string& robot) {
   std::printf("%-18s | %-22s | %-14s | %-14s | %-16s | %s\n", "algorithm", "min dist (m)", "time (s)", "reaction (s)",
               "speed var", "contacts");
   std::printf("%-18s | %-22s | %-14s | %-14s | %-16s | %s\n", "", "here / paper", "here / paper", "here / paper",
@@ -71,7 +73,7 @@ void print_table(const std::vector<std::string>& pairs, const std::string& confi
     auto eq = pair.find('=');
     if (eq == std::string::npos) throw std::runtime_error("--table takes MODE=LOG, got " + pair);
     const std::string mode = pair.substr(0, eq), log = pair.substr(eq + 1);
-    const Params params = load_params(config_for(log, config_path));
+    const Params params = load_params(config_for(log, config_path), robot);
     auto m = evade::metrics::compute_metrics(evade::bus::read_log(log), params.metrics, &params.planner);
     const PaperRow* paper = nullptr;
     for (const auto& r : kPaper)
@@ -133,14 +135,16 @@ void print_stats(const std::string& results) {
 int main(int argc, char** argv) {
   CLI::App app{"Metrics of a run log (from SIM_TRUTH and PLAN)"};
   app.footer(evade::metrics::metrics_rules());
-  std::string log, out, plot, config_path;
+  std::string log, out, plot;
+  evade::bus::CommonOptions opts;
   std::vector<std::string> table;
   app.add_option("log", log, "run log (lcm-logger file)");
   app.add_option("--out", out, "also write the metrics JSON here");
   app.add_option("--plot", plot, "write the trajectory picture (PNG) here");
-  app.add_option("--config", config_path,
-                 "the run's robot configuration (sections metrics: and planner:; default config/robot.yaml, and "
-                 "with --table the robot.yaml beside each log when there is one)");
+  // --config: the run's robot configuration (sections metrics: and planner:;
+  // default config/robot.yaml, and with --table the robot.yaml beside each
+  // log when there is one); --robot: a profile merged onto it.
+  evade::bus::add_robot_options(app, opts, false);
   app.add_option("--table", table, "MODE=LOG pairs: print Table I for these runs beside the paper's");
   bool no_reaction = false;
   app.add_flag("--no-reaction", no_reaction,
@@ -157,14 +161,15 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (!table.empty()) {
-      print_table(table, config_path);
+      print_table(table, opts.config_path, opts.robot);
       return 0;
     }
     if (log.empty()) {
       std::fprintf(stderr, "metrics: a LOG is required (see --help)\n");
       return 2;
     }
-    const Params params = load_params(config_path.empty() ? evade::config::default_config_path() : config_path);
+    const Params params =
+        load_params(opts.config_path.empty() ? evade::config::default_config_path() : opts.config_path, opts.robot);
     auto m = evade::metrics::compute_metrics(evade::bus::read_log(log), params.metrics,
                                              no_reaction ? nullptr : &params.planner);
     std::string json = evade::metrics::metrics_json(m);

@@ -10,20 +10,24 @@
 #include <fstream>
 
 #include "bus/log.h"
+#include "bus/process_main.h"
+#include "config/robot_profile.h"
 #include "metrics/perception_metrics.h"
 
 int main(int argc, char** argv) {
   namespace metrics = evade::metrics;
   CLI::App app{"evade perception-metrics: tracking and prediction scored against SIM_TRUTH"};
   app.footer(metrics::perception_rules());
-  std::string log, out, config_path, obstacles = "OBSTACLES", predictions = "OBSTACLE_PREDICTIONS";
+  std::string log, out, obstacles = "OBSTACLES", predictions = "OBSTACLE_PREDICTIONS";
+  evade::bus::CommonOptions opts;
   app.add_option("log", log, "run log with SIM_TRUTH")->required()->check(CLI::ExistingFile);
   app.add_option("--out", out, "also write the JSON here");
-  app.add_option("--config", config_path,
-                 "robot configuration (its perception_metrics section); default: robot.yaml beside LOG, else config/");
+  // --config: its perception_metrics section (default: robot.yaml beside LOG, else config/); --robot
+  evade::bus::add_robot_options(app, opts, false);
   app.add_option("--obstacles", obstacles, "the tracker's channel");
   app.add_option("--predictions", predictions, "the predictor's channel");
   CLI11_PARSE(app, argc, argv);
+  std::string config_path = opts.config_path;
   if (config_path.empty()) {
     const auto beside = std::filesystem::path(log).parent_path() / "robot.yaml";
     config_path = std::filesystem::exists(beside) ? beside.string() : evade::config::default_config_path();
@@ -31,7 +35,7 @@ int main(int argc, char** argv) {
   metrics::PerceptionParams params;
   try {
     params = metrics::PerceptionParams::from_config(
-        evade::config::load_robot_config(config_path).section("perception_metrics"));
+        evade::config::load_robot_config(config_path, {opts.robot, ""}).section("perception_metrics"));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "perception-metrics: %s\n", e.what());
     return 2;

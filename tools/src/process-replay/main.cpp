@@ -14,45 +14,61 @@
 #include <filesystem>
 
 #include "bus/log.h"
+#include "bus/process_main.h"
+#include "config/robot_profile.h"
 #include "process_replay.h"
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// --cut: the case `name` under `logs` from a window of the run log `cut`;
+// false (after one line on stderr) when the case exists and not `force`.
+bool make_case(const std::string& cut, const std::string& logs, const std::string& name, double start_s,
+               double duration_s, bool force) {
+  if (name.empty()) throw std::runtime_error("--cut needs --case NAME");
+  const std::string existing = logs + "/" + name + "/input.lcmlog";
+  if (fs::exists(existing) && !force) {
+    std::fprintf(stderr, "process-replay: case %s exists (%s); refusing to replace it without --force\n", name.c_str(),
+                 existing.c_str());
+    return false;
+  }
+  std::vector<std::string> channels{"LIDAR_SCAN",           "ODOMETRY", "ROUTE",   "ELEVATION_MAP", "OBSTACLES",
+                                    "OBSTACLE_PREDICTIONS", "PLAN",     "CMD_VEL", "SIM_TRUTH"};
+  auto events = evade::replay::cut_case(evade::bus::read_log(cut), start_s, duration_s, channels);
+  fs::create_directories(logs + "/" + name + "/refs");
+  evade::bus::write_log(existing, events);
+  std::printf("process-replay: case %s: %zu events from %s [%.1f s, %.1f s)\n", name.c_str(), events.size(),
+              cut.c_str(), start_s, start_s + duration_s);
+  return true;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"Log-playback regression: replay each process over logged inputs and diff against references"};
-  std::string logs = std::string(EVADE_SOURCE_DIR) + "/logs", only_case, only_process, cut, config_path;
+  std::string logs = std::string(EVADE_SOURCE_DIR) + "/logs", only_case, only_process, cut;
+  evade::bus::CommonOptions opts;
   bool update = false;
   double start_s = 0, duration_s = 4;
   app.add_flag("--update-refs", update, "rewrite the references from the current code");
   app.add_option("--logs", logs, "folder of cases (default: the repository's logs/)");
   app.add_option("--case", only_case, "only this case (or: the name of the case --cut makes)");
   app.add_option("--process", only_process, "only this process");
-  app.add_option("--config", config_path, "robot configuration (default: the repository's config/robot.yaml)");
+  evade::bus::add_robot_options(app, opts, false);  // --config (default: the repository's), --robot
   app.add_option("--cut", cut, "make a case from this run log");
   app.add_option("--start-s", start_s, "with --cut: window start after the log's first event");
   app.add_option("--duration-s", duration_s, "with --cut: window length");
   bool force = false;
   app.add_flag("--force", force, "with --cut: replace an existing case");
   CLI11_PARSE(app, argc, argv);
-  if (config_path.empty()) config_path = std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml";
+  const std::string config_path =
+      opts.config_path.empty() ? std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml" : opts.config_path;
 
   try {
-    auto root = evade::config::load_robot_config(config_path);
+    auto root = evade::config::load_robot_config(config_path, {opts.robot, ""});
     if (!cut.empty()) {
-      if (only_case.empty()) throw std::runtime_error("--cut needs --case NAME");
-      const std::string existing = logs + "/" + only_case + "/input.lcmlog";
-      if (fs::exists(existing) && !force) {
-        std::fprintf(stderr, "process-replay: case %s exists (%s); refusing to replace it without --force\n",
-                     only_case.c_str(), existing.c_str());
-        return 2;
-      }
-      std::vector<std::string> channels{"LIDAR_SCAN",           "ODOMETRY", "ROUTE",   "ELEVATION_MAP", "OBSTACLES",
-                                        "OBSTACLE_PREDICTIONS", "PLAN",     "CMD_VEL", "SIM_TRUTH"};
-      auto events = evade::replay::cut_case(evade::bus::read_log(cut), start_s, duration_s, channels);
-      fs::create_directories(logs + "/" + only_case + "/refs");
-      evade::bus::write_log(logs + "/" + only_case + "/input.lcmlog", events);
-      std::printf("process-replay: case %s: %zu events from %s [%.1f s, %.1f s)\n", only_case.c_str(), events.size(),
-                  cut.c_str(), start_s, start_s + duration_s);
+      if (!make_case(cut, logs, only_case, start_s, duration_s, force)) return 2;
       update = true;  // a new case starts with references from the current code
     }
     int failures = 0, compared = 0;

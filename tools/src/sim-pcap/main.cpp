@@ -12,7 +12,9 @@
 #include <memory>
 
 #include "bus/memory_bus.h"
+#include "bus/process_main.h"
 #include "config/config.h"
+#include "config/robot_profile.h"
 #include "sensing/packet_sources.h"
 #include "sim/scenario.h"
 #include "sim/sim_core.h"
@@ -23,20 +25,22 @@ constexpr int64_t kStartUtime = 1'767'225'600'000'000;  // 2026-01-01 00:00:00 U
 
 int main(int argc, char** argv) {
   CLI::App app{"Write a scenario's simulated LiDAR packets (standing robot) into a pcap capture"};
-  std::string scenario_path, out, config_path;
+  std::string scenario_path, out;
+  evade::bus::CommonOptions opts;
   double seconds = 1.0;
   int64_t seed = -1;
   app.add_option("--scenario", scenario_path, "scenario YAML")->required();
   app.add_option("--out", out, "capture file to write")->required();
-  app.add_option("--config", config_path, "robot configuration (default config/robot.yaml)");
+  evade::bus::add_robot_options(app, opts);  // --config, --robot
   app.add_option("--seconds", seconds, "how much sensor time to write")->check(CLI::Range(0.001, 600.0));
   app.add_option("--seed", seed, "range-noise seed (default: the scenario's)")->check(CLI::NonNegativeNumber);
   CLI11_PARSE(app, argc, argv);
   try {
-    const std::string cfg = config_path.empty() ? evade::config::default_config_path() : config_path;
-    evade::config::Node root = evade::config::load_file(cfg);
+    const std::string cfg = opts.config_path.empty() ? evade::config::default_config_path() : opts.config_path;
+    const evade::config::Node root = evade::config::load_robot_config(cfg, {opts.robot, scenario_path});
     evade::sim::SimParams params = evade::sim::SimParams::from_config(root);
     evade::sim::Scenario scenario = evade::sim::load_scenario(scenario_path);
+    evade::sim::resolve_robot(&scenario, root);
     if (seed >= 0) scenario.seed = static_cast<uint64_t>(seed);
     std::unique_ptr<evade::sim::SimCore> core = evade::sim::SimCore::from_config(root, scenario);
     evade::sensing::PcapUdpWriter writer(out, "192.168.1.200", "192.168.1.102");

@@ -25,6 +25,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "bus/process_main.h"
 #include "config/config.h"
 #include "sim/scenario_gen_params.h"
 #include "soak/soak_report.h"
@@ -36,7 +37,8 @@ namespace {
 const std::chrono::steady_clock::time_point g_process_start = std::chrono::steady_clock::now();
 
 struct RunArgs {
-  std::string out, family = "mixed", config, families, mode;
+  std::string out, family = "mixed", families, mode;
+  evade::bus::CommonOptions robot;  // --config, --robot
   uint64_t seed_base = 1;
   double wall_s = 1200.0;
 };
@@ -115,8 +117,9 @@ int run(const RunArgs& a) {
   namespace gen = evade::sim::gen;
   evade::soak::EpisodeInputs in;
   try {
-    in = evade::soak::EpisodeInputs::load(a.config.empty() ? evade::config::default_config_path() : a.config,
-                                          a.families.empty() ? gen::default_families_path() : a.families, a.mode);
+    in = evade::soak::EpisodeInputs::load(
+        a.robot.config_path.empty() ? evade::config::default_config_path() : a.robot.config_path,
+        a.families.empty() ? gen::default_families_path() : a.families, a.mode, a.robot.robot);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "soak-lockstep: %s\n", e.what());
     return 2;
@@ -166,7 +169,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--seed-base", r.seed_base, "first seed (default 1)");
   run_cmd->add_option("--wall-s", r.wall_s, "wall seconds before no new episode starts (default 1200)")
       ->check(CLI::PositiveNumber);
-  run_cmd->add_option("--config", r.config, "robot configuration (default config/robot.yaml)");
+  evade::bus::add_robot_options(*run_cmd, r.robot, false);  // --config, --robot
   run_cmd->add_option("--families", r.families, "family ranges (default config/scenario_families.yaml)");
   run_cmd->add_option("--mode", r.mode, "planner mode (default: the configuration's)");
   ReportArgs p;

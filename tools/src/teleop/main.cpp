@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   namespace bus = evade::bus;
   CLI::App app{"evade teleop: keyboard driving, signed CMD_VEL"};
   bus::CommonOptions opts;
-  app.add_option("--config", opts.config_path, "robot configuration (default config/robot.yaml)");
+  bus::add_robot_options(app, opts, false);  // --config, --robot
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   CLI11_PARSE(app, argc, argv);
   const evade::config::Node root = bus::load_config_or_exit(kName, opts);
