@@ -167,7 +167,7 @@ struct FragmentParams {
   double min_parent_speed_mps = 0.3;  // only tracks at least this fast pass their motion on
   double margin_m = 0.3;              // born within the parent's semi-major axis + this of its centre
   double extra_speed_std_mps = 0.3;   // added (in quadrature) to the parent's velocity std per axis
-  bool enabled = true;
+  bool enabled = false;               // off in config/robot.yaml: it no longer changes a perception figure
 
   template <class V>
   void fields(V& v) {

@@ -51,19 +51,35 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
     last_seen_utime_.clear();
   }
   last_utime_ = in.utime;
+  update_seen(in, dt, &st);
+  coast_missing(in.utime, dt, &st);
+  // Every established track is now at this frame's time (updated or
+  // coasted): new ones born inside a mover take its motion.
+  if (params_->fragment.enabled) inherit_fragments(&st);
 
   out->utime = in.utime;
   out->dt = params_->prediction_dt_s;
   out->horizon = params_->prediction_steps + 1;
   out->tracks.clear();
-  out->tracks.reserve(in.obstacles.size());
+  out->tracks.reserve(order_.size() + coasting_.size());
+  for (const auto* ids : {&order_, &coasting_})
+    for (int64_t id : *ids) {
+      out->tracks.emplace_back();
+      predict_track(id, tracks_.at(id), &out->tracks.back());
+    }
+  st.coasting = static_cast<int>(coasting_.size());
+  out->num_tracks = static_cast<int32_t>(out->tracks.size());
+  if (stats) *stats = st;
+  return true;
+}
 
+void Predictor::update_seen(const evade::obstacle_list_t& in, double dt, FrameStats* st) {
   seen_.clear();
   order_.clear();
   created_.clear();
   for (const auto& o : in.obstacles) {
     if (!valid(o, *params_) || !seen_.emplace(o.id, 0).second) {
-      ++st.malformed;
+      ++st->malformed;
       continue;
     }
     Measurement z;
@@ -78,18 +94,21 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
     if (it == tracks_.end()) {
       it = tracks_.emplace(o.id, TrackFilter(*params_, z)).first;
       created_.push_back(o.id);
-      ++st.created;
+      ++st->created;
     } else {
       it->second.predict(dt);
       it->second.update(z);
-      ++st.updated;
+      ++st->updated;
       if (!finite(it->second)) {  // never publish NaN: restart the track from this MBE
         it->second = TrackFilter(*params_, z);
-        ++st.diverged;
+        ++st->diverged;
       }
     }
     order_.push_back(o.id);
   }
+}
+
+void Predictor::coast_missing(int64_t utime, double dt, FrameStats* st) {
   // A track missing from this list coasts: the tracker keeps an unmatched
   // id alive for a few frames (occlusion, a merge with a neighbour) and
   // matches it again under the same id, so the filter is time-updated and
@@ -109,44 +128,31 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
       ++it;
       continue;
     }
-    if (in.utime - last_seen_utime_[id] <= coast_us && it->second.updates() + 1 >= params_->coast_min_frames) {
+    if (utime - last_seen_utime_[id] <= coast_us && it->second.updates() + 1 >= params_->coast_min_frames) {
       it->second.predict(dt);
       if (finite(it->second)) {
         coasting_.push_back(id);
         ++it;
         continue;
       }
-      ++st.diverged;
+      ++st->diverged;
     }
     last_seen_utime_.erase(id);
     it = tracks_.erase(it);
-    ++st.dropped;
+    ++st->dropped;
   }
   std::sort(coasting_.begin(), coasting_.end());  // a fixed order, whatever the hash map's
-  // Every established track is now at this frame's time (updated or
-  // coasted): new ones born inside a mover take its motion.
-  if (params_->fragment.enabled) {
-    const double extra_var = params_->fragment.extra_speed_std_mps * params_->fragment.extra_speed_std_mps;
-    for (int64_t id : created_) {
-      TrackFilter& child = tracks_.at(id);
-      if (const TrackFilter* parent = fragment_parent(id, child)) {
-        child.inherit_motion(*parent, extra_var);
-        ++st.inherited;
-      }
+}
+
+void Predictor::inherit_fragments(FrameStats* st) {
+  const double extra_var = params_->fragment.extra_speed_std_mps * params_->fragment.extra_speed_std_mps;
+  for (int64_t id : created_) {
+    TrackFilter& child = tracks_.at(id);
+    if (const TrackFilter* parent = fragment_parent(id, child)) {
+      child.inherit_motion(*parent, extra_var);
+      ++st->inherited;
     }
   }
-  for (int64_t id : order_) {
-    out->tracks.emplace_back();
-    predict_track(id, tracks_.at(id), &out->tracks.back());
-  }
-  for (int64_t id : coasting_) {
-    out->tracks.emplace_back();
-    predict_track(id, tracks_.at(id), &out->tracks.back());
-  }
-  st.coasting = static_cast<int>(coasting_.size());
-  out->num_tracks = static_cast<int32_t>(out->tracks.size());
-  if (stats) *stats = st;
-  return true;
 }
 
 const TrackFilter* Predictor::fragment_parent(int64_t id, const TrackFilter& child) const {
@@ -179,9 +185,9 @@ void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::trac
 
   State x = filter.state();
   Covariance P = filter.covariance();
-  // Q of one prediction step; with the IMM, the jerk PSD weighted by the mode
-  // probabilities, so that a manoeuvring target's ellipse grows faster.
-  const Covariance Q = process_noise(params_->filter, T, filter.effective_jerk_psd());
+  // Q of one prediction step: with the IMM, each mode's own model weighted
+  // by its probability, so that a manoeuvring target's ellipse grows faster.
+  const Covariance Q = filter.prediction_noise(T);
   // Caps: a noisy acceleration estimate must not fling the prediction across
   // the map, so the acceleration and speed used for extrapolation are clipped.
   clip_norm(&x(kVx), &x(kVy), lim.max_speed_mps);

@@ -54,6 +54,12 @@ class Predictor {
   std::vector<int64_t> order_;                            // scratch: ids seen in the current frame, in input order
   std::vector<int64_t> created_;                          // scratch: ids new in the current frame
 
+  // One frame: measurement updates of the listed tracks (order_, created_),
+  // coasting or dropping of the missing ones (coasting_), fragments.
+  void update_seen(const evade::obstacle_list_t& in, double dt, FrameStats* stats);
+  void coast_missing(int64_t utime, double dt, FrameStats* stats);
+  void inherit_fragments(FrameStats* stats);
+
   // FragmentParams: the established mover, if any, whose ellipse (plus the
   // margin) contains the new track's centre; the nearest one.
   const TrackFilter* fragment_parent(int64_t id, const TrackFilter& child) const;

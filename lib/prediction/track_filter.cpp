@@ -189,10 +189,21 @@ void TrackFilter::transitions(double dt, double pi[kMaxModes][kMaxModes]) const 
   pi[kStationary][kStationary] = 1.0 - leave_stationary;
 }
 
-double TrackFilter::effective_jerk_psd() const {
-  double q = 0;
-  for (int j = 0; j < num_modes_; ++j) q += mu_[j] * modes_[j].jerk_psd;
-  return q;
+Covariance TrackFilter::mode_noise(int j, double dt) const {
+  if (j == kStationary) {
+    Covariance Q = process_noise(params_->filter, dt, 0.0);
+    Q(kX, kX) += params_->stationary.position_psd_m2ps * dt;
+    Q(kY, kY) += params_->stationary.position_psd_m2ps * dt;
+    return Q;
+  }
+  if (j == kManeuver && cv_maneuver_) return process_noise_cv(params_->filter, dt, params_->maneuver.accel_psd_m2ps3);
+  return process_noise(params_->filter, dt, modes_[j].jerk_psd);
+}
+
+Covariance TrackFilter::prediction_noise(double dt) const {
+  Covariance Q = Covariance::Zero();
+  for (int j = 0; j < num_modes_; ++j) Q += mu_[j] * mode_noise(j, dt);
+  return Q;
 }
 
 void TrackFilter::combine() {
@@ -249,10 +260,6 @@ void TrackFilter::predict(double dt) {
     Mode& m = modes_[j];
     if (j == kStationary) {
       hold_still(&m);
-      Covariance Q = process_noise(params_->filter, dt, 0.0);
-      Q(kX, kX) += params_->stationary.position_psd_m2ps * dt;
-      Q(kY, kY) += params_->stationary.position_psd_m2ps * dt;
-      propagate(&m.x, &m.P, Q, dt);
     } else if (j == kManeuver && cv_maneuver_) {
       // constant velocity: no acceleration; white acceleration drives v
       m.x(kAx) = m.x(kAy) = 0.0;
@@ -260,10 +267,8 @@ void TrackFilter::predict(double dt) {
         m.P.row(a).setZero();
         m.P.col(a).setZero();
       }
-      propagate(&m.x, &m.P, process_noise_cv(params_->filter, dt, params_->maneuver.accel_psd_m2ps3), dt);
-    } else {
-      propagate(&m.x, &m.P, process_noise(params_->filter, dt, m.jerk_psd), dt);
     }
+    propagate(&m.x, &m.P, mode_noise(j, dt), dt);
   }
   combine();
 }

@@ -86,8 +86,11 @@ class TrackFilter {
   double maneuver_probability() const { return num_modes_ > kManeuver ? mu_[kManeuver] : 0.0; }
   // Probability of the stationary mode (0 without it).
   double stationary_probability() const { return num_modes_ > kStationary ? mu_[kStationary] : 0.0; }
-  // Jerk PSD to roll the estimate forward with: the modes' PSDs weighted by their probabilities.
-  double effective_jerk_psd() const;
+  // Q of one step of dt to roll the estimate forward with: each mode's own
+  // model, the one predict() runs (quiet: white jerk; manoeuvre: white
+  // acceleration (cv) or strong jerk (ca); stationary: a centre random
+  // walk), weighted by the mode probabilities.
+  Covariance prediction_noise(double dt) const;
 
   // Xi_eta of the paper over the last m aligned shapes: sum ||eta_i - mean||^2 / (m - 1),
   // with the orientation term weighted by the mean (a - b) so that it is in metres
@@ -107,6 +110,7 @@ class TrackFilter {
     double jerk_psd;
   };
   void combine();
+  Covariance mode_noise(int mode, double dt) const;
   // pi[i][j]: probability of going from mode i to mode j within dt.
   void transitions(double dt, double pi[kMaxModes][kMaxModes]) const;
   // The stationary mode's model: velocity and acceleration zero, and certain.

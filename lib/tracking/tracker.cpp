@@ -47,7 +47,7 @@ double shape_variation(const std::deque<Ellipse>& h, ThetaVariation mode) {
 
 Tracker::Tracker(const TrackerParams& p) : p_(p), dbscan_(1.0, p.dbscan_min_points), dbscan_resolution_(-1.0) {}
 
-void Tracker::add_detection(const GridView& g, const std::vector<int32_t>& cells) {
+Ellipse Tracker::fit(const GridView& g, const std::vector<int32_t>& cells) {
   // The hull of a set of cells is the hull of each row's extreme corners.
   int rmin = g.height, rmax = -1;
   for (int32_t i : cells) rmin = std::min(rmin, i / g.width), rmax = std::max(rmax, i / g.width);
@@ -71,10 +71,135 @@ void Tracker::add_detection(const GridView& g, const std::vector<int32_t>& cells
     corners_.push_back({xr, y0});
     corners_.push_back({xr, y0 + res});
   }
+  return min_bounding_ellipse(corners_, p_.mbe());
+}
+
+Ellipse Tracker::near_side_corrected(const GridView& g, Ellipse e) const {
+  const double lx = e.cx - g.robot_x, ly = e.cy - g.robot_y, l = std::hypot(lx, ly);
+  if (!g.has_robot || p_.near_side_shift_b <= 0.0 || !(l > 1e-6)) return e;
+  // The LiDAR sees the near side: the body's centre lies behind the visible
+  // cells' ellipse. Move the centre away from the sensor and grow the axis
+  // nearer the line of sight by as much, so the near boundary stays put.
+  const double s = p_.near_side_shift_b * e.b, ux = lx / l, uy = ly / l;
+  e.cx += s * ux;
+  e.cy += s * uy;
+  if (std::fabs(std::cos(e.theta) * ux + std::sin(e.theta) * uy) >= std::sqrt(0.5)) {
+    e.a += s;
+  } else {
+    e.b += s;
+    if (e.b > e.a) {
+      std::swap(e.a, e.b);
+      e.theta = wrap_half_pi(e.theta + M_PI / 2);
+    }
+  }
+  return e;
+}
+
+Detection Tracker::make_detection(const GridView& g, const std::vector<int32_t>& cells) {
   Detection d;
-  d.ellipse = min_bounding_ellipse(corners_, p_.mbe());
+  d.ellipse = near_side_corrected(g, fit(g, cells));
   d.num_cells = int(cells.size());
-  detections_.push_back(d);
+  return d;
+}
+
+void Tracker::add_detection(const GridView& g, const std::vector<int32_t>& cells) {
+  detections_.push_back(make_detection(g, cells));
+}
+
+namespace {
+Vec2 cell_centre(const GridView& g, int32_t i) {
+  return {g.origin_x + (i % g.width + 0.5) * g.resolution, g.origin_y + (i / g.width + 0.5) * g.resolution};
+}
+}  // namespace
+
+void Tracker::find_owners(const GridView& g, const std::vector<int32_t>& cells) {
+  // confirmed tracks whose predicted centre lies within merge_reach_m of a cell
+  owners_.clear();
+  const double reach2 = p_.merge.reach_m * p_.merge.reach_m;
+  for (size_t t = 0; t < tracks_.size(); ++t) {
+    const Track& tr = tracks_[t];
+    if (tr.hits < p_.merge.min_track_frames) continue;
+    for (int32_t i : cells) {
+      const Vec2 c = cell_centre(g, i);
+      if ((c.x - tr.px) * (c.x - tr.px) + (c.y - tr.py) * (c.y - tr.py) <= reach2) {
+        owners_.push_back(int(t));
+        break;
+      }
+    }
+  }
+  std::sort(owners_.begin(), owners_.end(),
+            [&](int a, int b) { return tracks_[size_t(a)].hits > tracks_[size_t(b)].hits; });
+}
+
+void Tracker::keep_separated_owners() {
+  // two tracks closer than min_separation_m cannot be cut apart: the older one owns
+  std::vector<int> kept;
+  for (int t : owners_) {
+    bool clear = true;
+    for (int k : kept)
+      clear = clear && std::hypot(tracks_[size_t(t)].px - tracks_[size_t(k)].px,
+                                  tracks_[size_t(t)].py - tracks_[size_t(k)].py) >= p_.merge.min_separation_m;
+    if (clear) kept.push_back(t);
+  }
+  owners_ = std::move(kept);
+}
+
+bool Tracker::owners_move_apart() const {
+  // pieces of one rigid body (a car seen as two tracks) move together
+  for (size_t i = 0; i < owners_.size(); ++i)
+    for (size_t j = i + 1; j < owners_.size(); ++j) {
+      const Track& a = tracks_[size_t(owners_[i])];
+      const Track& b = tracks_[size_t(owners_[j])];
+      if (std::hypot(a.vx - b.vx, a.vy - b.vy) >= p_.merge.min_relative_speed_mps) return true;
+    }
+  return false;
+}
+
+bool Tracker::partition(const GridView& g, const std::vector<int32_t>& cells) {
+  // each cell to the nearest owner's predicted centre; an owner left with
+  // fewer than minPts cells is not in this cluster, and the rest re-partition
+  while (owners_.size() >= 2) {
+    parts_.assign(owners_.size(), {});
+    for (int32_t i : cells) {
+      const Vec2 c = cell_centre(g, i);
+      size_t best = 0;
+      double best_d = 1e300;
+      for (size_t k = 0; k < owners_.size(); ++k) {
+        const Track& tr = tracks_[size_t(owners_[k])];
+        const double d = std::hypot(c.x - tr.px, c.y - tr.py);
+        if (d < best_d) best_d = d, best = k;
+      }
+      parts_[best].push_back(i);
+    }
+    size_t smallest = 0;
+    for (size_t k = 1; k < parts_.size(); ++k)
+      if (parts_[k].size() < parts_[smallest].size()) smallest = k;
+    if (int(parts_[smallest].size()) >= p_.dbscan_min_points) return true;
+    owners_.erase(owners_.begin() + long(smallest));
+  }
+  return false;
+}
+
+void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) {
+  if (!p_.merge.split) return add_detection(g, cells);
+  find_owners(g, cells);
+  if (owners_.size() < 2) return add_detection(g, cells);
+  // A merge makes the cluster longer than any of its owners was: one object
+  // whose second track lingers beside it does not.
+  Detection whole = make_detection(g, cells);
+  double owner_a = 0.0;
+  for (int t : owners_) owner_a = std::max(owner_a, tracks_[size_t(t)].history.back().a);
+  const bool grown = whole.ellipse.a >= owner_a + p_.merge.min_growth_m;
+  keep_separated_owners();
+  if (grown && owners_move_apart() && partition(g, cells)) {
+    ++stats_.merges_split;
+    for (const auto& part : parts_) add_detection(g, part);
+    return;
+  }
+  // Inseparable (the two overlap): the track it is matched to keeps its own motion.
+  whole.merged = grown && p_.merge.hold_motion;
+  detections_.push_back(whole);
+  stats_.merges_held += detections_.back().merged;
 }
 
 void Tracker::detect(const GridView& g) {
@@ -97,7 +222,7 @@ void Tracker::detect(const GridView& g) {
     const bool large = std::max(rmax - rmin + 1, cmax - cmin + 1) > max_extent_cells;
     if (!large || p_.large_cluster == LargeClusterPolicy::kKeep) {
       if (large) ++stats_.large_clusters;
-      add_detection(g, cells);
+      add_cluster(g, cells);
       continue;
     }
     ++stats_.large_clusters;
@@ -120,17 +245,16 @@ void Tracker::detect(const GridView& g) {
   }
 }
 
-const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
-  out_.clear();
-  if (last_utime_ >= 0 && g.utime <= last_utime_) {
-    // time went backwards (a log loop): start over, ids still never reused
-    ++stats_.time_reset;
-    stats_.tracks_dropped += int64_t(tracks_.size());
-    tracks_.clear();
+void Tracker::predict_tracks(int64_t utime) {
+  for (Track& tr : tracks_) {
+    const double gap_s = gap_seconds(utime, tr.last_seen_utime);
+    tr.predicted = p_.predict_with_velocity && tr.has_velocity && gap_s <= p_.max_prediction_gap_s;
+    tr.px = tr.cx + (tr.predicted ? tr.vx * gap_s : 0.0);
+    tr.py = tr.cy + (tr.predicted ? tr.vy * gap_s : 0.0);
   }
-  last_utime_ = g.utime;
-  detect(g);
+}
 
+std::vector<int> Tracker::associate() {
   // cost = distance between the track's (predicted) centre and the detection's
   const int nt = int(tracks_.size()), nd = int(detections_.size());
   constexpr double kGated = 1e9;  // any gated pair costs more than every admissible assignment
@@ -138,22 +262,17 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
   std::vector<double> dist(cost.size());
   for (int t = 0; t < nt; ++t) {
     const Track& tr = tracks_[size_t(t)];
-    double px = tr.cx, py = tr.cy;
-    const double gap_s = gap_seconds(g.utime, tr.last_seen_utime);
-    const bool predict = p_.predict_with_velocity && tr.has_velocity && gap_s <= p_.max_prediction_gap_s;
-    if (predict) {
-      px += tr.vx * gap_s;
-      py += tr.vy * gap_s;
-    }
     for (int d = 0; d < nd; ++d) {
       const Ellipse& e = detections_[size_t(d)].ellipse;
       // The nearer of the predicted and the last centre: a velocity estimate
       // corrupted by a partial occlusion (the visible cells, hence the
       // centre, shift) must not carry a static obstacle's track away.
-      double dd = std::hypot(e.cx - px, e.cy - py);
-      if (predict) dd = std::min(dd, std::hypot(e.cx - tr.cx, e.cy - tr.cy));
+      double dd = std::hypot(e.cx - tr.px, e.cy - tr.py);
+      if (tr.predicted) dd = std::min(dd, std::hypot(e.cx - tr.cx, e.cy - tr.cy));
       dist[size_t(t) * nd + d] = dd;
-      cost[size_t(t) * nd + d] = dd <= p_.gate_m ? dd : kGated;
+      // a track not yet confirmed takes a detection only when no confirmed one wants it
+      const double penalty = tr.hits < p_.merge.min_track_frames ? p_.tentative_penalty_m : 0.0;
+      cost[size_t(t) * nd + d] = dd <= p_.gate_m ? dd + penalty : kGated;
     }
   }
   const std::vector<int> assign = kuhn_munkres(cost, nt, nd);
@@ -162,39 +281,76 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
     const int d = assign[size_t(t)];
     if (d >= 0 && dist[size_t(t) * nd + d] <= p_.gate_m) det_track[size_t(d)] = t;
   }
+  return det_track;
+}
 
-  std::vector<char> seen(size_t(nt), 0);
-  for (int d = 0; d < nd; ++d) {
-    const int t = det_track[size_t(d)];
+void Tracker::update_velocity(Track& tr, int64_t utime, const Ellipse& e) const {
+  const double gap_s = gap_seconds(utime, tr.last_seen_utime);
+  if (!(gap_s > 0.0 && gap_s <= p_.max_prediction_gap_s)) {
+    tr.has_velocity = false;
+    tr.fixes.clear();
+  } else if (p_.velocity_window_frames < 2) {
+    const double vx = (e.cx - tr.cx) / gap_s, vy = (e.cy - tr.cy) / gap_s;
+    const double k = tr.has_velocity ? p_.velocity_smoothing : 1.0;
+    tr.vx = k * vx + (1.0 - k) * tr.vx;
+    tr.vy = k * vy + (1.0 - k) * tr.vy;
+    tr.has_velocity = true;
+  }
+  tr.fixes.push_back({gap_seconds(utime, 0), e.cx, e.cy});
+  while (int(tr.fixes.size()) > std::max(2, p_.velocity_window_frames)) tr.fixes.pop_front();
+  if (p_.velocity_window_frames < 2 || tr.fixes.size() < 2) return;
+  // least-squares slope of the centre over the window's times
+  double mt = 0, mx = 0, my = 0;
+  for (const Fix& f : tr.fixes) mt += f.t, mx += f.x, my += f.y;
+  const double n = double(tr.fixes.size());
+  mt /= n, mx /= n, my /= n;
+  double stt = 0, stx = 0, sty = 0;
+  for (const Fix& f : tr.fixes)
+    stt += (f.t - mt) * (f.t - mt), stx += (f.t - mt) * (f.x - mx), sty += (f.t - mt) * (f.y - my);
+  if (!(stt > 0.0)) return;
+  tr.vx = stx / stt;
+  tr.vy = sty / stt;
+  tr.has_velocity = true;
+}
+
+void Tracker::correct_tracks(const GridView& g, const std::vector<int>& det_track) {
+  for (size_t d = 0; d < det_track.size(); ++d) {
+    const int t = det_track[d];
     if (t < 0) continue;
     Track& tr = tracks_[size_t(t)];
-    const Ellipse& e = detections_[size_t(d)].ellipse;
-    const double gap_s = gap_seconds(g.utime, tr.last_seen_utime);
-    if (gap_s > 0.0 && gap_s <= p_.max_prediction_gap_s) {
-      const double vx = (e.cx - tr.cx) / gap_s, vy = (e.cy - tr.cy) / gap_s;
-      const double k = tr.has_velocity ? p_.velocity_smoothing : 1.0;
-      tr.vx = k * vx + (1.0 - k) * tr.vx;
-      tr.vy = k * vy + (1.0 - k) * tr.vy;
-      tr.has_velocity = true;
-    } else {
-      tr.has_velocity = false;
+    const Ellipse& e = detections_[d].ellipse;
+    if (detections_[d].merged) {
+      // the merged centre is neither object's: the track moves on as predicted
+      tr.cx = tr.px;
+      tr.cy = tr.py;
+      tr.last_seen_utime = g.utime;
+      tr.missed = 0;
+      tr.seen = true;
+      continue;
     }
+    update_velocity(tr, g.utime, e);
     tr.cx = e.cx;
     tr.cy = e.cy;
     tr.last_seen_utime = g.utime;
     tr.missed = 0;
+    ++tr.hits;
     tr.history.push_back(e);
     while (int(tr.history.size()) > p_.shape_history_frames) tr.history.pop_front();
-    seen[size_t(t)] = 1;
+    tr.seen = true;
   }
+}
+
+std::vector<int> Tracker::prune_tracks(int unmatched) {
   // age every track, count misses, drop the ones unseen for more than K frames
+  const int nt = int(tracks_.size());
   std::vector<Track> kept;
-  kept.reserve(tracks_.size() + size_t(nd));
+  kept.reserve(tracks_.size() + size_t(unmatched));
   std::vector<int> new_index(size_t(nt), -1);
   for (int t = 0; t < nt; ++t) {
     Track& tr = tracks_[size_t(t)];
     ++tr.age;
-    if (!seen[size_t(t)]) ++tr.missed;
+    if (!tr.seen) ++tr.missed;
+    tr.seen = false;
     if (tr.missed > p_.max_missed_frames) {
       ++stats_.tracks_dropped;
       continue;
@@ -203,26 +359,28 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
     kept.push_back(std::move(tr));
   }
   tracks_ = std::move(kept);
-  // unmatched detections start tracks; the table never exceeds max_tracks:
-  // the longest-unseen tracks make room first, then new ones are refused
-  int unmatched = 0;
-  for (int d = 0; d < nd; ++d) unmatched += det_track[size_t(d)] < 0;
+  // the table never exceeds max_tracks: the longest-unseen tracks make room
+  // for the unmatched detections first, then new ones are refused
   while (int(tracks_.size()) + unmatched > p_.max_tracks) {
     auto worst = std::max_element(tracks_.begin(), tracks_.end(),
                                   [](const Track& a, const Track& b) { return a.missed < b.missed; });
     if (worst == tracks_.end() || worst->missed == 0) break;
-    const size_t w = size_t(worst - tracks_.begin());
+    const int w = int(worst - tracks_.begin());
     for (auto& ni : new_index)
-      if (ni == int(w))
+      if (ni == w)
         ni = -1;
-      else if (ni > int(w))
+      else if (ni > w)
         --ni;
     tracks_.erase(worst);
     ++stats_.tracks_dropped;
   }
-  for (int d = 0; d < nd; ++d) {
-    const Detection& det = detections_[size_t(d)];
-    const int t = det_track[size_t(d)];
+  return new_index;
+}
+
+void Tracker::emit(const GridView& g, const std::vector<int>& det_track, const std::vector<int>& new_index) {
+  for (size_t d = 0; d < detections_.size(); ++d) {
+    const Detection& det = detections_[d];
+    const int t = det_track[d];
     const Track* tr = nullptr;
     if (t >= 0) {
       tr = &tracks_[size_t(new_index[size_t(t)])];
@@ -231,13 +389,13 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
         ++stats_.over_track_limit;
         continue;
       }
-      Track nt_;
-      nt_.id = next_id_++;
-      nt_.cx = det.ellipse.cx;
-      nt_.cy = det.ellipse.cy;
-      nt_.last_seen_utime = g.utime;
-      nt_.history.push_back(det.ellipse);
-      tracks_.push_back(std::move(nt_));
+      Track nt;
+      nt.id = next_id_++;
+      nt.cx = det.ellipse.cx;
+      nt.cy = det.ellipse.cy;
+      nt.last_seen_utime = g.utime;
+      nt.history.push_back(det.ellipse);
+      tracks_.push_back(std::move(nt));
       ++stats_.tracks_born;
       tr = &tracks_.back();
     }
@@ -249,6 +407,24 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
     o.age = tr->age;
     out_.push_back(o);
   }
+}
+
+const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
+  out_.clear();
+  if (last_utime_ >= 0 && g.utime <= last_utime_) {
+    // time went backwards (a log loop): start over, ids still never reused
+    ++stats_.time_reset;
+    stats_.tracks_dropped += int64_t(tracks_.size());
+    tracks_.clear();
+  }
+  last_utime_ = g.utime;
+  predict_tracks(g.utime);
+  detect(g);
+  const std::vector<int> det_track = associate();
+  correct_tracks(g, det_track);
+  const int unmatched = int(std::count(det_track.begin(), det_track.end(), -1));
+  const std::vector<int> new_index = prune_tracks(unmatched);
+  emit(g, det_track, new_index);
   return out_;
 }
 

@@ -19,6 +19,31 @@ namespace evade::tracking {
 enum class LargeClusterPolicy { kKeep, kDrop, kSplit };
 enum class ThetaVariation { kRaw, kBoundary };
 
+// Two tracked objects that come within eps of each other form one DBSCAN
+// cluster. With `split`, a cluster that holds the predicted centres of two
+// or more confirmed tracks and is longer than any of them was is cut into
+// one part per track, each cell going to the nearest predicted centre.
+struct MergeSplitParams {
+  bool split = true;
+  int min_track_frames = 5;             // a track counts once matched in this many frames
+  double reach_m = 0.3;                 // its predicted centre lies within this of one of the cluster's cells
+  double min_separation_m = 0.4;        // owners' predicted centres at least this far apart (else the older one counts)
+  double min_growth_m = 0.1;            // the cluster's semi-major axis exceeds every owner's last one by this
+  double min_relative_speed_mps = 0.3;  // and two of them move apart at least this fast (not one rigid body)
+  bool hold_motion = true;              // a grown cluster that cannot be cut: its track moves on as predicted
+
+  template <class V>
+  void fields(V& v) {
+    v.field("split", split);
+    v.field("min_track_frames", min_track_frames, config::between(1, 1000));
+    v.field("reach_m", reach_m, config::between(0.0, 10.0));
+    v.field("min_separation_m", min_separation_m, config::between(0.0, 10.0));
+    v.field("min_growth_m", min_growth_m, config::between(0.0, 10.0));
+    v.field("min_relative_speed_mps", min_relative_speed_mps, config::between(0.0, 100.0));
+    v.field("hold_motion", hold_motion);
+  }
+};
+
 struct TrackerParams {
   double dbscan_eps_m = 0.15;         // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
   int dbscan_min_points = 3;          // DBSCAN minPts (the cell itself included)
@@ -34,8 +59,13 @@ struct TrackerParams {
   double min_semi_axis_m = 0.05;      // MbeOptions::min_semi_axis
   bool predict_with_velocity = true;  // cost = min(distance to predicted centre, to last centre)
   double velocity_smoothing = 0.5;    // weight of the newest centre difference in the velocity estimate
+  int velocity_window_frames =
+      10;                          // >= 2: velocity = least-squares slope of the last this many centres; else smoothing
+  double near_side_shift_b = 0.3;  // centre moved away from the robot by this times the semi-minor axis
+  double tentative_penalty_m = 0.3;   // added to the cost of a track matched in fewer than merge.min_track_frames
   double max_prediction_gap_s = 1.0;  // beyond this gap the last centre is used as is
   ThetaVariation shape_variation_theta = ThetaVariation::kBoundary;
+  MergeSplitParams merge;
 
   // The minimum bounding ellipse's options from the three mbe keys.
   MbeOptions mbe() const;
@@ -59,9 +89,13 @@ struct TrackerParams {
     v.field("min_semi_axis_m", min_semi_axis_m, config::positive());
     v.field("predict_with_velocity", predict_with_velocity);
     v.field("velocity_smoothing", velocity_smoothing, config::between(0.0, 1.0));
+    v.field("velocity_window_frames", velocity_window_frames, config::between(0, 1000));
+    v.field("near_side_shift_b", near_side_shift_b, config::between(0.0, 2.0));
+    v.field("tentative_penalty_m", tentative_penalty_m, config::between(0.0, 100.0));
     v.field("max_prediction_gap_s", max_prediction_gap_s, config::between(0.0, 60.0));
     v.choice("shape_variation_theta", shape_variation_theta,
              config::Choices<ThetaVariation>{{"raw", ThetaVariation::kRaw}, {"boundary", ThetaVariation::kBoundary}});
+    v.section("merge", merge);
   }
 
   static TrackerParams from_config(const config::Node& section);
@@ -73,11 +107,14 @@ struct GridView {
   double origin_x = 0.0, origin_y = 0.0, resolution = 0.1;
   int width = 0, height = 0;
   const int8_t* obstacle = nullptr;  // width * height, row-major
+  bool has_robot = false;            // robot_x, robot_y known (near-side correction)
+  double robot_x = 0.0, robot_y = 0.0;
 };
 
 struct Detection {
   Ellipse ellipse;
   int num_cells = 0;
+  bool merged = false;  // two tracks' objects that could not be cut apart (MergeSplitParams::hold_motion)
 };
 
 struct TrackedObstacle {
@@ -98,6 +135,8 @@ struct TrackerStats {
   int64_t tracks_dropped = 0;
   int64_t over_track_limit = 0;
   int64_t time_reset = 0;
+  int64_t merges_split = 0;  // clusters cut into one part per owning track
+  int64_t merges_held = 0;   // merged clusters that could not be cut (their track moved on as predicted)
 };
 
 // Shape-variation indicator (paper Xi_eta): sum over the window of
@@ -122,6 +161,9 @@ class Tracker {
   const TrackerParams& params() const { return p_; }
 
  private:
+  struct Fix {
+    double t, x, y;  // s (any origin), observed centre
+  };
   struct Track {
     int64_t id;
     double cx, cy;  // last observed centre
@@ -130,10 +172,33 @@ class Tracker {
     int64_t last_seen_utime;
     int missed = 0;
     int age = 0;
+    int hits = 1;                 // frames it was matched in (birth included)
+    double px = 0, py = 0;        // this frame's predicted centre
+    bool predicted = false;       // px, py extrapolated with the velocity
+    bool seen = false;            // matched in this frame
     std::deque<Ellipse> history;  // last m ellipses
+    std::deque<Fix> fixes;        // last velocity_window_frames centres since the last long gap
   };
+  // One frame, in order: predicted centres, clusters (merges split), the
+  // assignment (det_track[d]: track index or -1), the matched tracks'
+  // update, ageing and dropping (returns old -> new index), the output.
+  void predict_tracks(int64_t utime);
   void detect(const GridView& grid);
+  std::vector<int> associate();
+  void update_velocity(Track& track, int64_t utime, const Ellipse& e) const;
+  void correct_tracks(const GridView& grid, const std::vector<int>& det_track);
+  std::vector<int> prune_tracks(int unmatched);
+  void emit(const GridView& grid, const std::vector<int>& det_track, const std::vector<int>& new_index);
+
+  Ellipse fit(const GridView& grid, const std::vector<int32_t>& cells);
+  Ellipse near_side_corrected(const GridView& grid, Ellipse e) const;
+  Detection make_detection(const GridView& grid, const std::vector<int32_t>& cells);
   void add_detection(const GridView& grid, const std::vector<int32_t>& cells);
+  void add_cluster(const GridView& grid, const std::vector<int32_t>& cells);
+  void find_owners(const GridView& grid, const std::vector<int32_t>& cells);  // -> owners_, oldest first
+  void keep_separated_owners();
+  bool owners_move_apart() const;
+  bool partition(const GridView& grid, const std::vector<int32_t>& cells);  // owners_ -> parts_
 
   TrackerParams p_;
   GridDbscan dbscan_;
@@ -147,6 +212,8 @@ class Tracker {
   // scratch
   std::vector<int32_t> row_min_, row_max_;
   std::vector<Vec2> corners_;
+  std::vector<int> owners_;
+  std::vector<std::vector<int32_t>> parts_;
 };
 
 }  // namespace evade::tracking

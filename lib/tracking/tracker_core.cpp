@@ -49,6 +49,9 @@ void TrackerCore::on_map(const evade::grid_map_t& m) {
   g.width = m.width;
   g.height = m.height;
   g.obstacle = obstacle_.data();
+  g.has_robot = std::isfinite(m.robot_x) && std::isfinite(m.robot_y);
+  g.robot_x = m.robot_x;
+  g.robot_y = m.robot_y;
   const auto& obstacles = tracker_.update(g);
 
   evade::obstacle_list_t out;

@@ -222,9 +222,13 @@ TEST(Filter, ManeuverProbabilityRisesOnlyWhenTheMotionChanges) {
     peak = std::max(peak, f.update(z).maneuver_probability);
   }
   EXPECT_GT(peak, 0.5);
-  // the combined estimate is the probability-weighted mix, so it is between the modes
-  EXPECT_GT(f.effective_jerk_psd(), params.filter.jerk_psd_m2ps5);
-  EXPECT_LT(f.effective_jerk_psd(), params.maneuver.jerk_psd_m2ps5);
+  // the prediction's Q is the probability-weighted mix of the models the
+  // modes run: its velocity noise lies between the quiet (white jerk) and
+  // the manoeuvring (cv: white acceleration) mode's
+  const double q_vel = f.prediction_noise(0.1)(kVx, kVx);
+  EXPECT_GT(q_vel, process_noise(params.filter, 0.1, params.filter.jerk_psd_m2ps5)(kVx, kVx));
+  EXPECT_LT(q_vel, process_noise_cv(params.filter, 0.1, params.maneuver.accel_psd_m2ps3)(kVx, kVx));
+  EXPECT_GT(q_vel, 0.2 * process_noise_cv(params.filter, 0.1, params.maneuver.accel_psd_m2ps3)(kVx, kVx));
 }
 
 TEST(Filter, SingleFilterWhenTheImmIsOff) {
@@ -239,7 +243,7 @@ TEST(Filter, SingleFilterWhenTheImmIsOff) {
     f.predict(0.1);
     EXPECT_EQ(f.update(z).maneuver_probability, 0.0);
   }
-  EXPECT_EQ(f.effective_jerk_psd(), params.filter.jerk_psd_m2ps5);
+  EXPECT_TRUE(f.prediction_noise(0.1).isApprox(process_noise(params.filter, 0.1, params.filter.jerk_psd_m2ps5)));
 }
 
 }  // namespace

@@ -358,9 +358,9 @@ TEST(Tracker, CylinderFootprintGivesACentredEllipseWithAStableId) {
   }
 }
 
-int run_crossing(double sep_y, bool expect_merge_free) {
+int run_crossing(double sep_y, bool expect_merge_free, const TrackerParams& p = params()) {
   // A moves +x at 1.8 m/s along y = +sep/2, B moves -x along y = -sep/2
-  Tracker t(params());
+  Tracker t(p);
   int64_t ida = -1, idb = -1;
   int frames_with_both = 0;
   for (int f = 0; f <= 30; ++f) {
@@ -390,8 +390,38 @@ int run_crossing(double sep_y, bool expect_merge_free) {
 TEST(Tracker, CrossingObstaclesKeepTheirIds) { EXPECT_EQ(run_crossing(1.0, true), 0); }
 
 TEST(Tracker, CrossingObstaclesThatMergeForAFewFramesKeepTheirIds) {
-  // passing 0.5 m apart, centre to centre: the discs touch and DBSCAN sees one cluster for a few frames
-  EXPECT_GE(run_crossing(0.5, false), 2);
+  // passing 0.5 m apart, centre to centre: the discs touch and DBSCAN sees
+  // one cluster for a few frames; without the cut, one track coasts through
+  auto p = params();
+  p.merge.split = false;
+  EXPECT_GE(run_crossing(0.5, false, p), 2);
+}
+
+TEST(Tracker, AMergedClusterIsCutIntoOneDetectionPerTrack) {
+  // the same pass with the cut: two obstacles in every frame, each its own id
+  EXPECT_EQ(run_crossing(0.5, true), 0);
+}
+
+TEST(Tracker, OneObjectSeenInTwoPiecesIsNotCutWhenWholeAgain) {
+  // a disc seen as two halves (a column of cells missing) long enough for
+  // both halves to be confirmed tracks, then whole: one detection, the
+  // older track's id
+  Tracker t(params());
+  int64_t utime = 0;
+  auto frame = [&](bool gap) {
+    Scene s;
+    s.disc(1.0, 1.0, 0.35);
+    if (gap)
+      for (int row = 0; row < s.h; ++row) s.cells[row * s.w + 60] = 0;  // x in [1.0, 1.1)
+    return t.update(s.view(utime += 100'000));
+  };
+  for (int f = 0; f < 8; ++f) ASSERT_EQ(frame(true).size(), 2u);
+  for (int f = 0; f < 5; ++f) {
+    const auto& obs = frame(false);
+    ASSERT_EQ(obs.size(), 1u) << "frame " << f;
+    EXPECT_NEAR(obs[0].ellipse.cx, 1.0, 0.06);
+  }
+  EXPECT_EQ(t.stats().merges_split, 0);
 }
 
 TEST(Tracker, PaperAssociationWithoutPredictionAlsoKeepsSeparatedIds) {
@@ -434,6 +464,37 @@ TEST(Tracker, PartialOcclusionDoesNotCarryAStaticTrackAway) {
   EXPECT_EQ(t.update(visible_above(1.6).view(utime += 100'000)).at(0).id, id);
   for (int f = 0; f < 8; ++f) EXPECT_TRUE(t.update(Scene{}.view(utime += 100'000)).empty());
   EXPECT_EQ(t.update(visible_above(0.0).view(utime += 100'000)).at(0).id, id);
+}
+
+TEST(Tracker, NearSideCorrectionMovesTheCentreTowardsTheBodysAxis) {
+  // what a LiDAR at the origin sees of a 0.3 m disc at (3, 0): the near
+  // half of its rim, one cell thick
+  Scene s;
+  for (int row = 0; row < s.h; ++row)
+    for (int c = 0; c < s.w; ++c) {
+      const double x = s.origin_x + (c + 0.5) * s.res, y = s.origin_y + (row + 0.5) * s.res;
+      const double r = std::hypot(x - 3.0, y);
+      if (x <= 3.0 && r <= 0.3 && r > 0.18) s.cells[row * s.w + c] = 1;
+    }
+  auto centre_error = [&](bool robot_known, Ellipse* e) {
+    Tracker t(params());
+    GridView g = s.view(1'000'000);
+    g.has_robot = robot_known;
+    const auto& obs = t.update(g);
+    EXPECT_EQ(obs.size(), 1u);
+    *e = obs.at(0).ellipse;
+    return std::hypot(e->cx - 3.0, e->cy);
+  };
+  Ellipse raw, corrected;
+  const double before = centre_error(false, &raw), after = centre_error(true, &corrected);
+  EXPECT_GT(before, 0.1);
+  EXPECT_LT(after, before - 0.05);
+  EXPECT_GT(corrected.cx, raw.cx);  // moved away from the robot
+  // the near side stays inside: every obstacle cell's centre is enclosed
+  for (int row = 0; row < s.h; ++row)
+    for (int c = 0; c < s.w; ++c)
+      if (s.cells[row * s.w + c])
+        EXPECT_LE(ellipse_level(corrected, {s.origin_x + (c + 0.5) * s.res, s.origin_y + (row + 0.5) * s.res}), 1.0);
 }
 
 TEST(Tracker, TracksDropAfterKMissedFramesAndIdsAreNeverReused) {
@@ -575,7 +636,9 @@ TEST(Tracker, LargeClustersFollowThePolicy) {
 // ---------------------------------------------------------------- core
 TEST(Core, PublishesObstaclesStampedWithTheMapTime) {
   bus::MemoryBus bus;
-  TrackerCore core(params());
+  auto p = params();
+  p.near_side_shift_b = 0.0;  // a painted full disc, not a LiDAR's near side
+  TrackerCore core(p);
   bus.add(core);
   Scene s;
   s.disc(1.0, 1.0, 0.3);
