@@ -199,8 +199,8 @@ void discount_previous_way(const Grid& g, const std::vector<double>& prev_x, con
 // admissible, so the way found is the cheapest on the grid. The cell path,
 // start first (empty when the goal was not reached); *expanded counts the
 // cells expanded.
-std::vector<int> cheapest_path(const Grid& g, const std::vector<double>& factor, double min_factor, int start,
-                               int goal, double tx, double ty, int* expanded) {
+std::vector<int> cheapest_path(const Grid& g, const std::vector<double>& factor, double min_factor, int start, int goal,
+                               double tx, double ty, int* expanded) {
   const int n = g.nx * g.ny;
   std::vector<double> cost(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
   std::vector<int> parent(static_cast<size_t>(n), -1);

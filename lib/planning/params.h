@@ -40,8 +40,8 @@ struct PlannerParams {
   double route_end_decel_mps2 = 0.5;
   double goal_tolerance_m = 0.3;
   double route_search_window_m = 3.0;
-  double blocked_after_s = 5.0;         // PLAN.status BLOCKED after this long without blocked_progress_m ...
-  double blocked_progress_m = 0.2;      // ... of progress along the route
+  double blocked_after_s = 5.0;     // PLAN.status BLOCKED after this long without blocked_progress_m ...
+  double blocked_progress_m = 0.2;  // ... of progress along the route
   double obstacle_consider_radius_m = 4.0;
   int max_obstacles = 16;
   double odometry_max_age_s = 0.3;

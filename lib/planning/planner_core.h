@@ -77,8 +77,7 @@ class PlannerCore : public bus::Core {
                   std::vector<double>* warm_lambda) const;
   // The paper's modes after a failed solve (planner.paper_fallback): the
   // last solved plan shifted, else braking; sets *u, returns the status.
-  int8_t paper_fallback(const Problem& pb, const evade::odometry_t& odom, double v0, double w0,
-                        std::vector<double>* u);
+  int8_t paper_fallback(const Problem& pb, const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u);
   // The reference of this cycle: along the route, or round the settled
   // obstacles standing on it (detour.h).
   void make_reference(const evade::odometry_t& odom, Problem* pb);
