@@ -20,6 +20,8 @@ const char* plan_status_name(int status) {
       return "goal";
     case evade::plan_t::STATUS_RECOVERING:
       return "recovering";
+    case evade::plan_t::STATUS_BLOCKED:
+      return "blocked";
     default:
       return "unknown";
   }

@@ -216,16 +216,29 @@ class InnerCost : public ceres::CostFunction {
   }
 
   bool evaluate_full(const double* u, double* residuals, double* jac) const {
-    const int n = pb_.num_controls(), N = pb_.N, R = pb_.num_rate_constraints();
+    const int n = pb_.num_controls(), N = pb_.N;
     ro_.compute(pb_, u, jac != nullptr);
-    const double* xs = ro_.states.data();
     if (jac) std::fill(jac, jac + static_cast<size_t>(full_rows_) * n, 0.0);
     live_.assign(full_rows_, kRowDense);
     nz_.assign(2 * static_cast<size_t>(full_rows_), -1);
     width_.assign(full_rows_, n);
-    auto row = [&](int r) { return jac + static_cast<size_t>(r) * n; };
+    int r = cost_rows(u, residuals, jac);
+    // barrier values and gradients h_i(X_k), each computed once although
+    // two constraints (k-1 -> k and k -> k+1) use it
+    bar_.resize(pb_.obstacles.size() * (N + 1));
+    have_.assign(bar_.size(), 0);
+    for (size_t a = 0; a < active_.size(); ++a, ++r) constraint_row(a, r, u, residuals, jac);
+    for (int q = 0; q < r; ++q)
+      if (!std::isfinite(residuals[q])) return false;
+    return true;
+  }
 
-    // cost residuals, in the order of cost_residuals() in problem.h
+  // The cost residuals, in the order of cost_residuals() in problem.h, and
+  // their Jacobian rows (jac: unless null); returns the next row.
+  int cost_rows(const double* u, double* residuals, double* jac) const {
+    const int n = pb_.num_controls(), N = pb_.N;
+    const double* xs = ro_.states.data();
+    auto row = [&](int r) { return jac + static_cast<size_t>(r) * n; };
     int r = 0;
     const double sq_xy = std::sqrt(pb_.w.q_xy), sq_yaw = std::sqrt(pb_.w.q_yaw);
     for (int k = 1; k <= N; ++k) {
@@ -260,77 +273,75 @@ class InnerCost : public ceres::CostFunction {
         row(r)[i] = -ss[i % 2];
       }
     }
+    return r;
+  }
 
-    // barrier values and gradients h_i(X_k), each computed once although
-    // two constraints (k-1 -> k and k -> k+1) use it
-    const size_t M = pb_.obstacles.size();
-    bar_.resize(M * (N + 1));
-    have_.assign(bar_.size(), 0);
-    auto barrier_of = [&](int i, int k) -> const BarrierValue& {
-      const size_t idx = static_cast<size_t>(i) * (N + 1) + k;
-      if (!have_[idx]) {
-        const ObstacleTrack& o = pb_.obstacles[i];
-        bar_[idx] = footprint_barrier_cs(xs[3 * k], xs[3 * k + 1], xs[3 * k + 2], o.x[k], o.y[k], o.a[k], o.b[k],
-                                         orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint, pb_.d_safe);
-        have_[idx] = 1;
-      }
-      return bar_[idx];
-    };
+  // h_i(X_k) of the current rollout, computed on first use.
+  const BarrierValue& barrier_of(int i, int k) const {
+    const double* xs = ro_.states.data();
+    const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k;
+    if (!have_[idx]) {
+      const ObstacleTrack& o = pb_.obstacles[i];
+      bar_[idx] = footprint_barrier_cs(xs[3 * k], xs[3 * k + 1], xs[3 * k + 2], o.x[k], o.y[k], o.a[k], o.b[k],
+                                       orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint, pb_.d_safe);
+      have_[idx] = 1;
+    }
+    return bar_[idx];
+  }
 
-    for (size_t a = 0; a < active_.size(); ++a, ++r) {
-      const int j = active_[a].j;
-      double g;
-      // dg/du = sum of (coefficient, state step, gradient) terms, or linear in u
-      if (j < R) {
-        g = constraint(pb_, xs, u, j);
-      } else {
-        const int i = (j - R) / N, k = (j - R) % N;
-        const ObstacleTrack& o = pb_.obstacles[i];
-        g = barrier_of(i, k + 1).h;
-        if (o.decay != 0.0) g -= o.decay * barrier_of(i, k).h;
-        if (!pb_.relax.empty()) g += pb_.relax[j];
+  // Row r: the AL (or elastic) residual of active constraint a, and its
+  // Jacobian row (jac: unless null).
+  void constraint_row(size_t a, int r, const double* u, double* residuals, double* jac) const {
+    const int n = pb_.num_controls(), N = pb_.N, R = pb_.num_rate_constraints();
+    const int j = active_[a].j;
+    double g;
+    // dg/du = sum of (coefficient, state step, gradient) terms, or linear in u
+    if (j < R) {
+      g = constraint(pb_, ro_.states.data(), u, j);
+    } else {
+      const int i = (j - R) / N, k = (j - R) % N;
+      const ObstacleTrack& o = pb_.obstacles[i];
+      g = barrier_of(i, k + 1).h;
+      if (o.decay != 0.0) g -= o.decay * barrier_of(i, k).h;
+      if (!pb_.relax.empty()) g += pb_.relax[j];
+    }
+    // residual = coef * g + offset when switched on, 0 otherwise
+    double coef = 0, offset = 0;
+    if (active_[a].elastic) {
+      if (g < 0) coef = -std::sqrt(mu_);
+    } else if (lambda_[j] / rho_ - g > 0) {
+      coef = -std::sqrt(rho_);
+      offset = std::sqrt(rho_) * lambda_[j] / rho_;
+    }
+    residuals[r] = coef == 0 ? 0.0 : coef * g + offset;
+    if (coef == 0)
+      live_[r] = kRowDead;
+    else if (j < R)
+      live_[r] = kRowSparse;
+    if (!jac || coef == 0) return;
+    double* jr = jac + static_cast<size_t>(r) * n;
+    if (j < R) {
+      const int k = j / 4, which = j % 4;
+      const int c = which < 2 ? 0 : 1;
+      const double s = which % 2 == 0 ? -1.0 : 1.0;  // g = up - (now - prev) or (now - prev) + down
+      jr[2 * k + c] += coef * s;
+      nz_[2 * r] = 2 * k + c;
+      if (k > 0) {
+        jr[2 * (k - 1) + c] -= coef * s;
+        nz_[2 * r + 1] = 2 * (k - 1) + c;
       }
-      // residual = coef * g + offset when switched on, 0 otherwise
-      double coef = 0, offset = 0;
-      if (active_[a].elastic) {
-        if (g < 0) coef = -std::sqrt(mu_);
-      } else if (lambda_[j] / rho_ - g > 0) {
-        coef = -std::sqrt(rho_);
-        offset = std::sqrt(rho_) * lambda_[j] / rho_;
-      }
-      residuals[r] = coef == 0 ? 0.0 : coef * g + offset;
-      if (coef == 0)
-        live_[r] = kRowDead;
-      else if (j < R)
-        live_[r] = kRowSparse;
-      if (!jac || coef == 0) continue;
-      double* jr = row(r);
-      if (j < R) {
-        const int k = j / 4, which = j % 4;
-        const int c = which < 2 ? 0 : 1;
-        const double s = which % 2 == 0 ? -1.0 : 1.0;  // g = up - (now - prev) or (now - prev) + down
-        jr[2 * k + c] += coef * s;
-        nz_[2 * r] = 2 * k + c;
-        if (k > 0) {
-          jr[2 * (k - 1) + c] -= coef * s;
-          nz_[2 * r + 1] = 2 * (k - 1) + c;
-        }
-      } else {
-        const int i = (j - R) / N, k = (j - R) % N;
-        const ObstacleTrack& o = pb_.obstacles[i];
-        const BarrierValue& b1 = barrier_of(i, k + 1);
-        width_[r] = 2 * (k + 1);
-        ro_.add_state_row(pb_, k + 1, coef * b1.gx, coef * b1.gy, coef * b1.gth, jr);
-        if (o.decay != 0.0) {
-          const BarrierValue& b0 = barrier_of(i, k);
-          const double d = -coef * o.decay;
-          ro_.add_state_row(pb_, k, d * b0.gx, d * b0.gy, d * b0.gth, jr);
-        }
+    } else {
+      const int i = (j - R) / N, k = (j - R) % N;
+      const ObstacleTrack& o = pb_.obstacles[i];
+      const BarrierValue& b1 = barrier_of(i, k + 1);
+      width_[r] = 2 * (k + 1);
+      ro_.add_state_row(pb_, k + 1, coef * b1.gx, coef * b1.gy, coef * b1.gth, jr);
+      if (o.decay != 0.0) {
+        const BarrierValue& b0 = barrier_of(i, k);
+        const double d = -coef * o.decay;
+        ro_.add_state_row(pb_, k, d * b0.gx, d * b0.gy, d * b0.gth, jr);
       }
     }
-    for (int q = 0; q < r; ++q)
-      if (!std::isfinite(residuals[q])) return false;
-    return true;
   }
 
   const Problem& pb_;
@@ -713,6 +724,142 @@ void project_controls(const Problem& pb, std::vector<double>* u) {
   }
 }
 
+namespace {
+
+// The iterates of one solve worth keeping: the cheapest feasible one (the
+// start included): when the AL loop ends outside the tolerance (it can
+// jump through an obstacle early and not find its way back), a feasible if
+// less optimal plan still beats none. And those just outside the
+// tolerance, projected at the end when the loop does not converge: the AL
+// loop can wander on (a cold start beside an obstacle: the plan returned
+// after 20 outer iterations ranged from 0.22 to 0.36 m of progress with
+// the iteration budget), and an earlier iterate, projected, can beat the
+// last one.
+struct Iterates {
+  std::vector<double> best_feasible;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<double, std::vector<double>>> near_feasible;  // (cost, u)
+
+  void keep(const Problem& pb, const SolverOptions& o, const std::vector<double>& u, const std::vector<double>& g) {
+    double violation = 0;
+    for (double v : g) violation = std::max(violation, -v);
+    if (violation > o.target_violation) {
+      if (violation <= o.projection_candidate_violation) near_feasible.emplace_back(objective(pb, u.data()), u);
+      return;
+    }
+    const double c = objective(pb, u.data());
+    if (c < best_cost) {
+      best_cost = c;
+      best_feasible = u;
+    }
+  }
+};
+
+// The AL outer loop from res->u with multipliers *lambda and penalty *rho
+// (both updated); every iterate goes to *log.
+void augmented_lagrangian(const Problem& pb, const SolverOptions& o, SolveResult* res, std::vector<double>* lambda,
+                          double* rho, Iterates* log) {
+  const int m = pb.num_constraints();
+  double trust_radius = o.initial_trust_radius;
+  double prev_violation = std::numeric_limits<double>::infinity();
+  std::vector<double> states, g;
+  evaluate_constraints(pb, res->u.data(), &states, &g);
+  log->keep(pb, o, res->u, g);
+  for (int outer = 0; outer < o.max_outer_iterations; ++outer) {
+    // A budget on the Ceres iterations of one solve bounds its time (the
+    // problems that use it up are nearly always infeasible ones, which the
+    // planner's fallbacks handle).
+    const int budget = o.max_total_iterations - res->iterations;
+    if (budget <= 0) break;
+    std::vector<ActiveConstraint> active;
+    // Rate limits (linear, cheap) are always in: left out, the inner solve
+    // chatters between the omega bounds and the next outer iteration starts
+    // from a badly violated point. The rate limits at k = 0 are bounds on u_0.
+    for (int j = 4; j < pb.num_rate_constraints(); ++j) active.push_back({j, false});
+    for (int j = pb.num_rate_constraints(); j < m; ++j)
+      if ((*lambda)[j] > 0 || g[j] < o.active_margin) active.push_back({j, false});
+    std::vector<double> before = res->u;
+    res->iterations += run_inner(pb, o, new InnerCost(pb, std::move(active), *lambda, *rho, /*elastic_penalty=*/1.0),
+                                 &res->u, o.max_inner_iterations, budget, &trust_radius);
+    res->outer_iterations = outer + 1;
+    if (!all_finite(res->u)) {
+      res->u = before;
+      break;
+    }
+    evaluate_constraints(pb, res->u.data(), &states, &g);
+    log->keep(pb, o, res->u, g);
+    double violation = 0;
+    for (double v : g) violation = std::max(violation, -v);
+    // Complementarity: a constraint whose multiplier (from the previous
+    // outer iteration) still holds it off its bound has slack g_j while
+    // lambda_j / rho > 0. Feasible but not optimal: e.g. from rest an
+    // overestimated multiplier on the acceleration chain ramped the speed
+    // up at 3/4 of the limit, 32 % costlier. The update below clears it.
+    double complementarity = 0;
+    for (int j = 0; j < m; ++j)
+      if ((*lambda)[j] > 0) complementarity = std::max(complementarity, std::min(g[j], (*lambda)[j] / *rho));
+    // Aim below the tolerance: in a D-CBF chain a violation at the tolerance
+    // at every step adds up to a visibly cheaper (and less safe) plan.
+    if (violation <= o.target_violation && complementarity <= o.complementarity_tolerance) break;
+    for (int j = 0; j < m; ++j) (*lambda)[j] = std::max(0.0, (*lambda)[j] - *rho * g[j]);
+    if (violation > o.violation_shrink * prev_violation) *rho = std::min(*rho * o.penalty_growth, o.penalty_max);
+    prev_violation = violation;
+  }
+}
+
+// The loop ended outside the tolerance: the last iterate and the cheapest
+// near-feasible ones, projected onto the constraints; the cheapest
+// feasible one (or the best feasible iterate) replaces res->u when cheaper.
+void project_iterates(const Problem& pb, const SolverOptions& o, Iterates* log, SolveResult* res) {
+  std::stable_sort(log->near_feasible.begin(), log->near_feasible.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::vector<double>> to_project = {res->u};
+  for (const auto& nf : log->near_feasible) {
+    if (static_cast<int>(to_project.size()) > o.projection_candidates) break;
+    if (nf.second != res->u) to_project.push_back(nf.second);
+  }
+  bool improved = false;
+  for (std::vector<double>& projected : to_project) {
+    if (!project_onto_constraints(pb, o, &projected)) continue;
+    const double projected_cost = objective(pb, projected.data());
+    if (log->best_feasible.empty() || projected_cost < log->best_cost) {
+      log->best_feasible = projected;
+      log->best_cost = projected_cost;
+      improved = true;
+    }
+  }
+  if (improved) {
+    res->u = log->best_feasible;
+    finish(pb, o, res);
+  }
+}
+
+// The loop can end just outside the tolerance (a few mm on a D-CBF chain,
+// the penalty at its cap) with a plan far cheaper than the best feasible
+// iterate, which may be the start itself (standing beside an obstacle).
+// The farthest feasible point on the segment between the two (bisection)
+// keeps part of that progress.
+void segment_search(const Problem& pb, const SolverOptions& o, const std::vector<double>& best_feasible,
+                    SolveResult* res) {
+  const int n = pb.num_controls();
+  const std::vector<double> last = res->u;
+  std::vector<double> trial(n);
+  auto at = [&](double a) {
+    for (int i = 0; i < n; ++i) trial[i] = best_feasible[i] + a * (last[i] - best_feasible[i]);
+    return max_violation(pb, trial.data()) <= o.constraint_tolerance;
+  };
+  double lo = 0.0, hi = 1.0;
+  for (int b = 0; b < kSegmentBisections; ++b) {
+    const double mid = 0.5 * (lo + hi);
+    (at(mid) ? lo : hi) = mid;
+  }
+  res->u = best_feasible;
+  if (lo > 0.0 && at(lo) && objective(pb, trial.data()) < objective(pb, best_feasible.data())) res->u = trial;
+  finish(pb, o, res);
+}
+
+}  // namespace
+
 SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& warm_u,
                                   const std::vector<double>* warm_multipliers, double warm_penalty) const {
   SolveResult res;
@@ -735,126 +882,13 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   } else if (opts_.estimate_multipliers) {
     estimate_multipliers(pb, res.u, opts_.estimate_margin, &lambda);
   }
-
-  double trust_radius = opts_.initial_trust_radius;
-  double prev_violation = std::numeric_limits<double>::infinity();
-  std::vector<double> states, g;
-  evaluate_constraints(pb, res.u.data(), &states, &g);
-  // The best feasible iterate seen (the start included): when the AL loop
-  // ends outside the tolerance (it can jump through an obstacle early and
-  // not find its way back), a feasible if less optimal plan still beats none.
-  std::vector<double> best_feasible;
-  double best_cost = std::numeric_limits<double>::infinity();
-  // Iterates just outside the tolerance, projected at the end when the loop
-  // does not converge: the AL loop can wander on (a cold start beside an
-  // obstacle: the plan returned after 20 outer iterations ranged from 0.22
-  // to 0.36 m of progress with the iteration budget), and an earlier
-  // iterate, projected, can beat the last one.
-  std::vector<std::pair<double, std::vector<double>>> near_feasible;  // (cost, u)
-  auto keep_if_feasible = [&] {
-    double violation = 0;
-    for (double v : g) violation = std::max(violation, -v);
-    if (violation > opts_.target_violation) {
-      if (violation <= opts_.projection_candidate_violation)
-        near_feasible.emplace_back(objective(pb, res.u.data()), res.u);
-      return;
-    }
-    const double c = objective(pb, res.u.data());
-    if (c < best_cost) {
-      best_cost = c;
-      best_feasible = res.u;
-    }
-  };
-  keep_if_feasible();
-  for (int outer = 0; outer < opts_.max_outer_iterations; ++outer) {
-    // A budget on the Ceres iterations of one solve bounds its time (the
-    // problems that use it up are nearly always infeasible ones, which the
-    // planner's fallbacks handle).
-    const int budget = opts_.max_total_iterations - res.iterations;
-    if (budget <= 0) break;
-    std::vector<ActiveConstraint> active;
-    // Rate limits (linear, cheap) are always in: left out, the inner solve
-    // chatters between the omega bounds and the next outer iteration starts
-    // from a badly violated point. The rate limits at k = 0 are bounds on u_0.
-    for (int j = 4; j < pb.num_rate_constraints(); ++j) active.push_back({j, false});
-    for (int j = pb.num_rate_constraints(); j < m; ++j)
-      if (lambda[j] > 0 || g[j] < opts_.active_margin) active.push_back({j, false});
-    std::vector<double> before = res.u;
-    res.iterations += run_inner(pb, opts_, new InnerCost(pb, std::move(active), lambda, rho, /*elastic_penalty=*/1.0),
-                                &res.u, opts_.max_inner_iterations, budget, &trust_radius);
-    res.outer_iterations = outer + 1;
-    if (!all_finite(res.u)) {
-      res.u = before;
-      break;
-    }
-    evaluate_constraints(pb, res.u.data(), &states, &g);
-    keep_if_feasible();
-    double violation = 0;
-    for (double v : g) violation = std::max(violation, -v);
-    // Complementarity: a constraint whose multiplier (from the previous
-    // outer iteration) still holds it off its bound has slack g_j while
-    // lambda_j / rho > 0. Feasible but not optimal: e.g. from rest an
-    // overestimated multiplier on the acceleration chain ramped the speed
-    // up at 3/4 of the limit, 32 % costlier. The update below clears it.
-    double complementarity = 0;
-    for (int j = 0; j < m; ++j)
-      if (lambda[j] > 0) complementarity = std::max(complementarity, std::min(g[j], lambda[j] / rho));
-    // Aim below the tolerance: in a D-CBF chain a violation at the tolerance
-    // at every step adds up to a visibly cheaper (and less safe) plan.
-    if (violation <= opts_.target_violation && complementarity <= opts_.complementarity_tolerance) break;
-    for (int j = 0; j < m; ++j) lambda[j] = std::max(0.0, lambda[j] - rho * g[j]);
-    if (violation > opts_.violation_shrink * prev_violation)
-      rho = std::min(rho * opts_.penalty_growth, opts_.penalty_max);
-    prev_violation = violation;
-  }
+  Iterates log;
+  augmented_lagrangian(pb, opts_, &res, &lambda, &rho, &log);
   res.multipliers = lambda;
   res.penalty = rho;
   finish(pb, opts_, &res);
-  if (!res.feasible && res.finite) {
-    // the last iterate and the cheapest near-feasible ones, projected
-    std::stable_sort(near_feasible.begin(), near_feasible.end(),
-                     [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::vector<std::vector<double>> to_project = {res.u};
-    for (const auto& nf : near_feasible) {
-      if (static_cast<int>(to_project.size()) > opts_.projection_candidates) break;
-      if (nf.second != res.u) to_project.push_back(nf.second);
-    }
-    bool improved = false;
-    for (std::vector<double>& projected : to_project) {
-      if (!project_onto_constraints(pb, opts_, &projected)) continue;
-      const double projected_cost = objective(pb, projected.data());
-      if (best_feasible.empty() || projected_cost < best_cost) {
-        best_feasible = projected;
-        best_cost = projected_cost;
-        improved = true;
-      }
-    }
-    if (improved) {
-      res.u = best_feasible;
-      finish(pb, opts_, &res);
-    }
-  }
-  if (!res.feasible && !best_feasible.empty()) {
-    // The loop can end just outside the tolerance (a few mm on a D-CBF
-    // chain, the penalty at its cap) with a plan far cheaper than the best
-    // feasible iterate, which may be the start itself (standing beside an
-    // obstacle). The farthest feasible point on the segment between the two
-    // (bisection) keeps part of that progress.
-    const std::vector<double> last = res.u;
-    std::vector<double> trial(n);
-    auto at = [&](double a) {
-      for (int i = 0; i < n; ++i) trial[i] = best_feasible[i] + a * (last[i] - best_feasible[i]);
-      return max_violation(pb, trial.data()) <= opts_.constraint_tolerance;
-    };
-    double lo = 0.0, hi = 1.0;
-    for (int b = 0; b < kSegmentBisections; ++b) {
-      const double mid = 0.5 * (lo + hi);
-      (at(mid) ? lo : hi) = mid;
-    }
-    res.u = best_feasible;
-    if (lo > 0.0 && at(lo) && objective(pb, trial.data()) < objective(pb, best_feasible.data())) res.u = trial;
-    finish(pb, opts_, &res);
-  }
+  if (!res.feasible && res.finite) project_iterates(pb, opts_, &log, &res);
+  if (!res.feasible && !log.best_feasible.empty()) segment_search(pb, opts_, log.best_feasible, &res);
   if (!res.feasible && res.finite) {
     // Repair: the leftover violation is mostly in the (linear) rate limits;
     // clamping the controls onto them moves the states only a little, which

@@ -40,6 +40,8 @@ struct PlannerParams {
   double route_end_decel_mps2 = 0.5;
   double goal_tolerance_m = 0.3;
   double route_search_window_m = 3.0;
+  double blocked_after_s = 5.0;     // PLAN.status BLOCKED after this long without blocked_progress_m ...
+  double blocked_progress_m = 0.2;  // ... of progress along the route
   double obstacle_consider_radius_m = 4.0;
   int max_obstacles = 16;
   double odometry_max_age_s = 0.3;
@@ -249,6 +251,8 @@ void PlannerParams::fields(V& v) {
   v.field("route_end_decel_mps2", route_end_decel_mps2, config::positive());
   v.field("goal_tolerance_m", goal_tolerance_m, config::positive());
   v.field("route_search_window_m", route_search_window_m, config::positive());
+  v.field("blocked_after_s", blocked_after_s, config::positive());
+  v.field("blocked_progress_m", blocked_progress_m, config::positive());
   v.field("obstacle_consider_radius_m", obstacle_consider_radius_m, config::positive());
   v.field("max_obstacles", max_obstacles, config::between(0, 256));
   v.field("odometry_max_age_s", odometry_max_age_s, config::positive());

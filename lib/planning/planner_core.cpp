@@ -301,82 +301,12 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   last_cycle_now_ = now();
   last_cycle_odometry_ = odom.utime;
   cycle_pending_ = false;
-  const int N = p_.horizon_steps;
   const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
   const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
-
-  if (age_us(now(), odom.utime) > std::llround(p_.odometry_max_age_s * 1e6)) {
-    count("stale_odometry");
-    publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
-    return;
-  }
-  if (!route_.has_route()) {
-    publish_plan(odom, evade::plan_t::STATUS_NO_ROUTE, nullptr, std::vector<double>(2 * N, 0.0), 0, 0, 0);
-    return;
-  }
-  route_.update_progress(odom.x, odom.y, p_.route_search_window_m);
-  const double to_end = std::hypot(odom.x - route_.end_x(), odom.y - route_.end_y());
-  if (to_end <= p_.goal_tolerance_m && route_.length() - route_.progress() <= 2 * p_.goal_tolerance_m) {
-    publish_plan(odom, evade::plan_t::STATUS_GOAL, nullptr, braking_controls(v0, w0), 0, 0, 0);
-    return;
-  }
-  if (input_stale()) {
-    count(mode_.source == ObstacleSource::kObserved ? "stale_obstacles" : "stale_predictions");
-    publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
-    return;
-  }
-  if (brake_for_invalid_track(odom, v0, w0)) return;
-
-  Problem pb;
-  pb.N = N;
-  pb.dt = p_.dt_s;
-  pb.x0 = odom.x;
-  pb.y0 = odom.y;
-  pb.yaw0 = odom.yaw;
-  pb.v_prev = v0;
-  pb.omega_prev = w0;
-  pb.w = p_.weights;
-  pb.lim = p_.limits;
-  pb.d_safe = p_.d_safe_m;
-  pb.footprint = p_.footprint;
-  make_reference(odom, &pb);
-  {
-    int invalid = 0;
-    const ObstacleInputs in{predictions_ ? &*predictions_ : nullptr, observed_ ? &*observed_ : nullptr, &history_};
-    pb.obstacles = constraint_obstacles(p_, in, odom.utime, odom.x, odom.y, &invalid);
-    if (invalid) count("tracks_invalid", invalid);
-    for (auto& o : pb.obstacles) {
-      o.age_s = track_age_s(o.id, odom.utime);
-    }
-  }
-
-  // warm start: the previous solution shifted by the elapsed steps, and its
-  // multipliers mapped by track id
-  const int R = pb.num_rate_constraints();
-  std::vector<double> warm_u;
-  std::vector<double> warm_lambda(pb.num_constraints(), 0.0);
-  int steps = -1;
-  if (!prev_u_.empty() && static_cast<int>(prev_u_.size()) == 2 * N)
-    steps = static_cast<int>(std::llround((odom.utime - prev_utime_) * 1e-6 / p_.dt_s));
-  if (steps >= 0 && steps < N) {
-    warm_u = shifted(prev_u_, steps);
-    if (static_cast<int>(prev_multipliers_.size()) >= R) {
-      for (int j = 4; j + 4 * steps < R; ++j) warm_lambda[j] = prev_multipliers_[j + 4 * steps];
-      for (size_t i = 0; i < pb.obstacles.size(); ++i) {
-        auto it = std::find(prev_ids_.begin(), prev_ids_.end(), pb.obstacles[i].id);
-        if (it == prev_ids_.end()) continue;
-        const int pi = static_cast<int>(it - prev_ids_.begin());
-        for (int k = 0; k + steps < N; ++k) {
-          const size_t src = static_cast<size_t>(R + pi * N + k + steps);
-          if (src < prev_multipliers_.size()) warm_lambda[R + i * N + k] = prev_multipliers_[src];
-        }
-      }
-    }
-  } else {
-    warm_u.assign(2 * N, 0.0);
-    for (int k = 0; k < N; ++k) warm_u[2 * k] = v0;  // hold the current speed, go straight
-  }
-
+  if (published_without_solving(odom, v0, w0)) return;
+  const Problem pb = make_problem(odom, v0, w0);
+  std::vector<double> warm_u, warm_lambda;
+  warm_start(pb, odom, v0, &warm_u, &warm_lambda);
   if (mode_.evade_layers && p_.guidance.enabled) {
     plan_with_guidance(pb, warm_u, warm_lambda, odom, v0, w0);
     return;
@@ -392,23 +322,105 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   if (mode_.evade_layers) {
     if (!(res.finite && res.feasible)) status = recover(pb, warm_u, odom, v0, w0, &res, &u, &iterations);
   } else if (!(res.finite && res.feasible)) {
-    // The paper's planner: none of evade's recovery. Braking at the limits
-    // needs no solution; the paper's released code replays its last plan.
-    count("solver_infeasible");
-    if (p_.paper_fallback == PaperFallback::kLastPlan && last_feasible_shifted(odom, &u)) {
-      count("fallback");
-      status = evade::plan_t::STATUS_FALLBACK;
-      project_controls(pb, &u);  // consistent with the measured speed and the limits
-    } else {
-      count("stopping");
-      status = evade::plan_t::STATUS_STOPPING;
-      u = braking_controls(v0, w0);
-    }
+    status = paper_fallback(pb, odom, v0, w0, &u);
   }
   const double measured_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
   const double solve_us = solve_time_model_ ? solve_time_model_(iterations, measured_us) : measured_us;
 
   finish_cycle(odom, status, pb, u, res, solve_us, iterations);
+}
+
+bool PlannerCore::published_without_solving(const evade::odometry_t& odom, double v0, double w0) {
+  if (age_us(now(), odom.utime) > std::llround(p_.odometry_max_age_s * 1e6)) {
+    count("stale_odometry");
+    publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
+    return true;
+  }
+  if (!route_.has_route()) {
+    publish_plan(odom, evade::plan_t::STATUS_NO_ROUTE, nullptr, std::vector<double>(2 * p_.horizon_steps, 0.0), 0, 0,
+                 0);
+    return true;
+  }
+  route_.update_progress(odom.x, odom.y, p_.route_search_window_m);
+  const double to_end = std::hypot(odom.x - route_.end_x(), odom.y - route_.end_y());
+  if (to_end <= p_.goal_tolerance_m && route_.length() - route_.progress() <= 2 * p_.goal_tolerance_m) {
+    blocked(odom, true);
+    publish_plan(odom, evade::plan_t::STATUS_GOAL, nullptr, braking_controls(v0, w0), 0, 0, 0);
+    return true;
+  }
+  if (input_stale()) {
+    count(mode_.source == ObstacleSource::kObserved ? "stale_obstacles" : "stale_predictions");
+    publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
+    return true;
+  }
+  return brake_for_invalid_track(odom, v0, w0);
+}
+
+Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, double w0) {
+  Problem pb;
+  pb.N = p_.horizon_steps;
+  pb.dt = p_.dt_s;
+  pb.x0 = odom.x;
+  pb.y0 = odom.y;
+  pb.yaw0 = odom.yaw;
+  pb.v_prev = v0;
+  pb.omega_prev = w0;
+  pb.w = p_.weights;
+  pb.lim = p_.limits;
+  pb.d_safe = p_.d_safe_m;
+  pb.footprint = p_.footprint;
+  make_reference(odom, &pb);
+  int invalid = 0;
+  const ObstacleInputs in{predictions_ ? &*predictions_ : nullptr, observed_ ? &*observed_ : nullptr, &history_};
+  pb.obstacles = constraint_obstacles(p_, in, odom.utime, odom.x, odom.y, &invalid);
+  if (invalid) count("tracks_invalid", invalid);
+  for (auto& o : pb.obstacles) {
+    o.age_s = track_age_s(o.id, odom.utime);
+  }
+  return pb;
+}
+
+void PlannerCore::warm_start(const Problem& pb, const evade::odometry_t& odom, double v0, std::vector<double>* warm_u,
+                             std::vector<double>* warm_lambda) const {
+  // the previous solution shifted by the elapsed steps, and its multipliers
+  // mapped by track id
+  const int N = pb.N, R = pb.num_rate_constraints();
+  warm_lambda->assign(pb.num_constraints(), 0.0);
+  int steps = -1;
+  if (!prev_u_.empty() && static_cast<int>(prev_u_.size()) == 2 * N)
+    steps = static_cast<int>(std::llround((odom.utime - prev_utime_) * 1e-6 / p_.dt_s));
+  if (!(steps >= 0 && steps < N)) {
+    warm_u->assign(2 * N, 0.0);
+    for (int k = 0; k < N; ++k) (*warm_u)[2 * k] = v0;  // hold the current speed, go straight
+    return;
+  }
+  *warm_u = shifted(prev_u_, steps);
+  if (static_cast<int>(prev_multipliers_.size()) < R) return;
+  for (int j = 4; j + 4 * steps < R; ++j) (*warm_lambda)[j] = prev_multipliers_[j + 4 * steps];
+  for (size_t i = 0; i < pb.obstacles.size(); ++i) {
+    auto it = std::find(prev_ids_.begin(), prev_ids_.end(), pb.obstacles[i].id);
+    if (it == prev_ids_.end()) continue;
+    const int pi = static_cast<int>(it - prev_ids_.begin());
+    for (int k = 0; k + steps < N; ++k) {
+      const size_t src = static_cast<size_t>(R + pi * N + k + steps);
+      if (src < prev_multipliers_.size()) (*warm_lambda)[R + i * N + k] = prev_multipliers_[src];
+    }
+  }
+}
+
+int8_t PlannerCore::paper_fallback(const Problem& pb, const evade::odometry_t& odom, double v0, double w0,
+                                   std::vector<double>* u) {
+  // The paper's planner: none of evade's recovery. Braking at the limits
+  // needs no solution; the paper's released code replays its last plan.
+  count("solver_infeasible");
+  if (p_.paper_fallback == PaperFallback::kLastPlan && last_feasible_shifted(odom, u)) {
+    count("fallback");
+    project_controls(pb, u);  // consistent with the measured speed and the limits
+    return evade::plan_t::STATUS_FALLBACK;
+  }
+  count("stopping");
+  *u = braking_controls(v0, w0);
+  return evade::plan_t::STATUS_STOPPING;
 }
 
 void PlannerCore::finish_cycle(const evade::odometry_t& odom, int8_t status, const Problem& pb,
@@ -423,7 +435,22 @@ void PlannerCore::finish_cycle(const evade::odometry_t& odom, int8_t status, con
   prev_penalty_ = status == evade::plan_t::STATUS_OK ? res.penalty : 0.0;
   prev_ids_.clear();
   for (const auto& o : pb.obstacles) prev_ids_.push_back(o.id);
+  if (blocked(odom, false)) {
+    count("blocked");
+    status = evade::plan_t::STATUS_BLOCKED;
+  }
   publish_plan(odom, status, &pb, u, solve_us, iterations, static_cast<int>(pb.obstacles.size()));
+}
+
+bool PlannerCore::blocked(const evade::odometry_t& odom, bool restart) {
+  const double s = route_.progress();
+  // a new route starts its progress again: so does the mark
+  if (restart || progress_mark_utime_ < 0 || s > progress_mark_m_ + p_.blocked_progress_m || s < progress_mark_m_) {
+    progress_mark_m_ = s;
+    progress_mark_utime_ = odom.utime;
+    return false;
+  }
+  return age_us(odom.utime, progress_mark_utime_) > std::llround(p_.blocked_after_s * 1e6);
 }
 
 std::optional<CeresMpcSolver> PlannerCore::budgeted_solver(int spent, int reserve) {
@@ -440,10 +467,35 @@ std::optional<CeresMpcSolver> PlannerCore::budgeted_solver(int spent, int reserv
   return CeresMpcSolver(o);
 }
 
+std::vector<double> PlannerCore::swerve_controls(double side, double v0) const {
+  // a swerve to one side at the current speed, then back
+  const int N = p_.horizon_steps;
+  std::vector<double> guess(2 * N);
+  for (int k = 0; k < N; ++k) {
+    guess[2 * k] = v0;
+    guess[2 * k + 1] = (k < N / 2 ? side : -side) * p_.limits.omega_max;
+  }
+  return guess;
+}
+
+std::vector<double> PlannerCore::dash_controls(double side, double v0) const {
+  // getting away to one side: accelerating at the limit while turning at
+  // the limit for half the horizon, then straight on (from rest a swerve at
+  // the current speed only turns on the spot)
+  const int N = p_.horizon_steps;
+  std::vector<double> guess(2 * N);
+  double v = v0;
+  for (int k = 0; k < N; ++k) {
+    v = std::min(p_.limits.v_max, v + p_.limits.accel * p_.dt_s);
+    guess[2 * k] = v;
+    guess[2 * k + 1] = k < N / 2 ? side * p_.limits.omega_max : 0.0;
+  }
+  return guess;
+}
+
 int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom,
                             double v0, double w0, SolveResult* res_out, std::vector<double>* u_out,
                             int* iterations_out) {
-  const int N = p_.horizon_steps;
   SolveResult& res = *res_out;
   int& iterations = *iterations_out;
   auto budgeted = [&](int reserve = 0) { return budgeted_solver(iterations, reserve); };
@@ -460,43 +512,21 @@ int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u
     skip_restarts = can_relax && max_violation(pb, brake.data()) > p_.solver.constraint_tolerance;
     if (skip_restarts) count("restart_skipped");
   }
-  // a swerve to one side at the current speed, then back
-  auto swerve = [&](double side) {
-    std::vector<double> guess(2 * N);
-    for (int k = 0; k < N; ++k) {
-      guess[2 * k] = v0;
-      guess[2 * k + 1] = (k < N / 2 ? side : -side) * p_.limits.omega_max;
-    }
-    return guess;
-  };
-  // getting away to one side: accelerating at the limit while turning at
-  // the limit for half the horizon, then straight on (from rest a swerve at
-  // the current speed only turns on the spot)
-  auto dash = [&](double side) {
-    std::vector<double> guess(2 * N);
-    double v = v0;
-    for (int k = 0; k < N; ++k) {
-      v = std::min(p_.limits.v_max, v + p_.limits.accel * p_.dt_s);
-      guess[2 * k] = v;
-      guess[2 * k + 1] = k < N / 2 ? side * p_.limits.omega_max : 0.0;
-    }
-    return guess;
-  };
   if (constrained) {
     // unsolved, candidates for the plan with the most clearance below
-    for (double side : {1.0, -1.0}) attempts.push_back(dash(side));
+    for (double side : {1.0, -1.0}) attempts.push_back(dash_controls(side, v0));
   }
   if (constrained && skip_restarts) {
     // unsolved, still candidates for the plan chosen below: with
     // a mover closing in, getting out of its way at speed can beat all else
-    for (double side : {1.0, -1.0}) attempts.push_back(swerve(side));
+    for (double side : {1.0, -1.0}) attempts.push_back(swerve_controls(side, v0));
   } else if (constrained) {
     // the relaxed solve, when it applies, comes next and keeps its budget
     const int reserve = can_relax ? p_.solver.max_total_iterations : 0;
     for (double side : {1.0, -1.0}) {
       const std::optional<CeresMpcSolver> solver = budgeted(reserve);
       if (!solver) break;
-      SolveResult alt = solver->solve(pb, swerve(side));
+      SolveResult alt = solver->solve(pb, swerve_controls(side, v0));
       iterations += alt.iterations;
       count("solver_restart");
       if (alt.finite) attempts.push_back(alt.u);
@@ -594,6 +624,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
 
 void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb,
                                const std::vector<double>& u_in, double solve_us, int iterations, int num_obstacles) {
+  (void)num_obstacles;  // the constraint set itself is what is reported
   const int N = p_.horizon_steps;
   Problem base;
   if (pb == nullptr) {
@@ -617,44 +648,7 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
     u = braking_controls(odom.v, odom.omega);
     rollout(*pb, u.data(), states.data());
   }
-  evade::plan_t plan;
-  plan.utime = odom.utime;
-  plan.mode = mode_name(p_.mode);
-  plan.status = status;
-  plan.solve_time_us = static_cast<int64_t>(solve_us);
-  plan.iterations = iterations;
-  plan.cost = pb->ref_x.empty() ? 0.0 : objective(*pb, u.data());
-  plan.horizon = N;
-  plan.num_states = N + 1;
-  for (int k = 0; k <= N; ++k) {
-    plan.x.push_back(states[3 * k]);
-    plan.y.push_back(states[3 * k + 1]);
-    plan.yaw.push_back(wrap_angle(states[3 * k + 2]));
-  }
-  for (int k = 0; k < N; ++k) {
-    plan.v.push_back(u[2 * k]);
-    plan.omega.push_back(u[2 * k + 1]);
-  }
-  plan.min_barrier = min_barrier(*pb, states);
-  plan.max_violation = pb->ref_x.empty() ? 0.0 : max_violation(*pb, u.data());
-  (void)num_obstacles;  // the constraint set itself is what is reported
-  for (const ObstacleTrack& o : pb->obstacles) {
-    double slack = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < N; ++k) {
-      const double h0 = barrier_at(*pb, o, k, &states[3 * k]).h;
-      const double h1 = barrier_at(*pb, o, k + 1, &states[3 * (k + 1)]).h;
-      slack = std::min(slack, h1 - o.decay * h0);
-    }
-    plan.obstacle_id.push_back(o.id);
-    plan.obstacle_x.push_back(o.x.empty() ? 0.0 : o.x[0]);
-    plan.obstacle_y.push_back(o.y.empty() ? 0.0 : o.y[0]);
-    plan.obstacle_slack.push_back(std::isfinite(slack) ? slack : kNoObstacleBarrier);
-  }
-  plan.num_obstacles = static_cast<int32_t>(plan.obstacle_id.size());
-  plan.predictions_utime = mode_.source == ObstacleSource::kPredicted && predictions_ ? predictions_->utime : -1;
-  if (!std::isfinite(plan.cost)) plan.cost = 0;
-  if (!std::isfinite(plan.min_barrier)) plan.min_barrier = kNoObstacleBarrier;
-  if (!std::isfinite(plan.max_violation)) plan.max_violation = 0;
+  const evade::plan_t plan = plan_message(odom, status, *pb, u, states, solve_us, iterations);
   publish("PLAN", plan);
   last_plan_ = plan;
 
@@ -673,6 +667,50 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
   last_cmd_v_ = cmd.v;
   last_cmd_omega_ = cmd.omega;
   last_cmd_now_ = now();
+}
+
+evade::plan_t PlannerCore::plan_message(const evade::odometry_t& odom, int8_t status, const Problem& pb,
+                                        const std::vector<double>& u, const std::vector<double>& states,
+                                        double solve_us, int iterations) const {
+  const int N = p_.horizon_steps;
+  evade::plan_t plan;
+  plan.utime = odom.utime;
+  plan.mode = mode_name(p_.mode);
+  plan.status = status;
+  plan.solve_time_us = static_cast<int64_t>(solve_us);
+  plan.iterations = iterations;
+  plan.cost = pb.ref_x.empty() ? 0.0 : objective(pb, u.data());
+  plan.horizon = N;
+  plan.num_states = N + 1;
+  for (int k = 0; k <= N; ++k) {
+    plan.x.push_back(states[3 * k]);
+    plan.y.push_back(states[3 * k + 1]);
+    plan.yaw.push_back(wrap_angle(states[3 * k + 2]));
+  }
+  for (int k = 0; k < N; ++k) {
+    plan.v.push_back(u[2 * k]);
+    plan.omega.push_back(u[2 * k + 1]);
+  }
+  plan.min_barrier = min_barrier(pb, states);
+  plan.max_violation = pb.ref_x.empty() ? 0.0 : max_violation(pb, u.data());
+  for (const ObstacleTrack& o : pb.obstacles) {
+    double slack = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < N; ++k) {
+      const double h0 = barrier_at(pb, o, k, &states[3 * k]).h;
+      const double h1 = barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h;
+      slack = std::min(slack, h1 - o.decay * h0);
+    }
+    plan.obstacle_id.push_back(o.id);
+    plan.obstacle_x.push_back(o.x.empty() ? 0.0 : o.x[0]);
+    plan.obstacle_y.push_back(o.y.empty() ? 0.0 : o.y[0]);
+    plan.obstacle_slack.push_back(std::isfinite(slack) ? slack : kNoObstacleBarrier);
+  }
+  plan.num_obstacles = static_cast<int32_t>(plan.obstacle_id.size());
+  plan.predictions_utime = mode_.source == ObstacleSource::kPredicted && predictions_ ? predictions_->utime : -1;
+  if (!std::isfinite(plan.cost)) plan.cost = 0;
+  if (!std::isfinite(plan.min_barrier)) plan.min_barrier = kNoObstacleBarrier;
+  if (!std::isfinite(plan.max_violation)) plan.max_violation = 0;
+  return plan;
 }
 
 std::unique_ptr<PlannerCore> PlannerCore::from_config(const config::Node& root, const std::string& mode) {

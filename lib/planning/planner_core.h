@@ -65,6 +65,19 @@ class PlannerCore : public bus::Core {
   // or none newer than the last cycle's (then at the next one).
   void on_new_obstacle_input();
   void plan_cycle(const evade::odometry_t& odom);
+  // The cycles that need no solve: stale odometry or obstacle input, no
+  // route, at the goal, an invalid track near; publishes their plan and
+  // returns true.
+  bool published_without_solving(const evade::odometry_t& odom, double v0, double w0);
+  // This cycle's problem from the odometry: limits, reference, obstacles.
+  Problem make_problem(const evade::odometry_t& odom, double v0, double w0);
+  // The previous plan shifted by the steps since it (else holding v0,
+  // straight on) and its multipliers mapped by track id.
+  void warm_start(const Problem& pb, const evade::odometry_t& odom, double v0, std::vector<double>* warm_u,
+                  std::vector<double>* warm_lambda) const;
+  // The paper's modes after a failed solve (planner.paper_fallback): the
+  // last solved plan shifted, else braking; sets *u, returns the status.
+  int8_t paper_fallback(const Problem& pb, const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u);
   // The reference of this cycle: along the route, or round the settled
   // obstacles standing on it (detour.h).
   void make_reference(const evade::odometry_t& odom, Problem* pb);
@@ -91,6 +104,11 @@ class PlannerCore : public bus::Core {
   // The last feasible plan shifted to this cycle, its tail braking; false
   // when there is none from within the horizon.
   bool last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const;
+  // Recovery starts and candidates (side +1 left, -1 right): a swerve at
+  // speed v0 to one side at the turn-rate limit, then back; a dash that
+  // accelerates at the limit while turning for half the horizon.
+  std::vector<double> swerve_controls(double side, double v0) const;
+  std::vector<double> dash_controls(double side, double v0) const;
   // Nothing met every constraint: of the plans at hand (`attempts`, the
   // last feasible plan shifted, braking) the one with the most clearance.
   int8_t most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,
@@ -109,6 +127,10 @@ class PlannerCore : public bus::Core {
   // feasible one for the fallback) and publishes it.
   void finish_cycle(const evade::odometry_t& odom, int8_t status, const Problem& pb, const std::vector<double>& u,
                     const SolveResult& res, double solve_us, int iterations);
+  // The PLAN message of controls u and their rollout's states.
+  evade::plan_t plan_message(const evade::odometry_t& odom, int8_t status, const Problem& pb,
+                             const std::vector<double>& u, const std::vector<double>& states, double solve_us,
+                             int iterations) const;
   void publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb, const std::vector<double>& u,
                     double solve_us, int iterations, int num_obstacles);
 
@@ -140,6 +162,13 @@ class PlannerCore : public bus::Core {
   std::vector<double> feasible_u_;
   int64_t feasible_utime_ = -1;
   std::optional<evade::plan_t> last_plan_;
+  // PLAN.status BLOCKED: the route progress last reached blocked_progress_m
+  // beyond the mark, and the odometry utime then
+  double progress_mark_m_ = 0.0;
+  int64_t progress_mark_utime_ = -1;
+  // Moves the mark on (or restarts it: no route, at the goal, a new route);
+  // true when the robot has made no progress for blocked_after_s.
+  bool blocked(const evade::odometry_t& odom, bool restart);
   bool predictions_stale() const;  // no predictions (when required) or older than predictions_max_age_s
   bool observed_stale() const;     // no OBSTACLES (when required) or older than obstacles_max_age_s
   bool input_stale() const;        // the mode's obstacle input (ModeSpec::source) is stale

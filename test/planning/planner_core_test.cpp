@@ -325,6 +325,32 @@ TEST(PlannerCore, ReachesTheGoalAndStops) {
   EXPECT_EQ(r.plan_log.back().status, int8_t{evade::plan_t::STATUS_GOAL});
   EXPECT_NEAR(r.final_x, 5.0, 0.35);
   EXPECT_NEAR(r.plan_log.back().v[0], 0.0, 0.15);
+  for (const auto& pl : r.plan_log) EXPECT_NE(pl.status, int8_t{evade::plan_t::STATUS_BLOCKED});
+}
+
+// An obstacle standing on the route's end: the robot stops in front of it.
+// PLAN says BLOCKED once it has made less than blocked_progress_m along the
+// route for blocked_after_s, and not before.
+TEST(PlannerCore, PlanSaysBlockedAfterNoProgressForBlockedAfterS) {
+  const PlannerParams p = default_params();
+  RunResult r = run(p, {{4.5, 0.0, 0.0, 0.0, 1.0}}, 14.0, 5.0);
+  ASSERT_FALSE(r.plan_log.empty());
+  EXPECT_LT(r.final_x, 3.5);  // the premise: it stood in front of it
+  // the last time the progress along the (straight) route grew by
+  // blocked_progress_m, from the plans' own start states
+  double mark_x = r.plan_log.front().x[0], mark_t = 0.0, first_blocked = -1.0;
+  for (const auto& pl : r.plan_log) {
+    const double t = (pl.utime - 1'000'000) * 1e-6;
+    if (pl.x[0] > mark_x + p.blocked_progress_m) {
+      mark_x = pl.x[0];
+      mark_t = t;
+    }
+    if (pl.status == evade::plan_t::STATUS_BLOCKED && first_blocked < 0) first_blocked = t;
+  }
+  ASSERT_GE(first_blocked, 0.0) << "never BLOCKED";
+  EXPECT_GE(first_blocked, mark_t + p.blocked_after_s - 0.05);
+  EXPECT_LE(first_blocked, mark_t + p.blocked_after_s + 0.25);
+  EXPECT_EQ(r.plan_log.back().status, int8_t{evade::plan_t::STATUS_BLOCKED});
 }
 
 // Past the route's end (an avoidance overshot it) or level with it beside
