@@ -3,22 +3,13 @@
 
 #include <cmath>
 
+#include "planning/params.h"
 #include "planning/problem.h"
 
 namespace evade::planning::testing {
 
-inline Weights default_weights() {
-  Weights w;
-  w.q_xy = 10.0;
-  w.q_yaw = 1.0;
-  w.p_xy = 20.0;
-  w.p_yaw = 2.0;
-  w.r_v = 0.1;
-  w.r_omega = 0.1;
-  w.s_v = 1.0;
-  w.s_omega = 1.0;
-  return w;
-}
+// robot.yaml's weights (test_config_sections pins the C++ defaults to it).
+inline Weights default_weights() { return PlannerParams::default_weights(); }
 
 inline Limits default_limits() {
   Limits l;
