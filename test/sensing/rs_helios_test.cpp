@@ -200,6 +200,9 @@ TEST(RsHeliosDecoder, NothingBeforeTheFirstDifopThenRevolutions) {
   evade::sensing::LidarDecoderParams p;
   p.model = evade::sensing::LidarModel::kRsHelios;
   p.time_source = evade::sensing::TimeSource::kSensor;
+  p.min_range_m = 0.0;
+  p.max_range_m = 200.0;
+  p.self_filter = false;
   evade::sensing::LidarDecoder dec(p, [&](const std::string& n, int64_t k) { counts[n] += k; });
   const int64_t t0 = 1'700'000'000'000'000LL;
   // 10 Hz: 0.2 deg per 55.56 us block
@@ -254,6 +257,9 @@ TEST(RsHeliosMsop, ImpossibleHeaderTimeIsInvalidNotOverflowed) {
   evade::sensing::LidarDecoderParams p;
   p.model = evade::sensing::LidarModel::kRsHelios;
   p.time_source = evade::sensing::TimeSource::kSensor;
+  p.min_range_m = 0.0;
+  p.max_range_m = 200.0;
+  p.self_filter = false;
   evade::sensing::LidarDecoder dec(p, [&](const std::string& n, int64_t k) { counts[n] += k; });
   std::vector<evade::sensing::Revolution> revs;
   auto difop = test_difop().encode();

@@ -315,7 +315,12 @@ BodyPoints decode_helios(const std::vector<Packet>& packets, bool self_filter) {
   sensing::LidarDecoderParams dp;
   dp.model = sensing::LidarModel::kRsHelios;
   dp.mount.z = 0.9;
-  dp.self_filter = sensing::SelfFilterParams{self_filter, 0.93, 0.70, 0.05};
+  dp.min_range_m = 0.0;
+  dp.max_range_m = 200.0;
+  dp.self_filter = self_filter;
+  dp.footprint_length_m = 0.93;
+  dp.footprint_width_m = 0.70;
+  dp.self_filter_margin_m = 0.05;
   BodyPoints b;
   sensing::LidarDecoder dec(dp, [&](const std::string& n, int64_t k) {
     if (n == "self_filtered_points") b.filtered += k;
