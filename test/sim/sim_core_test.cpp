@@ -121,7 +121,7 @@ TEST_F(SimCoreTest, RobotAcceleratesAtTheConfiguredLimit) {
 // (lib/base/README.md). Frames stop -> the base holds the last command for
 // 500 ms, then brakes to rest at its deceleration limit and reports standby.
 TEST_F(SimCoreTest, FramesStopTheBaseHoldsTheCommandForHalfASecondThenBrakesToRest) {
-  ASSERT_EQ(params_.robot.command_timeout_us, 500'000);  // config/robot.yaml sim.command_timeout_s
+  ASSERT_EQ(params_.command_timeout_us, 500'000);  // config/robot.yaml sim.command_timeout_s
   int64_t last = 0;
   for (int64_t t = kT0 + 1000; t <= kT0 + 1'001'000; t += 20'000) command(0.75, 0.0, last = t);
   run_until(last + 1000);
