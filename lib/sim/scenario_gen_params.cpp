@@ -5,6 +5,9 @@
 #include <sstream>
 
 #include "config/robot_params.h"
+#include "config/robot_profile.h"
+#include "mapping/elevation_map.h"
+#include "planning/params.h"
 
 namespace evade::sim::gen {
 namespace {
@@ -173,12 +176,14 @@ RobotFacts RobotFacts::from_config(const config::Node& root) {
   const auto robot = config::load<config::RobotParams>(root.section("robot"));
   f.footprint_length_m = robot.footprint_length_m;
   f.footprint_width_m = robot.footprint_width_m;
-  f.lidar_height_m = config::load<config::LidarParams>(root.section("lidar")).mount.z_m;
-  // Three keys of sections whose owners (planning/params.h,
-  // mapping/elevation_map.h) list and check them: read here as they are.
-  f.reference_speed_mps = root.section("planner").get_positive("reference_speed_mps");
-  config::Node map = root.section("elevation_map");
-  f.step_max_m = std::max(map.get_positive("step_max_m"), map.get_positive("blind_ground_step_max_m"));
+  const auto lidar = config::load<config::LidarParams>(root.section("lidar"));
+  f.lidar_height_m = lidar.mount.z_m;
+  f.lidar_model = lidar.model;
+  // The planner's and the map's sections through their owners' lists.
+  f.reference_speed_mps = planning::PlannerParams::from_config(root).reference_speed_mps;
+  const auto map = mapping::ElevationMapParams::from_config(root.section("elevation_map"));
+  f.step_max_m = std::max(map.step_max_m, map.blind_ground_step_max_m);
+  if (root.provenance()) f.profile = root.provenance()->profile;
   return f;
 }
 

@@ -33,12 +33,13 @@ struct RobotFacts {
   double step_max_m = 0.15;
   // The robot profile the configuration was merged with (config/
   // robot_profile.h; "" none): generated scenarios name it (robot.profile)
-  // so that runs of them use the same robot. Set by the caller.
+  // so that runs of them use the same robot.
   std::string profile;
-  std::string lidar_model = "vlp16";  // lidar.model, set by the caller likewise
+  std::string lidar_model = "vlp16";  // lidar.model
 
-  // Reads robot and lidar (through their field lists, config/robot_params.h),
-  // planner.reference_speed_mps and elevation_map's step thresholds.
+  // Reads robot and lidar (config/robot_params.h), planner
+  // (planning/params.h) and elevation_map (mapping/elevation_map.h), each
+  // through its owner's field list, and the profile of the merge.
   static RobotFacts from_config(const config::Node& root);
 };
 
