@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -37,40 +38,34 @@ const FamilyParams& params() {
   return p;
 }
 
-std::string families_error(const std::string& from, const std::string& to) {
-  std::string text;
-  {
-    std::ifstream f(kFamiliesYaml);
-    text.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-  }
-  size_t at = text.find(from);
+// The file at `path` (called `name`) with `from` replaced by `to`, read by `load`: the
+// ConfigError it gives ("" none); *line (if given) the line of `from`.
+std::string error_with(const std::string& path, const std::string& name, const std::string& from, const std::string& to,
+                       const std::function<void(const config::Node&)>& load, int* line = nullptr) {
+  std::ifstream f(path);
+  std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   if (at == std::string::npos) return "";
+  if (line)
+    *line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
   text.replace(at, from.size(), to);
   try {
-    FamilyParams::from_config(config::load_string(text, "families.yaml"), robot());
+    load(config::load_string(text, name));
   } catch (const config::ConfigError& e) {
     return e.what();
   }
   return "";
 }
 
-// RobotFacts of robot.yaml with `from` replaced by `to`: the error, and
-// in *line the line of the replaced text.
+std::string families_error(const std::string& from, const std::string& to) {
+  return error_with(kFamiliesYaml, "families.yaml", from, to,
+                    [](const config::Node& n) { FamilyParams::from_config(n, robot()); });
+}
+
 std::string robot_facts_error(const std::string& from, const std::string& to, int* line) {
-  std::ifstream f(kRobotYaml);
-  std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at == std::string::npos) return "";
-  *line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-  text.replace(at, from.size(), to);
-  try {
-    RobotFacts::from_config(config::load_string(text, "robot.yaml"));
-  } catch (const config::ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return error_with(
+      kRobotYaml, "robot.yaml", from, to, [](const config::Node& n) { RobotFacts::from_config(n); }, line);
 }
 
 std::string lines(const std::vector<std::string>& v) {
