@@ -134,13 +134,13 @@ struct CommonKeys {
 };
 
 struct WallKeys {
-  Shapes& s;
+  WallKind& k;
   double min_h;
   template <class V>
   void fields(V& v) {
-    v.convert("thickness_m", s.wall_thickness_m, positive_length());
-    v.convert("height_m", s.wall_height_m, positive_length());
-    check_visible(v, "height_m", s.wall_height_m.lo, min_h);
+    v.convert("thickness_m", k.thickness_m, positive_length());
+    v.convert("height_m", k.height_m, positive_length());
+    check_visible(v, "height_m", k.height_m.lo, min_h);
   }
 };
 
@@ -152,7 +152,7 @@ struct ShapeKeys {
     CylinderKeys walker{s.walker, true, true, min_h}, jogger{s.jogger, true, true, min_h};
     CylinderKeys ball{s.ball, true, false, min_h}, dog{s.dog, true, true, min_h};
     BoxKeys bike{s.bike, true, min_h}, parked{s.parked_vehicle, false, min_h};
-    WallKeys wall{s, min_h};
+    WallKeys wall{s.wall, min_h};
     v.section("walker", walker);
     v.section("jogger", jogger);
     v.section("bike", bike);

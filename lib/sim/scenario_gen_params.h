@@ -66,8 +66,11 @@ struct CommonParams {
 struct CylinderKind {  // walkers, joggers, balls, dogs, bins, posts
   Range radius_m, height_m, speed_mps;
 };
-struct BoxKind {  // bikes, vehicles, benches, planters, walls
+struct BoxKind {  // bikes, vehicles, benches, planters
   Range length_m, width_m, height_m, speed_mps;
+};
+struct WallKind {  // the doorway's wall (its length is the family's)
+  Range thickness_m, height_m;
 };
 
 struct Shapes {
@@ -77,7 +80,7 @@ struct Shapes {
   CylinderKind dog{{0.15, 0.3}, {0.3, 0.6}, {1.0, 3.0}};
   BoxKind bike{{1.6, 1.9}, {0.5, 0.7}, {1.4, 1.8}, {2.5, 5.0}};
   BoxKind parked_vehicle{{3.8, 5.0}, {1.7, 2.0}, {1.45, 2.2}, {}};
-  Range wall_thickness_m{0.15, 0.3}, wall_height_m{1.0, 2.5};
+  WallKind wall{{0.15, 0.3}, {1.0, 2.5}};
 };
 
 struct CrossingParams {
