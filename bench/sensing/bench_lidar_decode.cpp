@@ -56,7 +56,9 @@ BENCHMARK(BM_Vlp16DecodePacket);
 void BM_Vlp16Revolutions(benchmark::State& state) {
   auto packets = vlp16_stream(754);
   LidarDecoderParams p;
+  p.min_range_m = 0.0;
   p.max_range_m = 100.0;
+  p.self_filter = false;
   LidarDecoder dec(p, nullptr);
   std::vector<Revolution> out;
   int64_t n = 0;
@@ -108,6 +110,9 @@ void BM_Vlp16RealSample(benchmark::State& state) {
     return;
   }
   LidarDecoderParams p;
+  p.min_range_m = 0.0;
+  p.max_range_m = 200.0;
+  p.self_filter = false;
   LidarDecoder dec(p, nullptr);
   std::vector<Revolution> out;
   int64_t n = 0, t = 0;
@@ -138,6 +143,9 @@ void BM_RsHeliosRevolutions(benchmark::State& state) {
     packets.push_back(m.encode());
   }
   LidarDecoderParams p;
+  p.min_range_m = 0.0;
+  p.max_range_m = 200.0;
+  p.self_filter = false;
   p.model = LidarModel::kRsHelios;
   LidarDecoder dec(p, nullptr);
   std::vector<Revolution> out;

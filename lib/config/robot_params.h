@@ -47,7 +47,7 @@ struct LidarMountParams {  // sensor pose on the base
   void fields(V& v) {
     v.field("x_m", x_m);
     v.field("y_m", y_m);
-    v.field("z_m", z_m);
+    v.field("z_m", z_m, between(0.0, 10.0));
     v.field("roll_rad", roll_rad, between(-M_PI, M_PI));
     v.field("pitch_rad", pitch_rad, between(-M_PI, M_PI));
     v.field("yaw_rad", yaw_rad, between(-M_PI, M_PI));

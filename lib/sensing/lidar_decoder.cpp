@@ -26,7 +26,7 @@ int32_t clamp_int32(double v) {
 }  // namespace
 
 LidarDecoder::LidarDecoder(const LidarDecoderParams& params, CountFn count)
-    : params_(params), count_(std::move(count)), self_filter_(params.self_filter, params.mount) {
+    : params_(params), count_(std::move(count)), self_filter_(params) {
   if (!count_) count_ = [](const std::string&, int64_t) {};
   sensor_ = make_sensor_model(
       params.model, RangeBand{params.min_range_m, params.max_range_m, params.vertical_offset_correction}, count_);

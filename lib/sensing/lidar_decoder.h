@@ -48,16 +48,25 @@ namespace evade::sensing {
 
 enum class TimeSource { kReceive, kSensor };
 
+// What decoding takes. The first members are the `lidar_driver:` keys of
+// config/robot.yaml under their names, with the file's values as defaults
+// (listed, with their ranges, by LidarDriverParams::fields); the model,
+// mount and footprint come from the shared `lidar:` and `robot:` sections
+// (LidarDriverParams::from_config).
 struct LidarDecoderParams {
-  LidarModel model = LidarModel::kVlp16;
   double cut_azimuth_deg = 0.0;  // revolutions start when the firing azimuth passes this
-  double min_range_m = 0.0;      // returns outside [min, max] are dropped (counted)
-  double max_range_m = 200.0;
+  double min_range_m = 0.4;      // returns outside [min, max] are dropped (counted)
+  double max_range_m = 100.0;
   bool vertical_offset_correction = true;  // VLP-16 per-laser beam origin height (vlp16.h)
   TimeSource time_source = TimeSource::kReceive;
   int max_packets_per_revolution = 1000;  // raw packets held for one revolution / LIDAR_SCAN
-  evade::pose3d_t mount{};
-  SelfFilterParams self_filter;  // returns over the robot's footprint are dropped (counted)
+  bool self_filter = true;                // returns over the robot's footprint are dropped (counted)
+  double self_filter_margin_m = 0.05;     // the footprint grown by this on every side (self_filter.h)
+
+  LidarModel model = LidarModel::kVlp16;  // lidar.model
+  evade::pose3d_t mount{};                // lidar.mount
+  double footprint_length_m = 0.42;       // robot.footprint_length_m
+  double footprint_width_m = 0.31;        // robot.footprint_width_m
 };
 
 struct Revolution {

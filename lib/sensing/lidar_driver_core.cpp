@@ -13,15 +13,6 @@ bool LidarDriverParams::is_ipv4(const std::string& address) {
   return inet_pton(AF_INET, address.c_str(), &addr) == 1;
 }
 
-LidarDecoderParams LidarDriverParams::default_decoder() {
-  LidarDecoderParams d;
-  d.min_range_m = 0.4;
-  d.max_range_m = 100.0;
-  d.self_filter.enabled = true;
-  d.self_filter.margin_m = 0.05;
-  return d;
-}
-
 double LidarDriverParams::max_encodable_range_m(LidarModel model) {
   return model == LidarModel::kVlp16 ? vlp16::kMaxEncodableRangeM : rs_helios::kMaxEncodableRangeM;
 }
@@ -29,22 +20,22 @@ double LidarDriverParams::max_encodable_range_m(LidarModel model) {
 LidarDriverParams LidarDriverParams::from_config(const config::Node& root) {
   const config::LidarParams lidar = config::load<config::LidarParams>(root.section("lidar"));
   LidarDriverParams p;
-  p.decoder.model = lidar.model == "vlp16" ? LidarModel::kVlp16 : LidarModel::kRsHelios;
-  p.decoder.mount.x = lidar.mount.x_m;
-  p.decoder.mount.y = lidar.mount.y_m;
-  p.decoder.mount.z = lidar.mount.z_m;
-  p.decoder.mount.roll = lidar.mount.roll_rad;
-  p.decoder.mount.pitch = lidar.mount.pitch_rad;
-  p.decoder.mount.yaw = lidar.mount.yaw_rad;
+  p.model = lidar.model == "vlp16" ? LidarModel::kVlp16 : LidarModel::kRsHelios;
+  p.mount.x = lidar.mount.x_m;
+  p.mount.y = lidar.mount.y_m;
+  p.mount.z = lidar.mount.z_m;
+  p.mount.roll = lidar.mount.roll_rad;
+  p.mount.pitch = lidar.mount.pitch_rad;
+  p.mount.yaw = lidar.mount.yaw_rad;
   config::load_into(root.section("lidar_driver"), p);
   const config::RobotParams robot = config::load<config::RobotParams>(root.section("robot"));
-  p.decoder.self_filter.footprint_length_m = robot.footprint_length_m;
-  p.decoder.self_filter.footprint_width_m = robot.footprint_width_m;
+  p.footprint_length_m = robot.footprint_length_m;
+  p.footprint_width_m = robot.footprint_width_m;
   return p;
 }
 
 std::vector<int> LidarDriverParams::ports() const {
-  if (decoder.model == LidarModel::kVlp16) return {vlp16_data_port};
+  if (model == LidarModel::kVlp16) return {vlp16_data_port};
   return {rs_helios_msop_port, rs_helios_difop_port};
 }
 
@@ -56,10 +47,10 @@ LidarDriverCore::LidarDriverCore(const LidarDriverParams& params, Source source)
     : bus::Core("lidar_driver"),
       params_(params),
       source_(source),
-      decoder_(params.decoder, [this](const std::string& name, int64_t n) { count(name, n); }) {
+      decoder_(params, [this](const std::string& name, int64_t n) { count(name, n); }) {
   if (source == Source::kScans) {
     subscribe<evade::lidar_scan_t>(kLidarScanChannel, [this](const evade::lidar_scan_t& scan) {
-      if (scan.sensor_model != model_name(params_.decoder.model)) {
+      if (scan.sensor_model != model_name(params_.model)) {
         count("scan_model_mismatch");
         return;
       }

@@ -21,8 +21,10 @@ namespace evade::sensing {
 inline constexpr const char* kLidarPointsChannel = "LIDAR_POINTS";
 inline constexpr const char* kLidarScanChannel = "LIDAR_SCAN";
 
-struct LidarDriverParams {
-  LidarDecoderParams decoder = default_decoder();
+// The `lidar_driver:` section: the socket's keys and the decoder's, all
+// members under their YAML names (the decoder's inherited from
+// LidarDecoderParams, which the decoder takes; its defaults are robot.yaml's).
+struct LidarDriverParams : LidarDecoderParams {
   std::string bind_address = "0.0.0.0";
   int vlp16_data_port = 2368;
   int rs_helios_msop_port = 6699;
@@ -30,10 +32,6 @@ struct LidarDriverParams {
   int socket_receive_buffer_bytes = 4 << 20;
   bool publish_scan = true;
 
-  // The `lidar_driver:` section. The decoder's keys go straight into the
-  // decoder's parameters (lidar_decoder.h), which the decoder shares with
-  // the tools; decoder.model, decoder.mount and the self-filter's
-  // footprint come from the `lidar:` and `robot:` sections (from_config).
   template <class V>
   void fields(V& v) {
     v.field("bind_address", bind_address);
@@ -43,26 +41,23 @@ struct LidarDriverParams {
     v.field("rs_helios_difop_port", rs_helios_difop_port, config::between(1, 65535));
     v.rule(rs_helios_msop_port != rs_helios_difop_port, "rs_helios_difop_port", "must differ from rs_helios_msop_port");
     v.field("socket_receive_buffer_bytes", socket_receive_buffer_bytes, config::between(65536, 1 << 30));
-    v.field("cut_azimuth_deg", decoder.cut_azimuth_deg, config::between(0.0, 360.0));
-    v.field("min_range_m", decoder.min_range_m, config::between(0.0, 10.0));
-    v.field("max_range_m", decoder.max_range_m, config::between(0.0, max_encodable_range_m(decoder.model)));
-    v.rule(decoder.max_range_m > decoder.min_range_m, "max_range_m", "must exceed min_range_m");
-    v.field("vertical_offset_correction", decoder.vertical_offset_correction);
-    v.choice("time_source", decoder.time_source,
+    v.field("cut_azimuth_deg", cut_azimuth_deg, config::between(0.0, 360.0));
+    v.field("min_range_m", min_range_m, config::between(0.0, 10.0));
+    v.field("max_range_m", max_range_m, config::between(0.0, max_encodable_range_m(model)));
+    v.rule(max_range_m > min_range_m, "max_range_m", "must exceed min_range_m");
+    v.field("vertical_offset_correction", vertical_offset_correction);
+    v.choice("time_source", time_source,
              config::Choices<TimeSource>{{"receive", TimeSource::kReceive}, {"sensor", TimeSource::kSensor}});
-    v.field("max_packets_per_revolution", decoder.max_packets_per_revolution, config::between(1, 100000));
+    v.field("max_packets_per_revolution", max_packets_per_revolution, config::between(1, 100000));
     v.field("publish_scan", publish_scan);
-    v.field("self_filter", decoder.self_filter.enabled);
-    v.field("self_filter_margin_m", decoder.self_filter.margin_m, config::between(0.0, 1.0));
+    v.field("self_filter", self_filter);
+    v.field("self_filter_margin_m", self_filter_margin_m, config::between(0.0, 1.0));
   }
   static bool is_ipv4(const std::string& address);
-  // The decoder's keys at config/robot.yaml's values (the decoder's own
-  // defaults are a bare decoder's, lidar_decoder.h).
-  static LidarDecoderParams default_decoder();
   static double max_encodable_range_m(LidarModel model);
 
-  // Reads the shared `lidar:` and `robot:` sections and the
-  // `lidar_driver:` section.
+  // Reads the shared `lidar:` and `robot:` sections (model, mount,
+  // footprint) and the `lidar_driver:` section.
   static LidarDriverParams from_config(const config::Node& root);
   // UDP ports this model listens on.
   std::vector<int> ports() const;

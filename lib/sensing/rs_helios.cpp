@@ -12,7 +12,6 @@ namespace evade::sensing::rs_helios {
 namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr int kAzimuthCount = 36000;
-constexpr double kMaxBlockGapDeg = 5.0;  // see vlp16.cpp: larger is not rotation
 constexpr double kMaxCalibrationDeg = 90.0;
 constexpr size_t kMsopIndexOffset = kHeaderSize + kBlocksPerPacket * kBlockSize;
 
@@ -31,12 +30,6 @@ inline void write_be(uint8_t* p, uint64_t v, int n) {
     p[i] = static_cast<uint8_t>(v & 0xFF);
     v >>= 8;
   }
-}
-inline int azimuth_diff(int a, int b) {
-  int d = (b - a) % kAzimuthCount;
-  if (d > kAzimuthCount / 2) d -= kAzimuthCount;
-  if (d <= -kAzimuthCount / 2) d += kAzimuthCount;
-  return d;
 }
 uint16_t distance_count(double m) {
   if (!(m > 0.0)) return 0;
@@ -142,22 +135,6 @@ int64_t read_utc_us(const uint8_t* data) {
                                                             : -1;
 }
 
-// Azimuth change over one block time, per column (deg); the last column
-// reuses the previous gap, an implausible gap counts as none.
-void column_gaps(const int* azimuth, int columns, int step, double* gap_deg) {
-  for (int c = 0; c + 1 < columns; ++c) {
-    double g = azimuth_diff(azimuth[c * step], azimuth[(c + 1) * step]) * kAzimuthUnitDeg;
-    gap_deg[c] = (g >= 0.0 && g <= kMaxBlockGapDeg) ? g : (c > 0 ? gap_deg[c - 1] : 0.0);
-  }
-  if (columns > 1) gap_deg[columns - 1] = gap_deg[columns - 2];
-  if (columns > 1 && gap_deg[0] == 0.0)
-    for (int c = 1; c < columns; ++c)
-      if (gap_deg[c] > 0.0) {
-        gap_deg[0] = gap_deg[c];
-        break;
-      }
-}
-
 // One block's column: where it points and when.
 struct Column {
   int index;
@@ -168,24 +145,12 @@ struct Column {
 // (nullptr otherwise).
 void decode_block(const uint8_t* p, const uint8_t* other, const Column& col, const Calibration& cal,
                   const DecodeOptions& options, std::vector<LidarReturn>* out, PacketInfo& pi) {
-  const float min_r = static_cast<float>(options.min_range_m);
-  const float max_r = static_cast<float>(options.max_range_m);
+  const ReturnScreen<ByteOrder::kBig> screen{kDistanceUnitM, static_cast<float>(options.min_range_m),
+                                             static_cast<float>(options.max_range_m)};
   for (int c = 0; c < kChannels; ++c) {
     const uint8_t* r = p + 4 + 3 * c;
-    const uint16_t count = read_u16be(r);
-    if (count == 0) continue;
-    if (other) {
-      const uint8_t* o = other + 4 + 3 * c;
-      if (read_u16be(o) == count && o[2] == r[2]) {
-        ++pi.dual_duplicates;
-        continue;
-      }
-    }
-    const float range = static_cast<float>(count * kDistanceUnitM);
-    if (range < min_r || range > max_r) {
-      ++pi.out_of_range;
-      continue;
-    }
+    float range;
+    if (!screen.keep(r, other ? other + 4 + 3 * c : nullptr, &pi, &range)) continue;
     // az0: block azimuth interpolated by the channel's firing time;
     // az = az0 + the channel's horizontal calibration.
     const double t_us = c * kChannelIntervalUs;

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "sensing/lidar_return.h"
+#include "sensing/packet_returns.h"
 
 namespace evade::sensing::rs_helios {
 
@@ -103,11 +104,9 @@ struct DecodeOptions {
 // Header times beyond this (year 2286) are not times.
 inline constexpr uint64_t kMaxUtcSeconds = 9'999'999'999ull;
 
-struct PacketInfo {
-  int64_t utc_us = 0;       // header time of the first firing, us since the epoch; -1 = invalid
-  int firings = 0;          // distinct firings (12 single, 6 dual)
-  int dual_duplicates = 0;  // dual-mode second echoes equal to the first, dropped
-  int out_of_range = 0;
+struct PacketInfo : ScreenCounts {  // + the returns dropped (dual duplicates, out of range)
+  int64_t utc_us = 0;               // header time of the first firing, us since the epoch; -1 = invalid
+  int firings = 0;                  // distinct firings (12 single, 6 dual)
 };
 
 // Decodes an MSOP packet with the DIFOP calibration; appends its returns

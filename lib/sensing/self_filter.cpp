@@ -2,14 +2,17 @@
 
 #include <cmath>
 
+#include "sensing/lidar_decoder.h"
+
 namespace evade::sensing {
 
-SelfFilter::SelfFilter(const SelfFilterParams& params, const evade::pose3d_t& mount)
-    : enabled_(params.enabled),
-      half_length_(params.footprint_length_m / 2 + params.margin_m),
-      half_width_(params.footprint_width_m / 2 + params.margin_m),
-      tx_(mount.x),
-      ty_(mount.y) {
+SelfFilter::SelfFilter(const LidarDecoderParams& params)
+    : enabled_(params.self_filter),
+      half_length_(params.footprint_length_m / 2 + params.self_filter_margin_m),
+      half_width_(params.footprint_width_m / 2 + params.self_filter_margin_m),
+      tx_(params.mount.x),
+      ty_(params.mount.y) {
+  const evade::pose3d_t& mount = params.mount;
   // R = Rz(yaw) Ry(pitch) Rx(roll), as the mount pose is defined (SPEC.md, pose3d_t).
   const double cr = std::cos(mount.roll), sr = std::sin(mount.roll);
   const double cp = std::cos(mount.pitch), sp = std::sin(mount.pitch);

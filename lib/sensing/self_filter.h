@@ -7,23 +7,21 @@
 //
 // Base frame: x forward, y left, origin on the footprint's centre; the
 // footprint is the rectangle |x| <= length / 2, |y| <= width / 2 (the
-// robot configuration's footprint_length_m / footprint_width_m).
+// robot configuration's footprint_length_m / footprint_width_m), grown by
+// self_filter_margin_m.
 #pragma once
 
 #include "evade/pose3d_t.hpp"
 
 namespace evade::sensing {
 
-struct SelfFilterParams {
-  bool enabled = false;
-  double footprint_length_m = 0.0;
-  double footprint_width_m = 0.0;
-  double margin_m = 0.0;
-};
+struct LidarDecoderParams;  // lidar_decoder.h
 
 class SelfFilter {
  public:
-  SelfFilter(const SelfFilterParams& params, const evade::pose3d_t& mount);
+  // self_filter, footprint_length_m, footprint_width_m,
+  // self_filter_margin_m and mount of the decoder's parameters.
+  explicit SelfFilter(const LidarDecoderParams& params);
   bool enabled() const { return enabled_; }
   // True when the sensor-frame point (x, y, z) lies over the grown footprint.
   bool inside(float x, float y, float z) const {

@@ -11,11 +11,6 @@ namespace evade::sensing::vlp16 {
 namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 
-// Azimuth gaps beyond this between consecutive blocks are not rotation
-// (20 Hz, the fastest VLP-16 setting, turns 0.8 deg per block): the
-// interpolation falls back to the previous gap.
-constexpr double kMaxBlockGapDeg = 5.0;
-
 inline uint16_t read_u16le(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
 inline uint32_t read_u32le(const uint8_t* p) {
   return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16) |
@@ -61,13 +56,6 @@ const Trig& trig() {
   return t;
 }
 
-// Signed smallest difference b - a in 0.01 deg counts, in (-18000, 18000].
-inline int azimuth_diff(int a, int b) {
-  int d = (b - a) % kAzimuthCount;
-  if (d > kAzimuthCount / 2) d -= kAzimuthCount;
-  if (d <= -kAzimuthCount / 2) d += kAzimuthCount;
-  return d;
-}
 }  // namespace
 
 const std::array<Laser, kLasers> kLaserTable = make_laser_table();
@@ -142,26 +130,6 @@ PacketStatus read_azimuths(const uint8_t* data, int* azimuth) {
   return PacketStatus::kOk;
 }
 
-// Azimuth change over one block time, per column (deg); the last column
-// reuses the previous gap (the manual's rule), an implausible gap counts as
-// none.
-void column_gaps(const int* azimuth, int columns, int step, double* gap_deg) {
-  for (int c = 0; c + 1 < columns; ++c) {
-    int d = azimuth_diff(azimuth[c * step], azimuth[(c + 1) * step]);
-    double g = d * kAzimuthUnitDeg;
-    gap_deg[c] = (g >= 0.0 && g <= kMaxBlockGapDeg) ? g : (c > 0 ? gap_deg[c - 1] : 0.0);
-  }
-  if (columns > 1) gap_deg[columns - 1] = gap_deg[columns - 2];
-  if (columns > 1 && gap_deg[0] == 0.0) {
-    // The first gap was implausible: borrow the next plausible one.
-    for (int c = 1; c < columns; ++c)
-      if (gap_deg[c] > 0.0) {
-        gap_deg[0] = gap_deg[c];
-        break;
-      }
-  }
-}
-
 // One firing sequence of one column: where it points and when.
 struct Firing {
   int sequence;
@@ -174,25 +142,13 @@ struct Firing {
 void decode_echo(const uint8_t* block, const uint8_t* other, const Firing& f, const DecodeOptions& options,
                  std::vector<Return>* out, PacketInfo& pi) {
   const Trig& t = trig();
-  const float min_r = static_cast<float>(options.min_range_m);
-  const float max_r = static_cast<float>(options.max_range_m);
+  const ReturnScreen<ByteOrder::kLittle> screen{kDistanceUnitM, static_cast<float>(options.min_range_m),
+                                                static_cast<float>(options.max_range_m)};
   const int s = f.sequence;
   for (int l = 0; l < kLasers; ++l) {
     const uint8_t* r = block + 4 + 3 * (s * kLasers + l);
-    const uint16_t count = read_u16le(r);
-    if (count == 0) continue;
-    if (other) {
-      const uint8_t* o = other + 4 + 3 * (s * kLasers + l);
-      if (read_u16le(o) == count && o[2] == r[2]) {
-        ++pi.dual_duplicates;
-        continue;
-      }
-    }
-    const float range = static_cast<float>(count * kDistanceUnitM);
-    if (range < min_r || range > max_r) {
-      ++pi.out_of_range;
-      continue;
-    }
+    float range;
+    if (!screen.keep(r, other ? other + 4 + 3 * (s * kLasers + l) : nullptr, &pi, &range)) continue;
     // Azimuth interpolated by firing time within the block.
     const double frac = (s * kSequencePeriodUs + l * kFiringIntervalUs) / kBlockPeriodUs;
     double az = f.block_az_deg + f.gap_deg * frac;

@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "sensing/lidar_return.h"
+#include "sensing/packet_returns.h"
 
 namespace evade::sensing::vlp16 {
 
@@ -142,13 +143,11 @@ struct DecodeOptions {
   bool vertical_offset_correction = true;
 };
 
-struct PacketInfo {
+struct PacketInfo : ScreenCounts {  // + the returns dropped (dual duplicates, out of range)
   uint32_t timestamp_us_past_hour = 0;
   uint8_t return_mode = 0;
   uint8_t factory = 0;
-  int firings = 0;          // distinct firing sequences (24 single, 12 dual)
-  int dual_duplicates = 0;  // dual-mode second returns equal to the first, dropped
-  int out_of_range = 0;     // non-zero returns outside [min, max] range
+  int firings = 0;  // distinct firing sequences (24 single, 12 dual)
 };
 
 // Decodes one data packet and appends its returns (zero distance dropped)

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sensing/packet_returns.h"
 #include "sim/rs_helios_sim.h"
 
 namespace evade::sim {
@@ -11,13 +12,6 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr int64_t kMicrosPerHour = v::kMicrosPerHour;
 
-// Signed smallest difference b - a of two azimuth counts, as the decoder takes it.
-int azimuth_gap(int a, int b) {
-  int d = b - a;
-  if (d > v::kAzimuthCount / 2) d -= v::kAzimuthCount;
-  if (d <= -v::kAzimuthCount / 2) d += v::kAzimuthCount;
-  return d;
-}
 }  // namespace
 
 void mount_rotation(const LidarSimParams& p, double out[3][3]) {
@@ -104,9 +98,7 @@ Packet Vlp16Simulator::make_packet(const WorldAt& world) {
   for (int b = 0; b < v::kBlocksPerPacket; ++b)
     count[b] = v::azimuth_to_count(azimuth_at_offset(t0 + b * v::kBlockPeriodUs));
   double gap_deg[v::kBlocksPerPacket];
-  for (int b = 0; b + 1 < v::kBlocksPerPacket; ++b)
-    gap_deg[b] = azimuth_gap(count[b], count[b + 1]) * v::kAzimuthUnitDeg;
-  gap_deg[v::kBlocksPerPacket - 1] = gap_deg[v::kBlocksPerPacket - 2];
+  sensing::column_gaps(count, v::kBlocksPerPacket, 1, gap_deg);
 
   WorldSnapshot snap;
   for (int b = 0; b < v::kBlocksPerPacket; ++b) {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sensing/packet_returns.h"
+
 namespace evade::sim {
 namespace h = sensing::rs_helios;
 namespace {
@@ -12,13 +14,6 @@ constexpr int kAzimuthCount = 36000;
 int azimuth_count(double deg) {
   long c = std::lround(deg / h::kAzimuthUnitDeg) % kAzimuthCount;
   return static_cast<int>(c < 0 ? c + kAzimuthCount : c);
-}
-// Signed smallest difference b - a of two azimuth counts, as the decoder takes it.
-int azimuth_gap(int a, int b) {
-  int d = (b - a) % kAzimuthCount;
-  if (d > kAzimuthCount / 2) d -= kAzimuthCount;
-  if (d <= -kAzimuthCount / 2) d += kAzimuthCount;
-  return d;
 }
 }  // namespace
 
@@ -127,9 +122,7 @@ Packet RsHeliosSimulator::make_msop(const WorldAt& world) {
   int count[h::kBlocksPerPacket];
   for (int b = 0; b < h::kBlocksPerPacket; ++b) count[b] = azimuth_count(azimuth_at_offset(t0 + b * h::kBlockPeriodUs));
   double gap_deg[h::kBlocksPerPacket];
-  for (int b = 0; b + 1 < h::kBlocksPerPacket; ++b)
-    gap_deg[b] = azimuth_gap(count[b], count[b + 1]) * h::kAzimuthUnitDeg;
-  gap_deg[h::kBlocksPerPacket - 1] = gap_deg[h::kBlocksPerPacket - 2];
+  sensing::column_gaps(count, h::kBlocksPerPacket, 1, gap_deg);
 
   WorldSnapshot snap;
   for (int b = 0; b < h::kBlocksPerPacket; ++b) {

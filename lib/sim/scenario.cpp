@@ -3,6 +3,8 @@
 #include <cmath>
 #include <set>
 
+#include "config/robot_params.h"
+
 namespace evade::sim {
 namespace {
 
@@ -177,19 +179,18 @@ bool robot_resolved(const Scenario& sc) {
 }
 
 void resolve_robot(Scenario* sc, const config::Node& robot_root) {
-  const config::Node robot = robot_root.section("robot");
-  const config::Node lidar = robot_root.section("lidar");
-  const config::Node mount = lidar.section("mount");
-  if (sc->footprint_length <= 0.0) sc->footprint_length = robot.get_positive("footprint_length_m");
-  if (sc->footprint_width <= 0.0) sc->footprint_width = robot.get_positive("footprint_width_m");
+  const auto robot = config::load<config::RobotParams>(robot_root.section("robot"));
+  const auto lidar = config::load<config::LidarParams>(robot_root.section("lidar"));
+  if (sc->footprint_length <= 0.0) sc->footprint_length = robot.footprint_length_m;
+  if (sc->footprint_width <= 0.0) sc->footprint_width = robot.footprint_width_m;
   if (sc->lidar.model.empty()) {
-    sc->lidar.model = lidar.get_choice("model", {"vlp16", "rs_helios"});
+    sc->lidar.model = lidar.model;
     if (sc->lidar.model == "rs_helios" && sc->lidar.rate_hz != 10.0 && sc->lidar.rate_hz != 20.0)
       throw config::ConfigError(sc->file +
                                 ":0: key 'lidar.rate_hz': the RS-Helios of the robot profile turns at "
                                 "10 or 20 Hz (600 or 1200 rpm)");
   }
-  if (sc->lidar.height <= 0.0) sc->lidar.height = mount.get_double("z_m", 0.0, 10.0);
+  if (sc->lidar.height <= 0.0) sc->lidar.height = lidar.mount.z_m;
 }
 
 }  // namespace evade::sim

@@ -5,6 +5,9 @@
 #include <sstream>
 
 #include "config/robot_params.h"
+#include "config/robot_profile.h"
+#include "mapping/elevation_map.h"
+#include "planning/params.h"
 
 namespace evade::sim::gen {
 namespace {
@@ -131,13 +134,13 @@ struct CommonKeys {
 };
 
 struct WallKeys {
-  Shapes& s;
+  WallKind& k;
   double min_h;
   template <class V>
   void fields(V& v) {
-    v.convert("thickness_m", s.wall_thickness_m, positive_length());
-    v.convert("height_m", s.wall_height_m, positive_length());
-    check_visible(v, "height_m", s.wall_height_m.lo, min_h);
+    v.convert("thickness_m", k.thickness_m, positive_length());
+    v.convert("height_m", k.height_m, positive_length());
+    check_visible(v, "height_m", k.height_m.lo, min_h);
   }
 };
 
@@ -149,7 +152,7 @@ struct ShapeKeys {
     CylinderKeys walker{s.walker, true, true, min_h}, jogger{s.jogger, true, true, min_h};
     CylinderKeys ball{s.ball, true, false, min_h}, dog{s.dog, true, true, min_h};
     BoxKeys bike{s.bike, true, min_h}, parked{s.parked_vehicle, false, min_h};
-    WallKeys wall{s, min_h};
+    WallKeys wall{s.wall, min_h};
     v.section("walker", walker);
     v.section("jogger", jogger);
     v.section("bike", bike);
@@ -173,12 +176,14 @@ RobotFacts RobotFacts::from_config(const config::Node& root) {
   const auto robot = config::load<config::RobotParams>(root.section("robot"));
   f.footprint_length_m = robot.footprint_length_m;
   f.footprint_width_m = robot.footprint_width_m;
-  f.lidar_height_m = config::load<config::LidarParams>(root.section("lidar")).mount.z_m;
-  // Three keys of sections whose owners (planning/params.h,
-  // mapping/elevation_map.h) list and check them: read here as they are.
-  f.reference_speed_mps = root.section("planner").get_positive("reference_speed_mps");
-  config::Node map = root.section("elevation_map");
-  f.step_max_m = std::max(map.get_positive("step_max_m"), map.get_positive("blind_ground_step_max_m"));
+  const auto lidar = config::load<config::LidarParams>(root.section("lidar"));
+  f.lidar_height_m = lidar.mount.z_m;
+  f.lidar_model = lidar.model;
+  // The planner's and the map's sections through their owners' lists.
+  f.reference_speed_mps = planning::PlannerParams::from_config(root).reference_speed_mps;
+  const auto map = mapping::ElevationMapParams::from_config(root.section("elevation_map"));
+  f.step_max_m = std::max(map.step_max_m, map.blind_ground_step_max_m);
+  if (root.provenance()) f.profile = root.provenance()->profile;
   return f;
 }
 

@@ -33,12 +33,13 @@ struct RobotFacts {
   double step_max_m = 0.15;
   // The robot profile the configuration was merged with (config/
   // robot_profile.h; "" none): generated scenarios name it (robot.profile)
-  // so that runs of them use the same robot. Set by the caller.
+  // so that runs of them use the same robot.
   std::string profile;
-  std::string lidar_model = "vlp16";  // lidar.model, set by the caller likewise
+  std::string lidar_model = "vlp16";  // lidar.model
 
-  // Reads robot and lidar (through their field lists, config/robot_params.h),
-  // planner.reference_speed_mps and elevation_map's step thresholds.
+  // Reads robot and lidar (config/robot_params.h), planner
+  // (planning/params.h) and elevation_map (mapping/elevation_map.h), each
+  // through its owner's field list, and the profile of the merge.
   static RobotFacts from_config(const config::Node& root);
 };
 
@@ -65,8 +66,11 @@ struct CommonParams {
 struct CylinderKind {  // walkers, joggers, balls, dogs, bins, posts
   Range radius_m, height_m, speed_mps;
 };
-struct BoxKind {  // bikes, vehicles, benches, planters, walls
+struct BoxKind {  // bikes, vehicles, benches, planters
   Range length_m, width_m, height_m, speed_mps;
+};
+struct WallKind {  // the doorway's wall (its length is the family's)
+  Range thickness_m, height_m;
 };
 
 struct Shapes {
@@ -76,7 +80,7 @@ struct Shapes {
   CylinderKind dog{{0.15, 0.3}, {0.3, 0.6}, {1.0, 3.0}};
   BoxKind bike{{1.6, 1.9}, {0.5, 0.7}, {1.4, 1.8}, {2.5, 5.0}};
   BoxKind parked_vehicle{{3.8, 5.0}, {1.7, 2.0}, {1.45, 2.2}, {}};
-  Range wall_thickness_m{0.15, 0.3}, wall_height_m{1.0, 2.5};
+  WallKind wall{{0.15, 0.3}, {1.0, 2.5}};
 };
 
 struct CrossingParams {

@@ -101,8 +101,8 @@ bool doorway(Ctx& c, Draft& d) {
   const Range gaps{std::max(k.gap_m.lo, c.robot.footprint_width_m + c.p.common.passage_margin_m), k.gap_m.hi};
   double yc = q(c.rng.uniform(k.gap_offset_m)), gap = q(c.rng.uniform(gaps));
   if (gap < gaps.lo) gap = gaps.lo;  // rounding never narrows it below the floor
-  double half = c.rng.uniform(k.wall_half_length_m), thick = q(c.rng.uniform(c.p.shapes.wall_thickness_m));
-  double height = q(c.rng.uniform(c.p.shapes.wall_height_m));
+  double half = c.rng.uniform(k.wall_half_length_m), thick = q(c.rng.uniform(c.p.shapes.wall.thickness_m));
+  double height = q(c.rng.uniform(c.p.shapes.wall.height_m));
   double before = xw - k.straight_m - d.sc.start.x;
   if (before <= 0.0 || xw + k.straight_m >= d.sc.goal.x) return false;
   d.sc.route = {Vec2{d.sc.start.x, d.sc.start.y}, Vec2{q(xw - k.straight_m), yc}, Vec2{q(xw + k.straight_m), yc},

@@ -3,8 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "config/robot_params.h"
-
 namespace evade::sim {
 namespace {
 int64_t us_from_s(double s) { return std::llround(s * 1e6); }
@@ -17,17 +15,36 @@ config::Converter<uint8_t> SimParams::byte_converter() {
 
 SimParams SimParams::from_config(const config::Node& root) {
   SimParams p = config::load<SimParams>(root.section("sim"));
-  const config::RobotParams robot = config::load<config::RobotParams>(root.section("robot"));
-  p.robot.max_accel_mps2 = robot.max_accel_mps2;
-  p.robot.max_decel_mps2 = robot.max_decel_mps2;
-  p.robot.max_alpha_radps2 = robot.max_alpha_radps2;
-  const config::LidarParams lidar = config::load<config::LidarParams>(root.section("lidar"));
-  p.lidar.mount_x_m = lidar.mount.x_m;
-  p.lidar.mount_y_m = lidar.mount.y_m;
-  p.lidar.mount_roll_rad = lidar.mount.roll_rad;
-  p.lidar.mount_pitch_rad = lidar.mount.pitch_rad;
-  p.lidar.mount_yaw_rad = lidar.mount.yaw_rad;
+  p.robot = config::load<config::RobotParams>(root.section("robot"));
+  p.lidar = config::load<config::LidarParams>(root.section("lidar"));
   return p;
+}
+
+RobotLimits SimParams::robot_limits() const {
+  RobotLimits l;
+  l.max_accel_mps2 = robot.max_accel_mps2;
+  l.max_decel_mps2 = robot.max_decel_mps2;
+  l.max_alpha_radps2 = robot.max_alpha_radps2;
+  l.command_timeout_us = command_timeout_us;
+  l.step_us = physics_step_us;
+  return l;
+}
+
+LidarSimParams SimParams::lidar_sim(const Scenario& scenario) const {
+  LidarSimParams l;
+  l.rate_hz = scenario.lidar.rate_hz;
+  l.range_noise_std_m = scenario.lidar.range_noise_std;
+  l.max_range_m = lidar_max_range_m;
+  l.mount_x_m = lidar.mount.x_m;
+  l.mount_y_m = lidar.mount.y_m;
+  l.mount_height_m = scenario.lidar.height;
+  l.mount_roll_rad = lidar.mount.roll_rad;
+  l.mount_pitch_rad = lidar.mount.pitch_rad;
+  l.mount_yaw_rad = lidar.mount.yaw_rad;
+  l.noise_seed = scenario.seed;
+  l.ground_reflectivity = ground_reflectivity;
+  l.obstacle_reflectivity = obstacle_reflectivity;
+  return l;
 }
 
 int SimParams::dest_port(const std::string& model, LidarPort port) const {
@@ -45,13 +62,10 @@ SimCore::SimCore(const Scenario& scenario, const SimParams& params)
     throw std::invalid_argument("scenario " + scenario_.name +
                                 ": its robot (footprint, lidar model and height) is not resolved from the robot "
                                 "configuration (sim::resolve_robot)");
-  params_.lidar.rate_hz = scenario_.lidar.rate_hz;
-  params_.lidar.range_noise_std_m = scenario_.lidar.range_noise_std;
-  params_.lidar.mount_height_m = scenario_.lidar.height;
-  params_.lidar.noise_seed = scenario_.seed;
-  if (params_.robot_body_height_m >= params_.lidar.mount_height_m)
+  lidar_params_ = params_.lidar_sim(scenario_);
+  if (params_.robot_body_height_m >= lidar_params_.mount_height_m)
     throw std::invalid_argument("sim.robot_body_height_m must be below the LiDAR (scenario lidar.height)");
-  make_lidar_simulator(scenario_.lidar.model, params_.lidar, 0);  // refuses what it cannot simulate, now
+  make_lidar_simulator(scenario_.lidar.model, lidar_params_, 0);  // refuses what it cannot simulate, now
 
   every(params_.lidar_period_us, [this] {
     start(now());
@@ -70,8 +84,8 @@ SimCore::SimCore(const Scenario& scenario, const SimParams& params)
 void SimCore::start(int64_t now) {
   if (robot_) return;
   start_us_ = now;
-  robot_ = std::make_unique<UnicycleRobot>(scenario_.start, params_.robot, now);
-  lidar_ = make_lidar_simulator(scenario_.lidar.model, params_.lidar, now);
+  robot_ = std::make_unique<UnicycleRobot>(scenario_.start, params_.robot_limits(), now);
+  lidar_ = make_lidar_simulator(scenario_.lidar.model, lidar_params_, now);
 }
 
 bool SimCore::finished() const {

@@ -21,6 +21,7 @@
 #include "bus/core.h"
 #include "config/config.h"
 #include "config/fields.h"
+#include "config/robot_params.h"
 #include "evade/sim_truth_t.hpp"
 #include "sim/lidar_sim.h"
 #include "sim/motion.h"
@@ -46,19 +47,25 @@ struct SimParams {
   // A LiDAR more than this behind (a stalled process) drops the packets it
   // missed instead of sending them in a burst.
   int64_t lidar_max_lag_us = 100'000;
+  int64_t physics_step_us = 1'000;       // robot kinematics integration step
+  int64_t command_timeout_us = 500'000;  // no motion frame for this long: the base brakes
+  double lidar_max_range_m = 100.0;      // farther: no return
+  uint8_t ground_reflectivity = 20;
+  uint8_t obstacle_reflectivity = 100;
   double battery_voltage_v = 25.5;
   // Unread status bytes in the pty beyond which nobody is reading: the
   // queue is flushed so that a driver that (re)connects gets fresh frames.
   int pty_backlog_bytes = 260;
   bool stop_at_duration = true;
 
-  RobotLimits robot;
-  LidarSimParams lidar;  // scenario-dependent fields filled by SimCore
+  // The shared sections, as loaded by from_config (not in this list): the
+  // base's accelerations and the LiDAR's mount.
+  config::RobotParams robot;
+  config::LidarParams lidar;
 
   // The `sim:` section. Rates and times are converted to the periods in
-  // microseconds the simulator steps by; the physics and LiDAR keys go
-  // into `robot` and `lidar` (their accelerations and mount come from the
-  // `robot:` and `lidar:` sections, from_config).
+  // microseconds the simulator steps by (a converted member carries its
+  // own unit).
   template <class V>
   void fields(V& v) {
     v.field("device_path", device_path);
@@ -73,11 +80,11 @@ struct SimParams {
     v.convert("status_rate_hz", status_period_us, config::hz_as_period_us(config::between(1.0, 10000.0)));
     v.convert("lidar_send_period_s", lidar_period_us, config::seconds_as_us_rounded(config::between(1e-4, 0.01)));
     v.convert("lidar_max_lag_s", lidar_max_lag_us, config::seconds_as_us_rounded(config::between(0.01, 1.0)));
-    v.convert("physics_step_s", robot.step_us, config::seconds_as_us_rounded(config::between(1e-5, 0.01)));
-    v.convert("command_timeout_s", robot.command_timeout_us, config::seconds_as_us_rounded(config::positive()));
-    v.field("lidar_max_range_m", lidar.max_range_m, config::positive());
-    v.convert("ground_reflectivity", lidar.ground_reflectivity, byte_converter());
-    v.convert("obstacle_reflectivity", lidar.obstacle_reflectivity, byte_converter());
+    v.convert("physics_step_s", physics_step_us, config::seconds_as_us_rounded(config::between(1e-5, 0.01)));
+    v.convert("command_timeout_s", command_timeout_us, config::seconds_as_us_rounded(config::positive()));
+    v.field("lidar_max_range_m", lidar_max_range_m, config::positive());
+    v.convert("ground_reflectivity", ground_reflectivity, byte_converter());
+    v.convert("obstacle_reflectivity", obstacle_reflectivity, byte_converter());
     v.field("battery_voltage_v", battery_voltage_v, config::between(0.0, 6553.5));
     v.field("pty_backlog_bytes", pty_backlog_bytes, config::between(2.0 * base::kFrameSize, 1 << 20));
     v.field("stop_at_duration", stop_at_duration);
@@ -88,6 +95,13 @@ struct SimParams {
   static SimParams from_config(const config::Node& root);
   // The UDP port a packet goes to.
   int dest_port(const std::string& model, LidarPort port) const;
+  // What the simulated base takes: robot's accelerations, this section's
+  // physics step and command timeout.
+  RobotLimits robot_limits() const;
+  // What the simulated LiDAR of `scenario` takes: the scenario's rate,
+  // range noise, height and seed, lidar's mount, this section's range and
+  // reflectivities.
+  LidarSimParams lidar_sim(const Scenario& scenario) const;
 };
 
 class SimCore : public bus::Core {
@@ -136,6 +150,7 @@ class SimCore : public bus::Core {
 
   Scenario scenario_;
   SimParams params_;
+  LidarSimParams lidar_params_;
   std::unique_ptr<UnicycleRobot> robot_;
   std::unique_ptr<LidarSimulator> lidar_;
   int64_t start_us_ = 0;

@@ -56,8 +56,6 @@ EpisodeInputs EpisodeInputs::load(const std::string& robot_path, const std::stri
     in.robot_text = merged.c_str();
   }
   in.robot = sim::gen::RobotFacts::from_config(root);
-  in.robot.profile = profile;
-  in.robot.lidar_model = root.section("lidar").get<std::string>("model");
   in.families = sim::gen::FamilyParams::from_config(config::load_file(families_path), in.robot);
   in.metrics = metrics::MetricsParams::from_config(root.section("metrics"));
   in.mode = mode;

@@ -99,8 +99,7 @@ int run_live(LidarDriverCore& core, evade::bus::LiveBus& bus) {
       }
     });
   }
-  std::fprintf(stderr, "%s: %s on %s port(s)", kName, evade::sensing::model_name(p.decoder.model),
-               p.bind_address.c_str());
+  std::fprintf(stderr, "%s: %s on %s port(s)", kName, evade::sensing::model_name(p.model), p.bind_address.c_str());
   for (int port : p.ports()) std::fprintf(stderr, " %d", port);
   std::fprintf(stderr, "\n");
   bus.run(evade::bus::stop_on_signals());

@@ -35,6 +35,18 @@ LidarDecoderParams vlp_params() {
   p.model = LidarModel::kVlp16;
   p.min_range_m = 0.0;
   p.max_range_m = 120.0;
+  p.self_filter = false;
+  return p;
+}
+
+// A Scout 2.0 sized robot (0.93 x 0.70 m; with the 0.05 m margin 1.03 x 0.80).
+LidarDecoderParams scout_sized(bool self_filter, const evade::pose3d_t& mount) {
+  LidarDecoderParams p;
+  p.self_filter = self_filter;
+  p.footprint_length_m = 0.93;
+  p.footprint_width_m = 0.70;
+  p.self_filter_margin_m = 0.05;
+  p.mount = mount;
   return p;
 }
 
@@ -273,8 +285,7 @@ TEST(SelfFilter, DropsTheFootprintColumnGrownByTheMarginWhateverTheMount) {
   mount.roll = 0.05;
   mount.pitch = 0.3;  // tilted forward, looking down
   mount.yaw = 0.4;
-  SelfFilterParams p{true, 0.93, 0.70, 0.05};  // Scout 2.0 sized: grown to 1.03 x 0.80
-  SelfFilter f(p, mount);
+  SelfFilter f(scout_sized(true, mount));
   float x, y, z;
   for (double bz : {0.0, 0.3, 0.9, 1.5}) {
     for (double bx : {-0.5, 0.0, 0.3, 0.51}) {
@@ -288,7 +299,7 @@ TEST(SelfFilter, DropsTheFootprintColumnGrownByTheMarginWhateverTheMount) {
     base_to_sensor(mount, -0.53, -0.2, bz, &x, &y, &z);
     EXPECT_FALSE(f.inside(x, y, z));
   }
-  SelfFilter off(SelfFilterParams{false, 0.93, 0.70, 0.05}, mount);
+  SelfFilter off(scout_sized(false, mount));
   EXPECT_FALSE(off.enabled());
 }
 
@@ -302,10 +313,11 @@ TEST(SelfFilter, TheDecoderDropsReturnsOnTheRobotsBody) {
   difop.vertical_deg[20] = -22.0;
   auto difop_bytes = difop.encode();
   auto run_once = [&](bool enabled, std::map<std::string, int64_t>* counts) {
-    LidarDecoderParams p;
+    evade::pose3d_t mount{};
+    mount.z = 0.9;
+    LidarDecoderParams p = scout_sized(enabled, mount);
     p.model = LidarModel::kRsHelios;
-    p.mount.z = 0.9;
-    p.self_filter = SelfFilterParams{enabled, 0.93, 0.70, 0.05};
+    p.min_range_m = 0.0;
     LidarDecoder dec(p, [&](const std::string& n, int64_t k) { (*counts)[n] += k; });
     std::vector<Revolution> out;
     dec.feed(difop_bytes.data(), difop_bytes.size(), 1'000'000, &out);
@@ -372,10 +384,10 @@ TEST(LidarDriverConfig, ReadsRobotYamlAndRejectsBadValues) {
   EXPECT_EQ(p.ports(), std::vector<int>{2368});
   auto q = LidarDriverParams::from_config(test_config("rs_helios"));
   EXPECT_EQ(q.ports(), (std::vector<int>{6699, 7788}));
-  EXPECT_TRUE(q.decoder.self_filter.enabled);
-  EXPECT_DOUBLE_EQ(q.decoder.self_filter.margin_m, 0.05);
-  EXPECT_DOUBLE_EQ(q.decoder.self_filter.footprint_length_m, 0.42);
-  EXPECT_DOUBLE_EQ(q.decoder.mount.pitch, 0.01);
+  EXPECT_TRUE(q.self_filter);
+  EXPECT_DOUBLE_EQ(q.self_filter_margin_m, 0.05);
+  EXPECT_DOUBLE_EQ(q.footprint_length_m, 0.42);
+  EXPECT_DOUBLE_EQ(q.mount.pitch, 0.01);
   std::string bad = R"(
 lidar: {model: vlp16, mount: {x_m: 0, y_m: 0, z_m: 0.5, roll_rad: 0, pitch_rad: 0, yaw_rad: 0}}
 lidar_driver: {bind_address: localhost}

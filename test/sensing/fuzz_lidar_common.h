@@ -41,12 +41,17 @@ inline int fuzz_lidar(LidarModel model, const uint8_t* data, size_t size) {
 
   LidarDecoderParams p;
   p.model = model;
+  p.min_range_m = 0.0;
+  p.max_range_m = 200.0;
+  p.self_filter = false;
   p.max_packets_per_revolution = 8;
   if (size > 0) {
     p.cut_azimuth_deg = (data[0] >> 1) * (360.0 / 128.0);
     p.time_source = (size > 1 && (data[1] & 1)) ? TimeSource::kSensor : TimeSource::kReceive;
     // The footprint self-filter on half the inputs, under a tilted mount.
-    p.self_filter = SelfFilterParams{size > 1 && (data[1] & 2) != 0, 0.93, 0.70, 0.05};
+    p.self_filter = size > 1 && (data[1] & 2) != 0;
+    p.footprint_length_m = 0.93;
+    p.footprint_width_m = 0.70;
     p.mount.z = 0.9;
     p.mount.pitch = size > 1 ? (data[1] >> 2) * 0.01 : 0.0;
   }

@@ -16,10 +16,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (!f) return 0;
   try {
     evade::sensing::PcapUdpReader reader(f, "fuzz input");
-    evade::sensing::LidarDecoder dec({}, nullptr);
+    evade::sensing::LidarDecoderParams vlp16_params;
+    vlp16_params.min_range_m = 0.0;
+    vlp16_params.max_range_m = 200.0;
+    vlp16_params.self_filter = false;
+    evade::sensing::LidarDecoder dec(vlp16_params, nullptr);
     evade::sensing::LidarDecoderParams helios_params;
     helios_params.model = evade::sensing::LidarModel::kRsHelios;
-    helios_params.self_filter = evade::sensing::SelfFilterParams{true, 0.93, 0.70, 0.05};
+    helios_params.min_range_m = 0.0;
+    helios_params.max_range_m = 200.0;
+    helios_params.footprint_length_m = 0.93;
+    helios_params.footprint_width_m = 0.70;
     evade::sensing::LidarDecoder helios(helios_params, nullptr);
     std::vector<evade::sensing::Revolution> out;
     evade::sensing::UdpDatagram d;

@@ -156,6 +156,28 @@ TEST(RsHeliosMsop, DualReturnPairsShareAFiring) {
   EXPECT_NEAR(out[3 * 48 + 32 + 4].time_offset_us, 3 * 55.56 + 20 * 1.73, 1e-3);
 }
 
+// The same screen as the VLP-16's (packet_returns.h), in big-endian bytes:
+// zero counts are no return, ranges outside [min, max] are counted.
+TEST(RsHeliosMsop, ZeroDistanceAndRangeLimitsDropped) {
+  const h::Calibration cal = calibration();
+  h::MsopEncoder m;
+  for (int b = 0; b < 12; ++b) m.blocks[b].azimuth_deg = 10.0 + 0.2 * b;
+  m.blocks[0].distance_m[0] = 0.5;
+  m.blocks[0].distance_m[1] = 50.0;
+  m.blocks[0].distance_m[2] = 120.0;
+  m.blocks[5].distance_m[31] = 99.9;
+  auto bytes = m.encode();
+  std::vector<evade::sensing::LidarReturn> out;
+  h::PacketInfo info;
+  ASSERT_EQ(h::decode_msop(bytes.data(), bytes.size(), cal, h::DecodeOptions{1.0, 100.0}, &out, &info),
+            h::PacketStatus::kOk);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].laser, 1);
+  EXPECT_EQ(out[1].laser, 31);
+  EXPECT_EQ(info.out_of_range, 2);
+  EXPECT_EQ(info.dual_duplicates, 0);
+}
+
 TEST(RsHeliosMsop, RejectsMalformed) {
   const h::Calibration cal = calibration();
   h::MsopEncoder m;
@@ -178,6 +200,9 @@ TEST(RsHeliosDecoder, NothingBeforeTheFirstDifopThenRevolutions) {
   evade::sensing::LidarDecoderParams p;
   p.model = evade::sensing::LidarModel::kRsHelios;
   p.time_source = evade::sensing::TimeSource::kSensor;
+  p.min_range_m = 0.0;
+  p.max_range_m = 200.0;
+  p.self_filter = false;
   evade::sensing::LidarDecoder dec(p, [&](const std::string& n, int64_t k) { counts[n] += k; });
   const int64_t t0 = 1'700'000'000'000'000LL;
   // 10 Hz: 0.2 deg per 55.56 us block
@@ -232,6 +257,9 @@ TEST(RsHeliosMsop, ImpossibleHeaderTimeIsInvalidNotOverflowed) {
   evade::sensing::LidarDecoderParams p;
   p.model = evade::sensing::LidarModel::kRsHelios;
   p.time_source = evade::sensing::TimeSource::kSensor;
+  p.min_range_m = 0.0;
+  p.max_range_m = 200.0;
+  p.self_filter = false;
   evade::sensing::LidarDecoder dec(p, [&](const std::string& n, int64_t k) { counts[n] += k; });
   std::vector<evade::sensing::Revolution> revs;
   auto difop = test_difop().encode();

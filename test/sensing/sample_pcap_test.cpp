@@ -35,8 +35,8 @@ struct Decoded {
 Decoded decode_sample(double max_range_m) {
   auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
   auto params = LidarDriverParams::from_config(root);
-  params.decoder.max_range_m = max_range_m;
-  params.decoder.min_range_m = 0.0;
+  params.max_range_m = max_range_m;
+  params.min_range_m = 0.0;
   bus::MemoryBus mb;
   LidarDriverCore core(params, LidarDriverCore::Source::kPackets);
   mb.add(core);

@@ -367,6 +367,9 @@ TEST(RsHeliosSim, RevolutionsThroughTheDriversDecoder) {
   };
   sensing::LidarDecoderParams dp;
   dp.model = sensing::LidarModel::kRsHelios;
+  dp.min_range_m = 0.0;
+  dp.max_range_m = 200.0;
+  dp.self_filter = false;
   std::map<std::string, int64_t> counts;
   sensing::LidarDecoder dec(dp, [&](const std::string& k, int64_t n) { counts[k] += n; });
   std::vector<sensing::Revolution> revs;
@@ -425,6 +428,9 @@ TEST(RsHeliosSim, TiltedMountAt20HzPointsLieOnTheTrueSurfaces) {
   EXPECT_GT(on[2], 100);
   sensing::LidarDecoderParams dp;
   dp.model = sensing::LidarModel::kRsHelios;
+  dp.min_range_m = 0.0;
+  dp.max_range_m = 200.0;
+  dp.self_filter = false;
   sensing::LidarDecoder dec(dp, nullptr);
   std::vector<sensing::Revolution> revs;
   RsHeliosSimulator again(p, kStartUs);

@@ -7,12 +7,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 
+#include "config/robot_profile.h"
 #include "sim/motion.h"
 #include "sim/scenario_check.h"
 #include "sim/scenario_gen_random.h"
@@ -35,22 +38,34 @@ const FamilyParams& params() {
   return p;
 }
 
-std::string families_error(const std::string& from, const std::string& to) {
-  std::string text;
-  {
-    std::ifstream f(kFamiliesYaml);
-    text.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-  }
-  size_t at = text.find(from);
+// The file at `path` (called `name`) with `from` replaced by `to`, read by `load`: the
+// ConfigError it gives ("" none); *line (if given) the line of `from`.
+std::string error_with(const std::string& path, const std::string& name, const std::string& from, const std::string& to,
+                       const std::function<void(const config::Node&)>& load, int* line = nullptr) {
+  std::ifstream f(path);
+  std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   if (at == std::string::npos) return "";
+  if (line)
+    *line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
   text.replace(at, from.size(), to);
   try {
-    FamilyParams::from_config(config::load_string(text, "families.yaml"), robot());
+    load(config::load_string(text, name));
   } catch (const config::ConfigError& e) {
     return e.what();
   }
   return "";
+}
+
+std::string families_error(const std::string& from, const std::string& to) {
+  return error_with(kFamiliesYaml, "families.yaml", from, to,
+                    [](const config::Node& n) { FamilyParams::from_config(n, robot()); });
+}
+
+std::string robot_facts_error(const std::string& from, const std::string& to, int* line) {
+  return error_with(
+      kRobotYaml, "robot.yaml", from, to, [](const config::Node& n) { RobotFacts::from_config(n); }, line);
 }
 
 std::string lines(const std::vector<std::string>& v) {
@@ -69,6 +84,27 @@ TEST(ScenarioGenConfig, TheFileWrittenBackAndTheCppDefaultsAreTheFile) {
   EXPECT_TRUE(d.empty()) << "written (first) vs the file (second):\n" << lines(d);
   const auto drift = config::yaml_differences(config::to_yaml(FamilyParams{}), written);
   EXPECT_TRUE(drift.empty()) << "C++ default (first) vs the file (second):\n" << lines(drift);
+}
+
+// The facts come through the field lists of the sections' owners: the
+// planner's range for reference_speed_mps (at most robot.max_v_mps) and
+// lidar.mount.z_m's range apply, with file, line and key.
+TEST(ScenarioGenConfig, RobotFactsAreReadThroughTheOwnersFieldLists) {
+  EXPECT_DOUBLE_EQ(robot().reference_speed_mps, 0.8);
+  EXPECT_DOUBLE_EQ(robot().step_max_m, 0.15);  // the larger of the map's two step thresholds
+  EXPECT_DOUBLE_EQ(robot().lidar_height_m, 0.5);
+  EXPECT_EQ(robot().lidar_model, "vlp16");
+  EXPECT_EQ(robot().profile, "");
+  const RobotFacts scout = RobotFacts::from_config(config::load_robot_config(kRobotYaml, {"scout2", ""}));
+  EXPECT_EQ(scout.profile, "scout2");
+  EXPECT_EQ(scout.lidar_model, "rs_helios");
+  EXPECT_DOUBLE_EQ(scout.footprint_length_m, 0.93);
+  int line = 0;
+  std::string error = robot_facts_error("reference_speed_mps: 0.8 ", "reference_speed_mps: 1.5 ", &line);
+  EXPECT_EQ(error,
+            "robot.yaml:" + std::to_string(line) + ": key 'planner.reference_speed_mps': value 1.5 outside [0, 1]");
+  error = robot_facts_error("z_m: 0.5 ", "z_m: 12 ", &line);
+  EXPECT_EQ(error, "robot.yaml:" + std::to_string(line) + ": key 'lidar.mount.z_m': value 12 outside [0, 10]");
 }
 
 TEST(ScenarioGen, SameFamilyAndSeedGiveTheSameBytes) {

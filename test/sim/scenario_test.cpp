@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <random>
 
+#include "config/robot_profile.h"
+
 namespace evade::sim {
 namespace {
 
@@ -157,9 +159,8 @@ TEST(Scenario, AProfileMayGiveTheFootprintAndLidar) {
   Scenario sc = parse_scenario(named, "named.yaml");
   EXPECT_EQ(sc.profile, "small");
   EXPECT_FALSE(robot_resolved(sc));
-  const config::Node root = config::load_string(
-      "robot: {footprint_length_m: 0.93, footprint_width_m: 0.7}\nlidar: {model: rs_helios, mount: {z_m: 0.55}}\n",
-      "merged.yaml");
+  const config::Node root =
+      config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml", {"scout2", ""});
   resolve_robot(&sc, root);
   EXPECT_TRUE(robot_resolved(sc));
   EXPECT_DOUBLE_EQ(sc.footprint_length, 0.93);

@@ -121,7 +121,7 @@ TEST_F(SimCoreTest, RobotAcceleratesAtTheConfiguredLimit) {
 // (lib/base/README.md). Frames stop -> the base holds the last command for
 // 500 ms, then brakes to rest at its deceleration limit and reports standby.
 TEST_F(SimCoreTest, FramesStopTheBaseHoldsTheCommandForHalfASecondThenBrakesToRest) {
-  ASSERT_EQ(params_.robot.command_timeout_us, 500'000);  // config/robot.yaml sim.command_timeout_s
+  ASSERT_EQ(params_.command_timeout_us, 500'000);  // config/robot.yaml sim.command_timeout_s
   int64_t last = 0;
   for (int64_t t = kT0 + 1000; t <= kT0 + 1'001'000; t += 20'000) command(0.75, 0.0, last = t);
   run_until(last + 1000);
@@ -315,7 +315,12 @@ BodyPoints decode_helios(const std::vector<Packet>& packets, bool self_filter) {
   sensing::LidarDecoderParams dp;
   dp.model = sensing::LidarModel::kRsHelios;
   dp.mount.z = 0.9;
-  dp.self_filter = sensing::SelfFilterParams{self_filter, 0.93, 0.70, 0.05};
+  dp.min_range_m = 0.0;
+  dp.max_range_m = 200.0;
+  dp.self_filter = self_filter;
+  dp.footprint_length_m = 0.93;
+  dp.footprint_width_m = 0.70;
+  dp.self_filter_margin_m = 0.05;
   BodyPoints b;
   sensing::LidarDecoder dec(dp, [&](const std::string& n, int64_t k) {
     if (n == "self_filtered_points") b.filtered += k;

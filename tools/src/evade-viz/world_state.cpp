@@ -23,7 +23,7 @@ WorldState::WorldState(const sensing::LidarDriverParams& lidar, const mapping::E
 }
 
 void WorldState::reset() {
-  decoder_ = std::make_unique<sensing::LidarDecoder>(lidar_.decoder, [](const std::string&, int64_t) {});
+  decoder_ = std::make_unique<sensing::LidarDecoder>(lidar_, [](const std::string&, int64_t) {});
   poses_ = mapping::PoseBuffer(map_params_.odometry_history_us);
   odometry.reset();
   map.reset();
@@ -77,7 +77,7 @@ bool WorldState::apply(const std::string& ch, const uint8_t* data, size_t size, 
     }
   } else if (ch == sensing::kLidarScanChannel && !heard_points_) {
     evade::lidar_scan_t s;
-    ok = bus::decode(data, size, &s) && s.sensor_model == sensing::model_name(lidar_.decoder.model);
+    ok = bus::decode(data, size, &s) && s.sensor_model == sensing::model_name(lidar_.model);
     if (ok) {
       std::vector<sensing::Revolution> revs;
       decoder_->feed_scan(s, &revs);

@@ -101,7 +101,7 @@ Stats export_log(const std::string& log_path, const std::string& dir, const Opti
   st.from_scans = !have_points;
   std::filesystem::create_directories(dir);
 
-  sensing::LidarDecoder decoder(o.lidar.decoder, [](const std::string&, int64_t) {});
+  sensing::LidarDecoder decoder(o.lidar, [](const std::string&, int64_t) {});
   pcl::PointCloud<pcl::PointXYZI> pcl_cloud;
   auto write_cloud = [&](const evade::pointcloud_t& c) {
     if (!world_cloud(c, poses, o.map, &pcl_cloud, &st.points_invalid)) {
@@ -137,7 +137,7 @@ Stats export_log(const std::string& log_path, const std::string& dir, const Opti
         ++st.malformed;
         return;
       }
-      if (s.sensor_model != sensing::model_name(o.lidar.decoder.model)) {
+      if (s.sensor_model != sensing::model_name(o.lidar.model)) {
         ++st.scans_other_model;
         return;
       }

@@ -73,9 +73,7 @@ int main(int argc, char** argv) {
     if (families_path.empty()) families_path = gen::default_families_path();
     const evade::config::Node root =
         evade::config::load_robot_config(config_path, {opts.robot, check.empty() ? "" : check});
-    gen::RobotFacts robot = gen::RobotFacts::from_config(root);
-    robot.profile = root.provenance()->profile;
-    robot.lidar_model = root.section("lidar").get<std::string>("model");
+    const gen::RobotFacts robot = gen::RobotFacts::from_config(root);
     gen::FamilyParams params = gen::FamilyParams::from_config(evade::config::load_file(families_path), robot);
     if (!check.empty()) {
       std::vector<std::string> problems =
