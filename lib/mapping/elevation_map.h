@@ -10,6 +10,7 @@
 
 #include "config/config.h"
 #include "config/fields.h"
+#include "mapping/hidden_region_params.h"
 #include "mapping/pose_buffer.h"
 
 namespace evade::mapping {
@@ -48,6 +49,7 @@ struct ElevationMapParams {
   // (a 25 % ramp starting 1 m away is 0.11 m up where the lowest ring first
   // meets it), so it keeps a margin above step_max_m.
   double blind_ground_step_max_m = 0.15;
+  HiddenRegionParams hidden_regions;  // OCCLUSIONS (hidden_regions.h)
 
   int width() const;
   int height() const;
@@ -76,6 +78,7 @@ struct ElevationMapParams {
     v.field("step_includes_cell_extent", step_includes_cell_extent);
     v.field("blind_ground_radius_m", blind_ground_radius_m, config::between(0.0, 100.0));
     v.field("blind_ground_step_max_m", blind_ground_step_max_m, config::positive());
+    v.section("hidden_regions", hidden_regions);
   }
   static ElevationMapParams from_config(const config::Node& section);
 };

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "mapping/hidden_regions.h"
+
 namespace evade::mapping {
 namespace {
 
@@ -113,6 +115,30 @@ void ElevationMapCore::on_cloud(const evade::pointcloud_t& m) {
     msg_.obstacle[r].assign(layers_.obstacle.begin() + row, layers_.obstacle.begin() + row + layers_.width);
   }
   publish("ELEVATION_MAP", msg_);
+  if (builder_.params().hidden_regions.enabled) publish_hidden_regions(m, robot);
+}
+
+void ElevationMapCore::publish_hidden_regions(const evade::pointcloud_t& m, const Pose2& robot) {
+  const double c = std::cos(robot.yaw), s = std::sin(robot.yaw);
+  hidden_.utime = m.utime;
+  hidden_.sensor_x = robot.x + c * m.mount.x - s * m.mount.y;
+  hidden_.sensor_y = robot.y + s * m.mount.x + c * m.mount.y;
+  hidden_.regions.clear();
+  for (const HiddenRegion& h :
+       hidden_regions(builder_.params().hidden_regions, layers_, hidden_.sensor_x, hidden_.sensor_y)) {
+    evade::hidden_region_t r{};
+    for (int i = 0; i < 2; ++i) {
+      r.near_x[i] = h.near_x[i];
+      r.near_y[i] = h.near_y[i];
+      r.far_x[i] = h.far_x[i];
+      r.far_y[i] = h.far_y[i];
+    }
+    r.occluder_height_m = h.occluder_height_m;
+    r.occluder_cells = h.occluder_cells;
+    hidden_.regions.push_back(r);
+  }
+  hidden_.num_regions = int32_t(hidden_.regions.size());
+  publish("OCCLUSIONS", hidden_);
 }
 
 }  // namespace evade::mapping

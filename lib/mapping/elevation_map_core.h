@@ -4,6 +4,7 @@
 #include "bus/core.h"
 #include "config/config.h"
 #include "evade/grid_map_t.hpp"
+#include "evade/hidden_region_list_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "evade/pointcloud_t.hpp"
 #include "mapping/elevation_map.h"
@@ -18,6 +19,8 @@ class ElevationMapCore : public bus::Core {
  private:
   void on_odometry(const evade::odometry_t& m);
   void on_cloud(const evade::pointcloud_t& m);
+  // OCCLUSIONS of the map just built, seen from the sensor at `robot`.
+  void publish_hidden_regions(const evade::pointcloud_t& m, const Pose2& robot);
 
   ElevationMapBuilder builder_;
   PoseBuffer poses_;  // emptied when ODOMETRY.epoch changes (issue 20)
@@ -25,6 +28,7 @@ class ElevationMapCore : public bus::Core {
   bool have_epoch_ = false;
   ElevationLayers layers_;
   evade::grid_map_t msg_;
+  evade::hidden_region_list_t hidden_;
 };
 
 }  // namespace evade::mapping

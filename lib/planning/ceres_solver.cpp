@@ -400,6 +400,7 @@ void control_bounds(const Problem& pb, int i, double* lo, double* hi) {
     *lo = std::max(*lo, prev - (is_v ? pb.lim.decel : pb.lim.alpha) * pb.dt);
     *hi = std::min(*hi, prev + (is_v ? pb.lim.accel : pb.lim.alpha) * pb.dt);
   }
+  if (is_v && size_t(i / 2) < pb.v_cap.size()) *hi = std::max(*lo, std::min(*hi, pb.v_cap[size_t(i / 2)]));
 }
 
 void set_bounds(const Problem& pb, ceres::Problem* problem, double* u) {
@@ -715,8 +716,9 @@ void project_controls(const Problem& pb, std::vector<double>* u) {
     double& w = (*u)[2 * k + 1];
     if (!std::isfinite(v)) v = v_prev;
     if (!std::isfinite(w)) w = w_prev;
-    v = std::clamp(v, std::max(pb.lim.v_min, v_prev - pb.lim.decel * pb.dt),
-                   std::min(pb.lim.v_max, v_prev + pb.lim.accel * pb.dt));
+    const double v_hi = size_t(k) < pb.v_cap.size() ? std::min(pb.lim.v_max, pb.v_cap[size_t(k)]) : pb.lim.v_max;
+    const double v_lo = std::max(pb.lim.v_min, v_prev - pb.lim.decel * pb.dt);
+    v = std::clamp(v, v_lo, std::max(v_lo, std::min(v_hi, v_prev + pb.lim.accel * pb.dt)));
     w = std::clamp(w, std::max(-pb.lim.omega_max, w_prev - pb.lim.alpha * pb.dt),
                    std::min(pb.lim.omega_max, w_prev + pb.lim.alpha * pb.dt));
     v_prev = v;

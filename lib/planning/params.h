@@ -14,6 +14,7 @@
 #include "planning/detour.h"
 #include "planning/guidance.h"
 #include "planning/modes.h"
+#include "planning/occlusion_speed.h"
 #include "planning/problem.h"
 
 namespace evade::planning {
@@ -66,6 +67,8 @@ struct PlannerParams {
   // them (guidance.h, topology_planner.h); off: one solve from the warm
   // start and evade's recovery chain.
   GuidanceParams guidance = default_guidance();
+  // Mode evade: the speed bound near hidden regions (occlusion_speed.h).
+  OcclusionSpeedParams occlusion;
   // Inside d_safe of an obstacle that stands ahead and to one side, the
   // relaxed problem keeps h from falling (at its edge the D-CBF lets it fall
   // by only gamma h per step), and a robot that must turn on the spot for
@@ -269,6 +272,7 @@ void PlannerParams::fields(V& v) {
   v.section("detour", d);
   GuidanceKeys g{guidance};
   v.section("guidance", g);
+  v.section("occlusion", occlusion);
   SolverKeys o{*this};
   v.section("solver", o);
 }

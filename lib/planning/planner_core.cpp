@@ -84,6 +84,9 @@ PlannerCore::PlannerCore(PlannerParams params)
     history_.add(m);  // cbf_curvefit's observed centres
     if (mode_.source == ObstacleSource::kObserved) on_new_obstacle_input();
   });
+  if (mode_.evade_layers && p_.occlusion.enabled)
+    subscribe<evade::hidden_region_list_t>("OCCLUSIONS",
+                                           [this](const evade::hidden_region_list_t& m) { occlusions_ = m; });
   every(period_us_, [this] { watchdog(); });
 }
 
@@ -370,6 +373,10 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   pb.d_safe = p_.d_safe_m;
   pb.footprint = p_.footprint;
   make_reference(odom, &pb);
+  if (occlusions_ && age_us(now(), occlusions_->utime) <= std::llround(p_.occlusion.max_age_s * 1e6)) {
+    pb.v_cap = occlusion_speed_caps(p_.occlusion, *occlusions_, pb);
+    if (!pb.v_cap.empty()) count("occlusion_speed_bound");
+  }
   int invalid = 0;
   const ObstacleInputs in{predictions_ ? &*predictions_ : nullptr, observed_ ? &*observed_ : nullptr, &history_};
   pb.obstacles = constraint_obstacles(p_, in, odom.utime, odom.x, odom.y, &invalid);

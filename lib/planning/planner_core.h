@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bus/core.h"
+#include "evade/hidden_region_list_t.hpp"
 #include "evade/obstacle_list_t.hpp"
 #include "evade/odometry_t.hpp"
 #include "evade/plan_t.hpp"
@@ -45,7 +46,7 @@ class PlannerCore : public bus::Core {
   // (and judge it stale). The live process and the lockstep loop conflate
   // these.
   static std::vector<std::string> conflated_inputs() {
-    return {"ODOMETRY", "OBSTACLES", "OBSTACLE_PREDICTIONS", "ROUTE"};
+    return {"ODOMETRY", "OBSTACLES", "OBSTACLE_PREDICTIONS", "ROUTE", "OCCLUSIONS"};
   }
 
   // Exposed for tests: the last plan published.
@@ -144,10 +145,11 @@ class PlannerCore : public bus::Core {
   std::map<int64_t, int64_t> first_seen_;               // track id -> utime of its first prediction
   double track_age_s(int64_t id, int64_t utime) const;  // since first_seen_ (0 for an unknown id)
   std::optional<evade::prediction_list_t> predictions_;
-  int64_t predictions_rx_ = -1;                     // bus time the predictions arrived
-  std::optional<evade::obstacle_list_t> observed_;  // the last OBSTACLES
-  int64_t observed_rx_ = -1;                        // bus time they arrived
-  int64_t odometry_rx_ = -1;                        // bus time of the last odometry
+  int64_t predictions_rx_ = -1;                            // bus time the predictions arrived
+  std::optional<evade::obstacle_list_t> observed_;         // the last OBSTACLES
+  std::optional<evade::hidden_region_list_t> occlusions_;  // the last OCCLUSIONS (mode evade: occlusion_speed.h)
+  int64_t observed_rx_ = -1;                               // bus time they arrived
+  int64_t odometry_rx_ = -1;                               // bus time of the last odometry
   std::optional<evade::odometry_t> last_odometry_;
   int64_t last_cycle_now_ = -1;       // bus time of the last planning cycle (the odometry fallback's clock)
   int64_t last_cycle_odometry_ = -1;  // utime of the odometry the last cycle planned from

@@ -80,6 +80,9 @@ struct Problem {
   // Optional per-constraint relaxation added to g_j (empty = none): used
   // only for an infeasible problem, see CeresMpcSolver::solve_elastic.
   std::vector<double> relax;
+  // Optional per-step upper bounds on v_k below lim.v_max (empty = none):
+  // mode evade near hidden regions (occlusion_speed.h).
+  std::vector<double> v_cap;
 
   int num_controls() const { return 2 * N; }
   // 4 rate constraints per step (v up, v down, omega up, omega down), then N

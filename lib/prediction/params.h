@@ -7,6 +7,7 @@
 
 #include "config/config.h"
 #include "config/fields.h"
+#include "prediction/occluded.h"
 
 namespace evade::prediction {
 
@@ -184,6 +185,7 @@ struct PredictorParams {
   double max_frame_gap_s = 1.0;  // a longer gap between frames restarts every track
   double coast_max_s = 1.0;      // a track missing from the list is predicted and published this long, then dropped
   int coast_min_frames = 3;      // ... if it was seen in at least this many frames (else dropped at its first miss)
+  OccludedParams occluded;       // ... or longer, while it is hidden (occluded.h)
   double max_abs_coordinate_m = 1000.0;  // an obstacle centre beyond this (odometry frame) is malformed
   double max_axis_m = 50.0;              // a semi-axis beyond this is malformed
   FilterParams filter;
@@ -201,6 +203,7 @@ struct PredictorParams {
     v.field("max_frame_gap_s", max_frame_gap_s, config::between(1e-3, 60.0));
     v.field("coast_max_s", coast_max_s, config::between(0.0, 60.0));
     v.field("coast_min_frames", coast_min_frames, config::between(1, 1000));
+    v.section("occluded", occluded);
     v.field("max_abs_coordinate_m", max_abs_coordinate_m, config::positive());
     v.field("max_axis_m", max_axis_m, config::positive());
     v.section("filter", filter);

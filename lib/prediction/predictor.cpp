@@ -49,6 +49,7 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
     st.dropped += static_cast<int>(tracks_.size());
     tracks_.clear();
     last_seen_utime_.clear();
+    last_z_.clear();
   }
   last_utime_ = in.utime;
   update_seen(in, dt, &st);
@@ -65,9 +66,18 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
   for (const auto* ids : {&order_, &coasting_})
     for (int64_t id : *ids) {
       out->tracks.emplace_back();
-      predict_track(id, tracks_.at(id), &out->tracks.back());
+      const auto h = hidden_.find(id);
+      if (h == hidden_.end()) {
+        predict_track(id, tracks_.at(id), &out->tracks.back());
+        continue;
+      }
+      const Measurement& z = last_z_.at(id);
+      hidden_prediction(params_->occluded, id, z.x, z.y, std::max(z.a, z.b), std::min(z.a, z.b),
+                        z.a >= z.b ? z.theta : std::remainder(z.theta + 0.5 * M_PI, M_PI), h->second,
+                        params_->prediction_steps + 1, params_->prediction_dt_s, &out->tracks.back());
     }
   st.coasting = static_cast<int>(coasting_.size());
+  st.hidden = static_cast<int>(hidden_.size());
   out->num_tracks = static_cast<int32_t>(out->tracks.size());
   if (stats) *stats = st;
   return true;
@@ -90,6 +100,7 @@ void Predictor::update_seen(const evade::obstacle_list_t& in, double dt, FrameSt
     z.theta = o.theta;
     z.tracker_shape_variation = o.shape_variation;
     last_seen_utime_[o.id] = in.utime;
+    last_z_[o.id] = z;
     auto it = tracks_.find(o.id);
     if (it == tracks_.end()) {
       it = tracks_.emplace(o.id, TrackFilter(*params_, z)).first;
@@ -122,26 +133,42 @@ void Predictor::coast_missing(int64_t utime, double dt, FrameStats* st) {
   // get around for coast_max_s.
   const int64_t coast_us = std::llround(params_->coast_max_s * 1e6);
   coasting_.clear();
+  hidden_.clear();
   for (auto it = tracks_.begin(); it != tracks_.end();) {
     const int64_t id = it->first;
     if (seen_.count(id) != 0) {
       ++it;
       continue;
     }
-    if (utime - last_seen_utime_[id] <= coast_us && it->second.updates() + 1 >= params_->coast_min_frames) {
+    const bool hidden = hidden_at(id, utime);
+    if ((hidden || utime - last_seen_utime_[id] <= coast_us) && it->second.updates() + 1 >= params_->coast_min_frames) {
       it->second.predict(dt);
       if (finite(it->second)) {
         coasting_.push_back(id);
+        if (hidden) hidden_[id] = 1e-6 * double(utime - last_seen_utime_[id]);
         ++it;
         continue;
       }
       ++st->diverged;
     }
     last_seen_utime_.erase(id);
+    last_z_.erase(id);
     it = tracks_.erase(it);
     ++st->dropped;
   }
   std::sort(coasting_.begin(), coasting_.end());  // a fixed order, whatever the hash map's
+}
+
+bool Predictor::hidden_at(int64_t id, int64_t utime) const {
+  const OccludedParams& p = params_->occluded;
+  if (!p.enabled || !hidden_regions_ || std::llabs(hidden_regions_->utime - utime) > std::llround(p.max_age_s * 1e6))
+    return false;
+  const auto z = last_z_.find(id);
+  if (z == last_z_.end()) return false;
+  const double unseen_s = 1e-6 * double(utime - last_seen_utime_.at(id));
+  const double horizon_s = params_->prediction_steps * params_->prediction_dt_s;
+  return keep_hidden(p, *hidden_regions_, z->second.x, z->second.y, std::max(z->second.a, z->second.b), unseen_s,
+                     horizon_s);
 }
 
 void Predictor::inherit_fragments(FrameStats* st) {

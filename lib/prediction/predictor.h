@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -19,6 +20,7 @@ struct FrameStats {
   int created = 0;         // new track ids
   int dropped = 0;         // ids unseen for longer than coast_max_s (or whose coasting filter diverged)
   int coasting = 0;        // ids missing from this list, predicted from their filter alone
+  int hidden = 0;          // ...of which held where last seen inside a hidden region (occluded.h)
   int updated = 0;         // existing tracks updated
   int malformed = 0;       // obstacles skipped (non-finite, out of range, bad axes, duplicate id)
   int diverged = 0;        // tracks whose filter went non-finite: restarted from the measurement
@@ -37,6 +39,10 @@ class Predictor {
   // Rolls one filtered track forward: index 0 = the filter's current estimate.
   void predict_track(int64_t id, const TrackFilter& filter, evade::track_prediction_t* out) const;
 
+  // The newest OCCLUSIONS: a track missing inside one of its regions is
+  // kept as hidden (occluded.h).
+  void set_hidden_regions(const evade::hidden_region_list_t& m) { hidden_regions_ = m; }
+
   const TrackFilter* track(int64_t id) const;
   size_t num_tracks() const { return tracks_.size(); }
   const PredictorParams& params() const { return *params_; }
@@ -53,6 +59,11 @@ class Predictor {
   std::vector<int64_t> coasting_;                         // scratch: ids coasting in the current frame
   std::vector<int64_t> order_;                            // scratch: ids seen in the current frame, in input order
   std::vector<int64_t> created_;                          // scratch: ids new in the current frame
+  std::optional<evade::hidden_region_list_t> hidden_regions_;
+  std::unordered_map<int64_t, Measurement> last_z_;  // per track: its last measurement
+  std::unordered_map<int64_t, double> hidden_;       // scratch: hidden ids of the current frame -> seconds unseen
+  // Whether a track missing at utime is kept as hidden (occluded.h).
+  bool hidden_at(int64_t id, int64_t utime) const;
 
   // One frame: measurement updates of the listed tracks (order_, created_),
   // coasting or dropping of the missing ones (coasting_), fragments.

@@ -79,8 +79,8 @@ TEST(Lockstep, EveryChannelOfALiveRunIsInTheLogInTimeOrder) {
     last = e.timestamp;
   });
   EXPECT_TRUE(ordered);
-  for (const char* ch : {"LIDAR_SCAN", "ELEVATION_MAP", "OBSTACLES", "OBSTACLE_PREDICTIONS", "ROUTE", "PLAN", "CMD_VEL",
-                         "ODOMETRY", "BASE_STATUS", "SIM_TRUTH", "HEALTH"})
+  for (const char* ch : {"LIDAR_SCAN", "ELEVATION_MAP", "OCCLUSIONS", "OBSTACLES", "OBSTACLE_PREDICTIONS", "ROUTE",
+                         "PLAN", "CMD_VEL", "ODOMETRY", "BASE_STATUS", "SIM_TRUTH", "HEALTH"})
     EXPECT_TRUE(seen.count(ch)) << ch;
   EXPECT_FALSE(seen.count("LIDAR_POINTS"));  // left out, as run_scenario's lcm-logger does
   EXPECT_EQ(r.result.outcome, RunMonitor::kGoal);

@@ -33,8 +33,9 @@ bool make_case(const std::string& cut, const std::string& logs, const std::strin
                  existing.c_str());
     return false;
   }
-  std::vector<std::string> channels{"LIDAR_SCAN",           "ODOMETRY", "ROUTE",   "ELEVATION_MAP", "OBSTACLES",
-                                    "OBSTACLE_PREDICTIONS", "PLAN",     "CMD_VEL", "SIM_TRUTH"};
+  std::vector<std::string> channels{
+      "LIDAR_SCAN",           "ODOMETRY", "ROUTE",   "ELEVATION_MAP", "OBSTACLES", "OCCLUSIONS",
+      "OBSTACLE_PREDICTIONS", "PLAN",     "CMD_VEL", "SIM_TRUTH"};
   auto events = evade::replay::cut_case(evade::bus::read_log(cut), start_s, duration_s, channels);
   fs::create_directories(logs + "/" + name + "/refs");
   evade::bus::write_log(existing, events);

@@ -112,17 +112,20 @@ const std::vector<ProcessCase>& process_cases() {
     c.push_back({"tracker", {"ELEVATION_MAP"}, tolerances(1e-6, 1e-9), "logged ELEVATION_MAP; OBSTACLES compared"});
     // An authentication code is a function of the rest of the message: a
     // difference within the tolerances changes it entirely, so it is not compared.
-    ProcessCase predictor{
-        "predictor", {"OBSTACLES"}, tolerances(1e-6, 1e-9), "logged OBSTACLES; OBSTACLE_PREDICTIONS compared"};
+    ProcessCase predictor{"predictor",
+                          {"OBSTACLES", "OCCLUSIONS"},
+                          tolerances(1e-6, 1e-9),
+                          "logged OBSTACLES, OCCLUSIONS; OBSTACLE_PREDICTIONS compared"};
     predictor.diff.ignore_fields = {"OBSTACLE_PREDICTIONS.auth_mac"};
     c.push_back(predictor);
     // The planner's outputs come out of an iterative solver: a last-bit
     // difference can move an iterate, so its tolerance is 1 mm / 1 mrad;
     // solve_time_us is wall time and never compared.
-    ProcessCase planner{"planner",
-                        {"ODOMETRY", "ROUTE", "OBSTACLES", "OBSTACLE_PREDICTIONS"},
-                        tolerances(1e-3, 1e-6),
-                        "logged ODOMETRY, ROUTE, OBSTACLES, OBSTACLE_PREDICTIONS; PLAN and CMD_VEL compared"};
+    ProcessCase planner{
+        "planner",
+        {"ODOMETRY", "ROUTE", "OBSTACLES", "OBSTACLE_PREDICTIONS", "OCCLUSIONS"},
+        tolerances(1e-3, 1e-6),
+        "logged ODOMETRY, ROUTE, OBSTACLES, OBSTACLE_PREDICTIONS, OCCLUSIONS; PLAN and CMD_VEL compared"};
     planner.diff.ignore_fields = {"PLAN.solve_time_us", "CMD_VEL.auth_mac"};
     c.push_back(planner);
     return c;
