@@ -84,6 +84,7 @@ PlannerCore::PlannerCore(PlannerParams params)
     history_.add(m);  // cbf_curvefit's observed centres
     if (mode_.source == ObstacleSource::kObserved) on_new_obstacle_input();
   });
+  subscribe_static_map();
   every(period_us_, [this] { watchdog(); });
 }
 
@@ -276,7 +277,10 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
         if (age_s >= p_.detour.min_mover_age_s && swept_in_grid(t, odom, &swept)) swept_movers.push_back(swept);
         continue;
       }
-      if (established) settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
+      if (std::find(static_ids_.begin(), static_ids_.end(), t.id) != static_ids_.end())
+        moving.push_back(t.id);  // its cells are in the grid's static field: its ellipse is forgotten
+      else if (established)
+        settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
     }
   }
   settled_.update(odom.utime, settled, moving);
@@ -369,6 +373,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   pb.lim = p_.limits;
   pb.d_safe = p_.d_safe_m;
   pb.footprint = p_.footprint;
+  update_static_field(odom);
   make_reference(odom, &pb);
   int invalid = 0;
   const ObstacleInputs in{predictions_ ? &*predictions_ : nullptr, observed_ ? &*observed_ : nullptr, &history_};
@@ -377,6 +382,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   for (auto& o : pb.obstacles) {
     o.age_s = track_age_s(o.id, odom.utime);
   }
+  apply_static_field(odom, &pb);
   return pb;
 }
 
