@@ -79,7 +79,13 @@ void PlannerCore::update_static_field(const evade::odometry_t& odom) {
     count("static_map_invalid");
     return;
   }
-  static_ids_ = std::move(ids);
+  // a static track stands for its cells only where the map holds some
+  // within its reach (else, hidden or missing from this scan, its ellipse stays)
+  for (size_t i = 0; i < ids.size(); ++i) {
+    double gx, gy;
+    if (static_field_->distance(keep[i].x, keep[i].y, &gx, &gy) <= std::max(keep[i].a, keep[i].b))
+      static_ids_.push_back(ids[i]);
+  }
   count("static_field");
   detour_.set_field(static_field_, p_.footprint.radius);
 }
