@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -153,6 +154,10 @@ class PlannerCore : public bus::Core {
   std::deque<evade::grid_map_t> maps_;
   std::shared_ptr<const StaticField> static_field_;
   std::vector<int64_t> static_ids_;  // the tracks static_field_ stands for
+  // Track ids ever seen faster than static_field.max_speed_mps (of those
+  // in the last predictions): never static.
+  void remember_movers();
+  std::set<int64_t> moved_ids_;
 
   PlannerParams p_;
   const ModeSpec& mode_;

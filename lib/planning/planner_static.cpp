@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <set>
 
 #include "planning/input_checks.h"
 #include "planning/planner_core.h"
@@ -41,10 +42,19 @@ void PlannerCore::subscribe_static_map() {
 }
 
 bool PlannerCore::static_now(const evade::track_prediction_t& t, int64_t utime) const {
+  if (moved_ids_.count(t.id)) return false;  // a walker turning round is slow for a moment
   if (!is_static_track(t, track_age_s(t.id, utime), p_.static_field)) return false;
   if (!observed_) return false;
   return std::any_of(observed_->obstacles.begin(), observed_->obstacles.end(),
                      [&](const evade::obstacle_t& o) { return o.id == t.id; });
+}
+
+void PlannerCore::remember_movers() {
+  std::set<int64_t> now;
+  if (predictions_)
+    for (const auto& t : predictions_->tracks)
+      if (moved_ids_.count(t.id) || std::hypot(t.vx, t.vy) > p_.static_field.max_speed_mps) now.insert(t.id);
+  moved_ids_ = std::move(now);  // ids gone from the list are forgotten
 }
 
 void PlannerCore::update_static_field(const evade::odometry_t& odom) {
@@ -63,6 +73,7 @@ void PlannerCore::update_static_field(const evade::odometry_t& odom) {
   }
   std::vector<Ellipse> movers, keep;
   std::vector<int64_t> ids;
+  remember_movers();
   if (predictions_) {
     const double shift_s = (map->utime - predictions_->utime) * 1e-6;
     for (const auto& t : predictions_->tracks) {
@@ -79,13 +90,12 @@ void PlannerCore::update_static_field(const evade::odometry_t& odom) {
     count("static_map_invalid");
     return;
   }
-  // a static track stands for its cells only where the map holds some
-  // within its reach (else, hidden or missing from this scan, its ellipse stays)
-  for (size_t i = 0; i < ids.size(); ++i) {
-    double gx, gy;
-    if (static_field_->distance(keep[i].x, keep[i].y, &gx, &gy) <= std::max(keep[i].a, keep[i].b))
-      static_ids_.push_back(ids[i]);
-  }
+  // a static track stands for its cells only where the map holds some in
+  // its ellipse (else, hidden or missing from this scan, its ellipse stays)
+  // in a patch of structure: a person, a bin or a post standing alone is
+  // still its ellipse (a person standing may walk off)
+  for (size_t i = 0; i < ids.size(); ++i)
+    if (static_field_->structure_extent(keep[i]) >= p_.static_field.min_structure_m) static_ids_.push_back(ids[i]);
   count("static_field");
   detour_.set_field(static_field_, p_.footprint.radius);
 }

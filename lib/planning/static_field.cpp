@@ -92,12 +92,56 @@ std::vector<double> squared_distance_2d(const std::vector<char>& site, int width
 
 struct StaticField::Impl {
   double ox = 0, oy = 0, res = 0;
+  int width = 0, height = 0;
   std::vector<double> values;  // signed distance at cell centres, row-major
+  std::vector<float> extent;   // per static cell: its patch's longest bounding-box side (m); 0 elsewhere
   ceres::Grid2D<double, 1> grid;
   ceres::BiCubicInterpolator<ceres::Grid2D<double, 1>> interp;
-  Impl(double ox_, double oy_, double res_, std::vector<double> v, int width, int height)
-      : ox(ox_), oy(oy_), res(res_), values(std::move(v)), grid(values.data(), 0, height, 0, width), interp(grid) {}
+  Impl(double ox_, double oy_, double res_, std::vector<double> v, int w, int h)
+      : ox(ox_),
+        oy(oy_),
+        res(res_),
+        width(w),
+        height(h),
+        values(std::move(v)),
+        grid(values.data(), 0, h, 0, w),
+        interp(grid) {}
 };
+
+namespace {
+
+// Per site: the longest bounding-box side (in cells) of its 8-connected patch.
+std::vector<float> patch_extents(const std::vector<char>& site, int W, int H) {
+  std::vector<float> out(site.size(), 0.0f);
+  std::vector<char> seen(site.size(), 0);
+  std::vector<int> stack, members;
+  for (int start = 0; start < W * H; ++start) {
+    if (!site[start] || seen[start]) continue;
+    int r0 = H, r1 = -1, c0 = W, c1 = -1;
+    stack.assign(1, start);
+    members.clear();
+    seen[start] = 1;
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      members.push_back(i);
+      const int r = i / W, c = i % W;
+      r0 = std::min(r0, r), r1 = std::max(r1, r), c0 = std::min(c0, c), c1 = std::max(c1, c);
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int rr = r + dr, cc = c + dc;
+          if (rr < 0 || rr >= H || cc < 0 || cc >= W) continue;
+          const int j = rr * W + cc;
+          if (site[j] && !seen[j]) seen[j] = 1, stack.push_back(j);
+        }
+    }
+    const float e = static_cast<float>(std::max(r1 - r0 + 1, c1 - c0 + 1));
+    for (int i : members) out[i] = e;
+  }
+  return out;
+}
+
+}  // namespace
 
 std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
                                                       const std::vector<Ellipse>& keep, const StaticFieldParams& p) {
@@ -119,7 +163,10 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
     signed_d[i] = std::clamp(d, -cap, cap);
   }
   auto out = std::make_shared<StaticField>();
-  out->impl_ = std::make_shared<const Impl>(map.origin[0], map.origin[1], res, std::move(signed_d), W, H);
+  auto impl = std::make_shared<Impl>(map.origin[0], map.origin[1], res, std::move(signed_d), W, H);
+  impl->extent = patch_extents(site, W, H);
+  for (float& e : impl->extent) e *= static_cast<float>(res);
+  out->impl_ = std::move(impl);
   out->static_cells_ = n;
   out->d_safe_ = p.d_safe_m;
   return out;
@@ -133,6 +180,22 @@ double StaticField::distance(double x, double y, double* gx, double* gy) const {
   *gx = dfdc / impl_->res;
   *gy = dfdr / impl_->res;
   return f;
+}
+
+double StaticField::structure_extent(const Ellipse& e) const {
+  const Impl& m = *impl_;
+  const double reach = std::max(e.a, e.b);
+  const int c0 = std::max(0, static_cast<int>(std::floor((e.x - reach - m.ox) / m.res)));
+  const int c1 = std::min(m.width - 1, static_cast<int>(std::floor((e.x + reach - m.ox) / m.res)));
+  const int r0 = std::max(0, static_cast<int>(std::floor((e.y - reach - m.oy) / m.res)));
+  const int r1 = std::min(m.height - 1, static_cast<int>(std::floor((e.y + reach - m.oy) / m.res)));
+  double best = 0;
+  for (int r = r0; r <= r1; ++r)
+    for (int c = c0; c <= c1; ++c) {
+      const double x = m.extent[static_cast<size_t>(r) * m.width + c];
+      if (x > best && e.contains(m.ox + (c + 0.5) * m.res, m.oy + (r + 0.5) * m.res, 0.0)) best = x;
+    }
+  return best;
 }
 
 BarrierValue StaticField::footprint_barrier(double px, double py, double yaw, const Footprint& fp) const {

@@ -45,6 +45,7 @@ struct StaticFieldParams {
   double mover_margin_m = 0.2;   // cells within a moving track's current ellipse grown by this are not static
   double map_max_age_s = 0.3;    // a map older than this before the cycle's odometry is not used
   double max_distance_m = 3.0;   // the field is cut at this distance (beyond it the constraint is inactive)
+  double min_structure_m = 1.0;  // a static track's cells count as structure in a connected patch at least this long
   template <class V>
   void fields(V& v) {
     v.field("enabled", enabled);
@@ -54,6 +55,7 @@ struct StaticFieldParams {
     v.field("mover_margin_m", mover_margin_m, config::between(0.0, 10.0));
     v.field("map_max_age_s", map_max_age_s, config::between(0.0, 60.0));
     v.field("max_distance_m", max_distance_m, config::between(0.1, 100.0));
+    v.field("min_structure_m", min_structure_m, config::between(0.0, 100.0));
   }
 };
 
@@ -78,6 +80,9 @@ class StaticField {
   // distance - radius - d_safe_m, with its derivatives in (x, y, yaw)
   // (second derivatives 0).
   BarrierValue footprint_barrier(double px, double py, double yaw, const Footprint& fp) const;
+  // The longest side (m) of the bounding box of the largest 8-connected
+  // patch of static cells that has a cell inside e (0 when none has).
+  double structure_extent(const Ellipse& e) const;
   int static_cells() const { return static_cells_; }
   double d_safe() const { return d_safe_; }
 
@@ -97,7 +102,9 @@ void squared_distance_1d(const std::vector<double>& f, std::vector<double>* out)
 // is none).
 std::vector<double> squared_distance_2d(const std::vector<char>& site, int width, int height);
 
-// A track is static: slower than max_speed_mps and tracked min_track_age_s.
+// A track may be static: slower than max_speed_mps and tracked
+// min_track_age_s (the planner adds: never seen faster, observed, and its
+// cells in a patch of structure at least min_structure_m long).
 bool is_static_track(const evade::track_prediction_t& t, double age_s, const StaticFieldParams& p);
 
 // The obstacle track that carries the field into the problem (id

@@ -153,9 +153,13 @@ struct DoorRun {
 // Closed loop as planner_core_test: odometry at 50 Hz, the map, OBSTACLES
 // and predictions at 10 Hz (maps only before `maps_until_s`), the robot
 // follows CMD_VEL exactly.
-DoorRun run_door(const PlannerParams& p, double gap, double duration_s, double maps_until_s = 1e9) {
-  const std::vector<Box> boxes = doorway(gap);
-  const std::vector<Ellipse> es = tiles(boxes);
+// `cart`: a 1.2 x 0.4 m box at (1.5, 2.0) that rolls at 0.5 m/s along x
+// until cart_stops_s, then stands (its track id: the last).
+DoorRun run_door(const PlannerParams& p, double gap, double duration_s, double maps_until_s = 1e9,
+                 double cart_stops_s = -1.0) {
+  std::vector<Box> boxes = doorway(gap);
+  std::vector<Ellipse> es = tiles(boxes);
+  const size_t walls = boxes.size(), tiles_n = es.size();
   bus::MemoryBus bus;
   PlannerCore core(p);
   bus.add(core);
@@ -172,9 +176,20 @@ DoorRun run_door(const PlannerParams& p, double gap, double duration_s, double m
     const double t = i * 0.02;
     const int64_t now = t0 + std::llround(t * 1e6);
     if (i % 5 == 0) {
+      boxes.resize(walls);
+      es.resize(tiles_n);
+      double cart_v = 0.0;
+      if (cart_stops_s >= 0) {
+        cart_v = t < cart_stops_s ? 0.5 : 0.0;
+        const double cx = 1.5 + 0.5 * std::min(t, cart_stops_s);
+        boxes.push_back({cx - 0.6, cx + 0.6, 1.8, 2.2});
+        es.push_back({cx, 2.0, 0.85, 0.28, 0.0});
+      }
       if (t < maps_until_s) bus.inject("ELEVATION_MAP", map_of(boxes, now), now);
       bus.inject("OBSTACLES", observed_of(es, now), now);
-      bus.inject("OBSTACLE_PREDICTIONS", predictions_of(es, now), now);
+      evade::prediction_list_t pred = predictions_of(es, now);
+      if (cart_stops_s >= 0) pred.tracks.back().vx = cart_v;
+      bus.inject("OBSTACLE_PREDICTIONS", pred, now);
     }
     evade::odometry_t o{};
     o.utime = now;
@@ -272,6 +287,30 @@ TEST(StaticField, EveryDiscOfEveryPlanKeepsDSafeFromTheStaticCells) {
   ASSERT_GT(r.final_x, 5.0);
   EXPECT_GE(r.min_plan_clearance, p.static_field.d_safe_m - 2e-3);
   EXPECT_LT(r.min_plan_clearance, p.static_field.d_safe_m + 0.05);  // the door made the constraint active
+}
+
+TEST(StaticField, APersonOrABinStandingAloneIsNotStructure) {
+  const evade::grid_map_t m = map_of({{3.0, 3.2, -6.0, 6.0}, {1.0, 1.4, -0.2, 0.2}}, 0);
+  const auto f = StaticField::build(m, {}, {}, StaticFieldParams{});
+  EXPECT_NEAR(f->structure_extent({1.2, 0.0, 0.3, 0.3, 0.0}), 0.4, 1e-6);  // its ellipse stays
+  EXPECT_NEAR(f->structure_extent({3.1, 1.0, 1.06, 0.14, M_PI / 2}), 12.0, 1e-6);
+  EXPECT_EQ(f->structure_extent({0.0, 0.0, 0.3, 0.3, 0.0}), 0.0);
+}
+
+TEST(StaticField, ATrackSeenMovingStaysItsEllipseWhenItStops) {
+  const PlannerParams p = jackal_params();
+  // the cart rolls for 1 s, then stands: tracked long and slow, a patch of
+  // 1.2 m, but seen moving, so it stays an ellipse (a walker turning round)
+  const DoorRun r = run_door(p, 0.42 + 0.3, 4.0, 1e9, 1.0);
+  const int64_t cart = static_cast<int64_t>(tiles(doorway(0.72)).size()) + 1;
+  int late = 0;
+  for (const auto& pl : r.plans) {
+    if (pl.obstacle_id.empty() || (pl.utime - 1'000'000) * 1e-6 < 2.5) continue;
+    EXPECT_TRUE(has_id(pl, cart));
+    EXPECT_TRUE(has_id(pl, kStaticFieldId));
+    ++late;
+  }
+  EXPECT_GT(late, 5);
 }
 
 TEST(StaticField, WithoutAMapOrWithAStaleOneTheStaticTracksAreEllipsesAgain) {
