@@ -38,7 +38,7 @@
 namespace evade::planning {
 
 struct StaticFieldParams {
-  bool enabled = true;           // mode evade: static structure by the map's cells, not by ellipses
+  bool enabled = false;          // mode evade: static structure by the map's cells, not by ellipses
   double d_safe_m = 0.03;        // margin between the footprint's discs and static cells
   double max_speed_mps = 0.2;    // a track slower than this...
   double min_track_age_s = 1.0;  // ...and tracked this long is static

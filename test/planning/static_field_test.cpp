@@ -32,6 +32,7 @@ constexpr int kW = 120, kH = 120;
 PlannerParams jackal_params() {
   PlannerParams p = PlannerParams::from_config(config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
   p.footprint = Footprint::covering(0.46, 0.42, p.footprint_discs);  // config/robots/jackal.yaml
+  p.static_field.enabled = true;                                     // off by default (robot.yaml)
   return p;
 }
 
