@@ -9,6 +9,8 @@
 //   solve/ceres_cold/<k>  from zeros, for reference
 //   solve/ipopt/<k>       IPOPT from zeros
 //   loop/ceres/<k>        30 planner cycles (robot and obstacles moving), per-cycle counters
+//   static_field/<k>      the distance field of a 16 x 16 m map at 0.1 m (a wall with a door)
+//                         less k movers' cells (static_field.h), per planning cycle
 //   detour/<k>            the way round k settled obstacles, one of them wide on the route
 //                         (detour.h, config/robot.yaml planner.detour), per planning cycle
 //   guidance/<k>          the distinct ways through the k obstacles of the fixed problem
@@ -32,6 +34,7 @@
 #include "planning/ipopt_solver.h"
 #include "planning/params.h"
 #include "planning/reference.h"
+#include "planning/static_field.h"
 #include "planning/topology_planner.h"
 #include "test_problems.h"
 
@@ -281,8 +284,33 @@ void BM_GuidanceCycle(benchmark::State& state) {
   state.counters["feasible"] = o.feasible ? 1 : 0;
 }
 
+void BM_StaticField(benchmark::State& state) {
+  using namespace evade::planning;
+  const int k = static_cast<int>(state.range(0));
+  const StaticFieldParams sp;
+  evade::grid_map_t m{};
+  m.resolution = 0.1;
+  m.width = m.height = 160;
+  m.origin[0] = m.origin[1] = -8.0;
+  m.elevation.assign(160, std::vector<float>(160, 0.0f));
+  m.obstacle.assign(160, std::vector<int8_t>(160, 0));
+  for (int r = 0; r < 160; ++r)
+    if (r < 76 || r > 84) m.obstacle[r][110] = m.obstacle[r][111] = 1;  // a wall at x = 3 m, a 0.9 m door
+  std::vector<Ellipse> movers;
+  for (int i = 0; i < k; ++i) {
+    const double ang = 2.399963 * i, r = 1.0 + 5.0 * i / std::max(k, 1);
+    movers.push_back({r * std::cos(ang), r * std::sin(ang), 0.3, 0.3, 0.0});
+    const int c = static_cast<int>((movers.back().x + 8.0) / 0.1),
+              row = static_cast<int>((movers.back().y + 8.0) / 0.1);
+    for (int dr = -2; dr <= 2; ++dr)
+      for (int dc = -2; dc <= 2; ++dc) m.obstacle[row + dr][c + dc] = 1;
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(StaticField::build(m, movers, {}, sp));
+}
+
 BENCHMARK(BM_Guidance)->Name("guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GuidanceCycle)->Name("cycle/guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StaticField)->Name("static_field")->Arg(0)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Detour)->Name("detour")->Arg(1)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ceres)->Name("solve/ceres")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CeresWarmMultipliers)

@@ -282,6 +282,11 @@ class InnerCost : public ceres::CostFunction {
     const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k;
     if (!have_[idx]) {
       const ObstacleTrack& o = pb_.obstacles[i];
+      if (o.field) {
+        bar_[idx] = barrier_at(pb_, o, k, xs + 3 * k);  // static_field.h
+        have_[idx] = 1;
+        return bar_[idx];
+      }
       bar_[idx] = footprint_barrier_cs(xs[3 * k], xs[3 * k + 1], xs[3 * k + 2], o.x[k], o.y[k], o.a[k], o.b[k],
                                        orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint, pb_.d_safe);
       have_[idx] = 1;

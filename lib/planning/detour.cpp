@@ -65,6 +65,10 @@ double DetourPlanner::clearance(const std::vector<SettledObstacle>& obstacles, d
     if (std::hypot(px - o.x, py - o.y) > o.a + d_safe_ + p_.comfort_m + p_.cell_m) continue;
     h = std::min(h, barrier(px, py, o.x, o.y, o.a, o.b, o.theta, d_safe_).h);
   }
+  if (field_) {
+    double gx, gy;
+    h = std::min(h, field_->distance(px, py, &gx, &gy) - field_radius_ - field_->d_safe() + p_.margin_m);
+  }
   return h;
 }
 

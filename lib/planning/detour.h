@@ -21,10 +21,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "planning/reference.h"
+#include "planning/static_field.h"
 
 namespace evade::planning {
 
@@ -114,8 +116,17 @@ class DetourPlanner {
               std::vector<double>* x, std::vector<double>* y);
 
   // The smallest barrier h over the obstacles at (px, py) (m; a large value
-  // when there are none).
+  // when there are none), and over the static field when one is set.
   double clearance(const std::vector<SettledObstacle>& obstacles, double px, double py) const;
+
+  // Static structure by its cells (static_field.h), null for none. Its
+  // clearance at a cell is the field less `radius` (the footprint's disc)
+  // and the field's d_safe, plus margin_m: static cells do not swell, so
+  // only a cell where the robot cannot stand is blocked.
+  void set_field(std::shared_ptr<const StaticField> field, double radius) {
+    field_ = std::move(field);
+    field_radius_ = radius;
+  }
 
   // Cells expanded by the last search (0 when none ran).
   int last_expanded() const { return last_expanded_; }
@@ -123,6 +134,8 @@ class DetourPlanner {
  private:
   DetourParams p_;
   double d_safe_;
+  std::shared_ptr<const StaticField> field_;
+  double field_radius_ = 0;
   std::vector<double> prev_x_, prev_y_;  // the previous way round (hysteresis)
   int last_expanded_ = 0;
 };

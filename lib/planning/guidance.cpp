@@ -33,6 +33,7 @@ void add_labels(const Problem& pb, const RouteFrame& f, int k_first, const doubl
                 std::vector<int>* labels) {
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
+    if (o.field) continue;  // static structure is the local solves' (static_field.h)
     double ds0, rho0;
     relative(f, o, k_first, xs[0], ys[0], &ds0, &rho0);
     for (int n = 1; n < count; ++n) {
@@ -52,6 +53,7 @@ void add_labels(const Problem& pb, const RouteFrame& f, int k_first, const doubl
 void add_end_labels(const Problem& pb, const RouteFrame& f, double x, double y, std::vector<int>* labels) {
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
+    if (o.field) continue;
     double ds, rho;
     relative(f, o, pb.N, x, y, &ds, &rho);
     const double half_width = std::max(o.a[pb.N], o.b[pb.N]);
@@ -80,6 +82,7 @@ std::vector<Blocker> make_blockers(const Problem& pb) {
   const double start[3] = {pb.x0, pb.y0, pb.yaw0};
   std::vector<Blocker> out;
   for (const ObstacleTrack& o : pb.obstacles) {
+    if (o.field) continue;  // the lattice sees ellipses only
     const bool start_inside = barrier_at(pb, o, 0, start).h < 0.0;
     const double grow = reach + (start_inside ? 0.0 : pb.d_safe);
     Blocker b;

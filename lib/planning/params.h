@@ -16,6 +16,7 @@
 #include "planning/modes.h"
 #include "planning/occlusion_speed.h"
 #include "planning/problem.h"
+#include "planning/static_field.h"
 
 namespace evade::planning {
 
@@ -63,6 +64,8 @@ struct PlannerParams {
   // that a replay plans exactly as the live run did.
   int max_cycle_iterations = 900;
   DetourParams detour = default_detour();
+  // Mode evade: static structure by the elevation map's cells (static_field.h).
+  StaticFieldParams static_field;
   // Mode evade: guidance classes solved side by side and the choice among
   // them (guidance.h, topology_planner.h); off: one solve from the warm
   // start and evade's recovery chain.
@@ -270,6 +273,7 @@ void PlannerParams::fields(V& v) {
   v.section("escape", e);
   DetourKeys d{detour};
   v.section("detour", d);
+  v.section("static_field", static_field);
   GuidanceKeys g{guidance};
   v.section("guidance", g);
   v.section("occlusion", occlusion);

@@ -87,6 +87,7 @@ PlannerCore::PlannerCore(PlannerParams params)
   if (mode_.evade_layers && p_.occlusion.enabled)
     subscribe<evade::hidden_region_list_t>("OCCLUSIONS",
                                            [this](const evade::hidden_region_list_t& m) { occlusions_ = m; });
+  subscribe_static_map();
   every(period_us_, [this] { watchdog(); });
 }
 
@@ -279,7 +280,10 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
         if (age_s >= p_.detour.min_mover_age_s && swept_in_grid(t, odom, &swept)) swept_movers.push_back(swept);
         continue;
       }
-      if (established) settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
+      if (std::find(static_ids_.begin(), static_ids_.end(), t.id) != static_ids_.end())
+        moving.push_back(t.id);  // its cells are in the grid's static field: its ellipse is forgotten
+      else if (established)
+        settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
     }
   }
   settled_.update(odom.utime, settled, moving);
@@ -372,6 +376,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   pb.lim = p_.limits;
   pb.d_safe = p_.d_safe_m;
   pb.footprint = p_.footprint;
+  update_static_field(odom);
   make_reference(odom, &pb);
   if (occlusions_ && age_us(now(), occlusions_->utime) <= std::llround(p_.occlusion.max_age_s * 1e6)) {
     const auto behind_static =
@@ -386,6 +391,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   for (auto& o : pb.obstacles) {
     o.age_s = track_age_s(o.id, odom.utime);
   }
+  apply_static_field(odom, &pb);
   return pb;
 }
 

@@ -11,14 +11,17 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "bus/core.h"
+#include "evade/grid_map_t.hpp"
 #include "evade/hidden_region_list_t.hpp"
 #include "evade/obstacle_list_t.hpp"
 #include "evade/odometry_t.hpp"
@@ -46,7 +49,7 @@ class PlannerCore : public bus::Core {
   // (and judge it stale). The live process and the lockstep loop conflate
   // these.
   static std::vector<std::string> conflated_inputs() {
-    return {"ODOMETRY", "OBSTACLES", "OBSTACLE_PREDICTIONS", "ROUTE", "OCCLUSIONS"};
+    return {"ODOMETRY", "OBSTACLES", "OBSTACLE_PREDICTIONS", "ROUTE", "OCCLUSIONS", "ELEVATION_MAP"};
   }
 
   // Exposed for tests: the last plan published.
@@ -134,6 +137,28 @@ class PlannerCore : public bus::Core {
                              int iterations) const;
   void publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb, const std::vector<double>& u,
                     double solve_us, int iterations, int num_obstacles);
+
+  // ---- static structure (planner_static.cpp, static_field.h) ----
+  // Mode evade with static_field.enabled: ELEVATION_MAP is kept (the last
+  // few, gated like the predictions).
+  void subscribe_static_map();
+  // The field of this cycle from the map nearest the predictions' time,
+  // or null (counted: static_map_stale) when none is within map_max_age_s
+  // of the odometry; sets static_field_ and the detour grid's field.
+  void update_static_field(const evade::odometry_t& odom);
+  // The static tracks leave pb's ellipse constraints and the field enters
+  // them (one obstacle, the mode's decay); nothing without a field.
+  void apply_static_field(const evade::odometry_t& odom, Problem* pb);
+  // Static now: is_static_track, and in the last OBSTACLES (a coasting
+  // track's cells may be hidden: its ellipse stays).
+  bool static_now(const evade::track_prediction_t& t, int64_t utime) const;
+  std::deque<evade::grid_map_t> maps_;
+  std::shared_ptr<const StaticField> static_field_;
+  std::vector<int64_t> static_ids_;  // the tracks static_field_ stands for
+  // Track ids ever seen faster than static_field.max_speed_mps (of those
+  // in the last predictions): never static.
+  void remember_movers();
+  std::set<int64_t> moved_ids_;
 
   PlannerParams p_;
   const ModeSpec& mode_;

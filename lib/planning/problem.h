@@ -21,6 +21,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace evade::planning {
@@ -39,13 +40,18 @@ struct Limits {
   double alpha = 0;             // rad/s^2
 };
 
+class StaticField;  // static_field.h
+
 // One obstacle over the plan's steps k = 0..N (already aligned to the plan's
-// time, already inflated), and the kind of constraint it carries.
+// time, already inflated), and the kind of constraint it carries. With
+// `field` set it is the static structure's distance field instead of an
+// ellipse (static_field.h; the ellipse arrays hold the robot's start).
 struct ObstacleTrack {
   int64_t id = 0;
-  std::vector<double> x, y, a, b, theta;  // N + 1 each
-  double decay = 0.0;                     // 1 - gamma (CBF) or 0 (distance)
-  double age_s = 0.0;                     // since the planner first saw the track (solve_elastic)
+  std::vector<double> x, y, a, b, theta;     // N + 1 each
+  double decay = 0.0;                        // 1 - gamma (CBF) or 0 (distance)
+  double age_s = 0.0;                        // since the planner first saw the track (solve_elastic)
+  std::shared_ptr<const StaticField> field;  // static structure (static_field.h), else null
 };
 
 // The robot's body as discs along its heading: centres `offsets` (m,
@@ -203,9 +209,14 @@ inline BarrierValue footprint_barrier_cs(double px, double py, double yaw, doubl
   return best;
 }
 
+// The footprint's h against a static distance field (static_field.cpp;
+// second derivatives 0).
+BarrierValue static_field_barrier(const StaticField& f, double px, double py, double yaw, const Footprint& fp);
+
 // The footprint's h of obstacle o at its step k for a state (x, y, yaw).
 inline BarrierValue barrier_at(const Problem& pb, const ObstacleTrack& o, int k, const double* state,
                                bool want_hessian = false) {
+  if (o.field) return static_field_barrier(*o.field, state[0], state[1], state[2], pb.footprint);
   return footprint_barrier_cs(state[0], state[1], state[2], o.x[k], o.y[k], o.a[k], o.b[k], std::cos(o.theta[k]),
                               std::sin(o.theta[k]), pb.footprint, pb.d_safe, want_hessian);
 }

@@ -1,0 +1,237 @@
+#include "planning/static_field.h"
+
+#include <ceres/cubic_interpolation.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace evade::planning {
+namespace {
+
+constexpr double kFar = 1e12;  // squared cells: "no site"
+
+bool well_formed(const evade::grid_map_t& m) {
+  const size_t cells = static_cast<size_t>(std::max(0, m.width)) * static_cast<size_t>(std::max(0, m.height));
+  return m.width > 0 && m.height > 0 && m.resolution > 0 && std::isfinite(m.resolution) && std::isfinite(m.origin[0]) &&
+         std::isfinite(m.origin[1]) && m.obstacle.size() == static_cast<size_t>(m.height) && cells <= 4'000'000 &&
+         std::all_of(m.obstacle.begin(), m.obstacle.end(),
+                     [&](const std::vector<int8_t>& row) { return row.size() == static_cast<size_t>(m.width); });
+}
+
+// The static cells of the map: obstacle cells not inside a grown mover,
+// unless inside a kept ellipse.
+std::vector<char> static_sites(const evade::grid_map_t& m, const std::vector<Ellipse>& movers,
+                               const std::vector<Ellipse>& keep, double margin) {
+  std::vector<char> site(static_cast<size_t>(m.width) * m.height, 0);
+  for (int r = 0; r < m.height; ++r)
+    for (int c = 0; c < m.width; ++c) {
+      if (m.obstacle[r][c] == 0) continue;
+      const double x = m.origin[0] + (c + 0.5) * m.resolution, y = m.origin[1] + (r + 0.5) * m.resolution;
+      const auto in = [&](const Ellipse& e) { return e.contains(x, y, margin); };
+      const auto in_kept = [&](const Ellipse& e) { return e.contains(x, y, 0.0); };
+      if (std::any_of(movers.begin(), movers.end(), in) && !std::any_of(keep.begin(), keep.end(), in_kept)) continue;
+      site[static_cast<size_t>(r) * m.width + c] = 1;
+    }
+  return site;
+}
+
+}  // namespace
+
+bool Ellipse::contains(double px, double py, double grow) const {
+  const double c = std::cos(theta), s = std::sin(theta);
+  const double dx = px - x, dy = py - y;
+  const double u = (dx * c + dy * s) / (a + grow), v = (-dx * s + dy * c) / (b + grow);
+  return u * u + v * v <= 1.0;
+}
+
+void squared_distance_1d(const std::vector<double>& f, std::vector<double>* out) {
+  const int n = static_cast<int>(f.size());
+  out->assign(f.size(), kFar);
+  std::vector<int> v(f.size());
+  std::vector<double> z(f.size() + 1);
+  int k = -1;
+  for (int q = 0; q < n; ++q) {
+    if (f[q] >= kFar) continue;  // not a site: no parabola
+    double s = 0;
+    while (k >= 0) {
+      s = ((f[q] + double(q) * q) - (f[v[k]] + double(v[k]) * v[k])) / (2.0 * q - 2.0 * v[k]);
+      if (s > z[k]) break;
+      --k;
+    }
+    ++k;
+    v[k] = q;
+    z[k] = k == 0 ? -std::numeric_limits<double>::infinity() : s;
+    z[k + 1] = std::numeric_limits<double>::infinity();
+  }
+  if (k < 0) return;
+  int j = 0;
+  for (int q = 0; q < n; ++q) {
+    while (z[j + 1] < q) ++j;
+    (*out)[q] = double(q - v[j]) * (q - v[j]) + f[v[j]];
+  }
+}
+
+std::vector<double> squared_distance_2d(const std::vector<char>& site, int width, int height) {
+  std::vector<double> d(site.size(), kFar), f, g;
+  // columns, then rows over the column results
+  for (int c = 0; c < width; ++c) {
+    f.assign(height, kFar);
+    for (int r = 0; r < height; ++r)
+      if (site[static_cast<size_t>(r) * width + c]) f[r] = 0;
+    squared_distance_1d(f, &g);
+    for (int r = 0; r < height; ++r) d[static_cast<size_t>(r) * width + c] = g[r];
+  }
+  for (int r = 0; r < height; ++r) {
+    f.assign(d.begin() + static_cast<ptrdiff_t>(r) * width, d.begin() + static_cast<ptrdiff_t>(r + 1) * width);
+    squared_distance_1d(f, &g);
+    std::copy(g.begin(), g.end(), d.begin() + static_cast<ptrdiff_t>(r) * width);
+  }
+  return d;
+}
+
+struct StaticField::Impl {
+  double ox = 0, oy = 0, res = 0;
+  int width = 0, height = 0;
+  std::vector<double> values;  // signed distance at cell centres, row-major
+  std::vector<float> extent;   // per static cell: its patch's longest bounding-box side (m); 0 elsewhere
+  ceres::Grid2D<double, 1> grid;
+  ceres::BiCubicInterpolator<ceres::Grid2D<double, 1>> interp;
+  Impl(double ox_, double oy_, double res_, std::vector<double> v, int w, int h)
+      : ox(ox_),
+        oy(oy_),
+        res(res_),
+        width(w),
+        height(h),
+        values(std::move(v)),
+        grid(values.data(), 0, h, 0, w),
+        interp(grid) {}
+};
+
+namespace {
+
+// Per site: the longest bounding-box side (in cells) of its 8-connected patch.
+std::vector<float> patch_extents(const std::vector<char>& site, int W, int H) {
+  std::vector<float> out(site.size(), 0.0f);
+  std::vector<char> seen(site.size(), 0);
+  std::vector<int> stack, members;
+  for (int start = 0; start < W * H; ++start) {
+    if (!site[start] || seen[start]) continue;
+    int r0 = H, r1 = -1, c0 = W, c1 = -1;
+    stack.assign(1, start);
+    members.clear();
+    seen[start] = 1;
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      members.push_back(i);
+      const int r = i / W, c = i % W;
+      r0 = std::min(r0, r), r1 = std::max(r1, r), c0 = std::min(c0, c), c1 = std::max(c1, c);
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int rr = r + dr, cc = c + dc;
+          if (rr < 0 || rr >= H || cc < 0 || cc >= W) continue;
+          const int j = rr * W + cc;
+          if (site[j] && !seen[j]) seen[j] = 1, stack.push_back(j);
+        }
+    }
+    const float e = static_cast<float>(std::max(r1 - r0 + 1, c1 - c0 + 1));
+    for (int i : members) out[i] = e;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
+                                                      const std::vector<Ellipse>& keep, const StaticFieldParams& p) {
+  if (!well_formed(map)) return nullptr;
+  const int W = map.width, H = map.height;
+  const std::vector<char> site = static_sites(map, movers, keep, p.mover_margin_m);
+  std::vector<char> free_site(site.size());
+  int n = 0;
+  for (size_t i = 0; i < site.size(); ++i) {
+    free_site[i] = !site[i];
+    n += site[i];
+  }
+  const std::vector<double> to_obstacle = squared_distance_2d(site, W, H);
+  const std::vector<double> to_free = squared_distance_2d(free_site, W, H);
+  const double res = map.resolution, cap = p.max_distance_m;
+  std::vector<double> signed_d(site.size());
+  for (size_t i = 0; i < site.size(); ++i) {
+    const double d = site[i] ? -(std::sqrt(to_free[i]) - 0.5) * res : (std::sqrt(to_obstacle[i]) - 0.5) * res;
+    signed_d[i] = std::clamp(d, -cap, cap);
+  }
+  auto out = std::make_shared<StaticField>();
+  auto impl = std::make_shared<Impl>(map.origin[0], map.origin[1], res, std::move(signed_d), W, H);
+  impl->extent = patch_extents(site, W, H);
+  for (float& e : impl->extent) e *= static_cast<float>(res);
+  out->impl_ = std::move(impl);
+  out->static_cells_ = n;
+  out->d_safe_ = p.d_safe_m;
+  return out;
+}
+
+double StaticField::distance(double x, double y, double* gx, double* gy) const {
+  // cell (r, c) has its centre at origin + (c + 0.5, r + 0.5) res
+  const double c = (x - impl_->ox) / impl_->res - 0.5, r = (y - impl_->oy) / impl_->res - 0.5;
+  double f = 0, dfdr = 0, dfdc = 0;
+  impl_->interp.Evaluate(r, c, &f, &dfdr, &dfdc);
+  *gx = dfdc / impl_->res;
+  *gy = dfdr / impl_->res;
+  return f;
+}
+
+double StaticField::structure_extent(const Ellipse& e) const {
+  const Impl& m = *impl_;
+  const double reach = std::max(e.a, e.b);
+  const int c0 = std::max(0, static_cast<int>(std::floor((e.x - reach - m.ox) / m.res)));
+  const int c1 = std::min(m.width - 1, static_cast<int>(std::floor((e.x + reach - m.ox) / m.res)));
+  const int r0 = std::max(0, static_cast<int>(std::floor((e.y - reach - m.oy) / m.res)));
+  const int r1 = std::min(m.height - 1, static_cast<int>(std::floor((e.y + reach - m.oy) / m.res)));
+  double best = 0;
+  for (int r = r0; r <= r1; ++r)
+    for (int c = c0; c <= c1; ++c) {
+      const double x = m.extent[static_cast<size_t>(r) * m.width + c];
+      if (x > best && e.contains(m.ox + (c + 0.5) * m.res, m.oy + (r + 0.5) * m.res, 0.0)) best = x;
+    }
+  return best;
+}
+
+BarrierValue StaticField::footprint_barrier(double px, double py, double yaw, const Footprint& fp) const {
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  BarrierValue best;
+  double best_off = 0;
+  bool first = true;
+  for (double off : fp.offsets) {
+    BarrierValue v;
+    v.h = distance(px + off * cy, py + off * sy, &v.gx, &v.gy) - fp.radius - d_safe_;
+    if (first || v.h < best.h) best = v, best_off = off, first = false;
+  }
+  // the disc's centre moves with yaw by off (-sin, cos)
+  best.gth = best.gx * (-best_off * sy) + best.gy * (best_off * cy);
+  return best;
+}
+
+BarrierValue static_field_barrier(const StaticField& f, double px, double py, double yaw, const Footprint& fp) {
+  return f.footprint_barrier(px, py, yaw, fp);
+}
+
+bool is_static_track(const evade::track_prediction_t& t, double age_s, const StaticFieldParams& p) {
+  return std::hypot(t.vx, t.vy) <= p.max_speed_mps && age_s >= p.min_track_age_s;
+}
+
+ObstacleTrack field_track(std::shared_ptr<const StaticField> field, double x0, double y0, int N, double decay) {
+  ObstacleTrack o;
+  o.id = kStaticFieldId;
+  o.x.assign(N + 1, x0);
+  o.y.assign(N + 1, y0);
+  o.a.assign(N + 1, 0.0);
+  o.b.assign(N + 1, 0.0);
+  o.theta.assign(N + 1, 0.0);
+  o.decay = decay;
+  o.field = std::move(field);
+  return o;
+}
+
+}  // namespace evade::planning

@@ -1,0 +1,115 @@
+// Static structure by its true shape (mode evade): a signed distance field
+// of the elevation map's obstacle cells that belong to nothing moving, and
+// the footprint's barrier against it.
+//
+// Walls, door frames and parked cars are wrapped by the tracker in minimum
+// bounding ellipses (split into tiles when large); an ellipse round a
+// door's edge, grown by d_safe, closes the gap. Here the planner reads
+// ELEVATION_MAP and builds, each cycle, the Euclidean distance transform
+// of the obstacle cells, less the cells of the moving tracks: a cell
+// inside a moving track's current ellipse grown by `mover_margin_m` is not
+// static (unless it lies inside a static track's ellipse too: what is both
+// stays static). A track is static when it is slower than
+// `max_speed_mps` and tracked at least `min_track_age_s`; static tracks
+// leave the ellipse constraints (their cells are in the field), the others
+// keep their predicted ellipses. The field enters the MPC as one more
+// obstacle (ObstacleTrack::field) with the mode's CBF decay: h is the
+// smallest over the footprint's discs of the field at the disc's centre
+// less the disc's radius and `d_safe_m`.
+//
+// The field is signed and measured to the cells' edges: a free cell's
+// value is its centre's distance to the nearest obstacle cell's centre
+// less half a cell, an obstacle cell's the negative of its distance to the
+// nearest free cell less half a cell, so that the zero level lies on the
+// boundary between them and the gradient points out of an obstacle too.
+// Between cell centres it is interpolated bicubically (ceres::Grid2D and
+// ceres::BiCubicInterpolator), with its gradient.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "config/fields.h"
+#include "evade/grid_map_t.hpp"
+#include "evade/prediction_list_t.hpp"
+#include "planning/problem.h"
+
+namespace evade::planning {
+
+struct StaticFieldParams {
+  bool enabled = false;          // mode evade: static structure by the map's cells, not by ellipses
+  double d_safe_m = 0.03;        // margin between the footprint's discs and static cells
+  double max_speed_mps = 0.2;    // a track slower than this...
+  double min_track_age_s = 1.0;  // ...and tracked this long is static
+  double mover_margin_m = 0.2;   // cells within a moving track's current ellipse grown by this are not static
+  double map_max_age_s = 0.3;    // a map older than this before the cycle's odometry is not used
+  double max_distance_m = 3.0;   // the field is cut at this distance (beyond it the constraint is inactive)
+  double min_structure_m = 1.0;  // a static track's cells count as structure in a connected patch at least this long
+  template <class V>
+  void fields(V& v) {
+    v.field("enabled", enabled);
+    v.field("d_safe_m", d_safe_m, config::between(0.0, 10.0));
+    v.field("max_speed_mps", max_speed_mps, config::between(0.0, 100.0));
+    v.field("min_track_age_s", min_track_age_s, config::between(0.0, 3600.0));
+    v.field("mover_margin_m", mover_margin_m, config::between(0.0, 10.0));
+    v.field("map_max_age_s", map_max_age_s, config::between(0.0, 60.0));
+    v.field("max_distance_m", max_distance_m, config::between(0.1, 100.0));
+    v.field("min_structure_m", min_structure_m, config::between(0.0, 100.0));
+  }
+};
+
+// An ellipse at one moment (a track's step 0).
+struct Ellipse {
+  double x = 0, y = 0, a = 0, b = 0, theta = 0;
+  bool contains(double px, double py, double grow) const;
+};
+
+class StaticField {
+ public:
+  // The field of `map`'s obstacle cells outside every `movers` ellipse
+  // grown by mover_margin_m, except those inside a `keep` ellipse. Null
+  // when the map is malformed (sizes, resolution, non-finite origin).
+  static std::shared_ptr<const StaticField> build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
+                                                  const std::vector<Ellipse>& keep, const StaticFieldParams& p);
+
+  // The signed distance (m) at (x, y) to the static cells' boundary and
+  // its gradient; outside the map, the value at its border.
+  double distance(double x, double y, double* gx, double* gy) const;
+  // The footprint's h at pose (px, py, yaw): the smallest over the discs of
+  // distance - radius - d_safe_m, with its derivatives in (x, y, yaw)
+  // (second derivatives 0).
+  BarrierValue footprint_barrier(double px, double py, double yaw, const Footprint& fp) const;
+  // The longest side (m) of the bounding box of the largest 8-connected
+  // patch of static cells that has a cell inside e (0 when none has).
+  double structure_extent(const Ellipse& e) const;
+  int static_cells() const { return static_cells_; }
+  double d_safe() const { return d_safe_; }
+
+ private:
+  struct Impl;
+  std::shared_ptr<const Impl> impl_;
+  int static_cells_ = 0;
+  double d_safe_ = 0;
+};
+
+// The 1D squared Euclidean distance transform (Felzenszwalb and
+// Huttenlocher): out[i] = min_j (i - j)^2 + f[j], f[j] = 0 at sites and a
+// large value elsewhere. Exposed for tests.
+void squared_distance_1d(const std::vector<double>& f, std::vector<double>* out);
+// The exact 2D squared distance (in cells) of every cell of a height x
+// width row-major grid to its nearest `site` cell (a large value when there
+// is none).
+std::vector<double> squared_distance_2d(const std::vector<char>& site, int width, int height);
+
+// A track may be static: slower than max_speed_mps and tracked
+// min_track_age_s (the planner adds: never seen faster, observed, and its
+// cells in a patch of structure at least min_structure_m long).
+bool is_static_track(const evade::track_prediction_t& t, double age_s, const StaticFieldParams& p);
+
+// The obstacle track that carries the field into the problem (id
+// kStaticFieldId; its ellipse arrays hold the robot's start, axes 0).
+inline constexpr int64_t kStaticFieldId = -1;
+ObstacleTrack field_track(std::shared_ptr<const StaticField> field, double x0, double y0, int N, double decay);
+
+}  // namespace evade::planning

@@ -1,0 +1,345 @@
+// Static structure by its true shape (static_field.h): the distance
+// transform, a jackal-sized robot through a doorway of its width + 0.3 m
+// whose edges' ellipses close the gap, every footprint disc kept d_safe
+// clear of the static cells, moving tracks' cells left out, and the
+// planner without a map (or with a stale one) back on the ellipses.
+#include "planning/static_field.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "bus/log.h"
+#include "bus/memory_bus.h"
+#include "config/config.h"
+#include "evade/cmd_vel_t.hpp"
+#include "evade/grid_map_t.hpp"
+#include "evade/obstacle_list_t.hpp"
+#include "evade/odometry_t.hpp"
+#include "evade/path_t.hpp"
+#include "evade/plan_t.hpp"
+#include "evade/prediction_list_t.hpp"
+#include "planning/params.h"
+#include "planning/planner_core.h"
+
+namespace evade::planning {
+namespace {
+
+constexpr double kRes = 0.1, kOriginX = -2.0, kOriginY = -6.0;
+constexpr int kW = 120, kH = 120;
+
+PlannerParams jackal_params() {
+  PlannerParams p = PlannerParams::from_config(config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
+  p.footprint = Footprint::covering(0.46, 0.42, p.footprint_discs);  // config/robots/jackal.yaml
+  p.static_field.enabled = true;                                     // off by default (robot.yaml)
+  return p;
+}
+
+// A box [x0, x1] x [y0, y1] standing in the world.
+struct Box {
+  double x0, x1, y0, y1;
+};
+
+// A wall across the route at x in [3.0, 3.2] with a gap of `gap` m centred
+// on y = 0, from y = -6 to 6.
+std::vector<Box> doorway(double gap) { return {{3.0, 3.2, -6.0, -0.5 * gap}, {3.0, 3.2, 0.5 * gap, 6.0}}; }
+
+// The map as the elevation map marks it: every cell a box overlaps.
+evade::grid_map_t map_of(const std::vector<Box>& boxes, int64_t utime) {
+  evade::grid_map_t m{};
+  m.utime = utime;
+  m.origin[0] = kOriginX;
+  m.origin[1] = kOriginY;
+  m.resolution = kRes;
+  m.width = kW;
+  m.height = kH;
+  m.elevation.assign(kH, std::vector<float>(kW, 0.0f));
+  m.obstacle.assign(kH, std::vector<int8_t>(kW, 0));
+  for (int r = 0; r < kH; ++r)
+    for (int c = 0; c < kW; ++c) {
+      const double x0 = kOriginX + c * kRes, y0 = kOriginY + r * kRes;
+      for (const Box& b : boxes)
+        if (x0 < b.x1 - 1e-9 && x0 + kRes > b.x0 + 1e-9 && y0 < b.y1 - 1e-9 && y0 + kRes > b.y0 + 1e-9) {
+          m.obstacle[r][c] = 1;
+          m.elevation[r][c] = 1.5f;
+        }
+    }
+  return m;
+}
+
+// The tracker's view of the boxes: 1.5 m tiles, each in the minimum
+// bounding ellipse of its rectangle (semi-axes sqrt(2) x half-sides).
+std::vector<Ellipse> tiles(const std::vector<Box>& boxes) {
+  std::vector<Ellipse> out;
+  for (const Box& b : boxes)
+    for (double y = b.y0; y < b.y1 - 1e-9; y += 1.5) {
+      const double y1 = std::min(b.y1, y + 1.5);
+      out.push_back({0.5 * (b.x0 + b.x1), 0.5 * (y + y1), std::sqrt(2.0) * 0.5 * (y1 - y),
+                     std::sqrt(2.0) * 0.5 * (b.x1 - b.x0), M_PI / 2});
+    }
+  return out;
+}
+
+evade::prediction_list_t predictions_of(const std::vector<Ellipse>& es, int64_t utime) {
+  evade::prediction_list_t m;
+  m.utime = utime;
+  m.dt = 0.1;
+  m.horizon = 26;
+  for (size_t i = 0; i < es.size(); ++i) {
+    evade::track_prediction_t t;
+    t.id = static_cast<int64_t>(i) + 1;
+    t.vx = t.vy = t.ax = t.ay = 0;
+    t.horizon = m.horizon;
+    t.x.assign(m.horizon, es[i].x);
+    t.y.assign(m.horizon, es[i].y);
+    t.a.assign(m.horizon, es[i].a);
+    t.b.assign(m.horizon, es[i].b);
+    t.theta.assign(m.horizon, es[i].theta);
+    t.sigma.assign(m.horizon, 0.0);
+    m.tracks.push_back(t);
+  }
+  m.num_tracks = static_cast<int32_t>(m.tracks.size());
+  return m;
+}
+
+evade::obstacle_list_t observed_of(const std::vector<Ellipse>& es, int64_t utime) {
+  evade::obstacle_list_t m;
+  m.utime = utime;
+  for (size_t i = 0; i < es.size(); ++i) {
+    evade::obstacle_t o{};
+    o.id = static_cast<int64_t>(i) + 1;
+    o.x = es[i].x;
+    o.y = es[i].y;
+    o.a = es[i].a;
+    o.b = es[i].b;
+    o.theta = es[i].theta;
+    m.obstacles.push_back(o);
+  }
+  m.num_obstacles = static_cast<int32_t>(m.obstacles.size());
+  return m;
+}
+
+// Distance from (x, y) to the nearest obstacle cell's square of map m.
+double distance_to_cells(const evade::grid_map_t& m, double x, double y) {
+  double best = 1e9;
+  for (int r = 0; r < m.height; ++r)
+    for (int c = 0; c < m.width; ++c) {
+      if (!m.obstacle[r][c]) continue;
+      const double x0 = m.origin[0] + c * m.resolution, y0 = m.origin[1] + r * m.resolution;
+      const double dx = std::max({x0 - x, 0.0, x - (x0 + m.resolution)});
+      const double dy = std::max({y0 - y, 0.0, y - (y0 + m.resolution)});
+      best = std::min(best, std::hypot(dx, dy));
+    }
+  return best;
+}
+
+// The smallest over the footprint's discs of the distance to the cells
+// less the disc's radius.
+double disc_clearance(const evade::grid_map_t& m, const Footprint& fp, double x, double y, double yaw) {
+  double best = 1e9;
+  for (double off : fp.offsets)
+    best = std::min(best, distance_to_cells(m, x + off * std::cos(yaw), y + off * std::sin(yaw)) - fp.radius);
+  return best;
+}
+
+struct DoorRun {
+  double final_x = 0;
+  double min_body_clearance = 1e9;  // executed poses, every 0.02 s
+  double min_plan_clearance = 1e9;  // the states of every OK plan, at its steps
+  std::vector<evade::plan_t> plans;
+  int64_t stale = 0, fields = 0;
+};
+
+// Closed loop as planner_core_test: odometry at 50 Hz, the map, OBSTACLES
+// and predictions at 10 Hz (maps only before `maps_until_s`), the robot
+// follows CMD_VEL exactly.
+// `cart`: a 1.2 x 0.4 m box at (1.5, 2.0) that rolls at 0.5 m/s along x
+// until cart_stops_s, then stands (its track id: the last).
+DoorRun run_door(const PlannerParams& p, double gap, double duration_s, double maps_until_s = 1e9,
+                 double cart_stops_s = -1.0) {
+  std::vector<Box> boxes = doorway(gap);
+  std::vector<Ellipse> es = tiles(boxes);
+  const size_t walls = boxes.size(), tiles_n = es.size();
+  bus::MemoryBus bus;
+  PlannerCore core(p);
+  bus.add(core);
+  DoorRun out;
+  double x = 0, y = 0, yaw = 0, v = 0, w = 0;
+  const int64_t t0 = 1'000'000;
+  evade::path_t route;
+  route.n = 2;
+  route.x = {0.0, 7.0};
+  route.y = {0.0, 0.0};
+  bus.inject("ROUTE", route, t0);
+  const evade::grid_map_t truth = map_of(boxes, t0);
+  for (int i = 0; i * 0.02 < duration_s; ++i) {
+    const double t = i * 0.02;
+    const int64_t now = t0 + std::llround(t * 1e6);
+    if (i % 5 == 0) {
+      boxes.resize(walls);
+      es.resize(tiles_n);
+      double cart_v = 0.0;
+      if (cart_stops_s >= 0) {
+        cart_v = t < cart_stops_s ? 0.5 : 0.0;
+        const double cx = 1.5 + 0.5 * std::min(t, cart_stops_s);
+        boxes.push_back({cx - 0.6, cx + 0.6, 1.8, 2.2});
+        es.push_back({cx, 2.0, 0.85, 0.28, 0.0});
+      }
+      if (t < maps_until_s) bus.inject("ELEVATION_MAP", map_of(boxes, now), now);
+      bus.inject("OBSTACLES", observed_of(es, now), now);
+      evade::prediction_list_t pred = predictions_of(es, now);
+      if (cart_stops_s >= 0) pred.tracks.back().vx = cart_v;
+      bus.inject("OBSTACLE_PREDICTIONS", pred, now);
+    }
+    evade::odometry_t o{};
+    o.utime = now;
+    o.x = x;
+    o.y = y;
+    o.yaw = yaw;
+    o.v = v;
+    o.omega = w;
+    bus.inject("ODOMETRY", o, now);
+    for (const auto& e : bus.take_published()) {
+      if (e.channel == "CMD_VEL") {
+        evade::cmd_vel_t c{};
+        bus::decode(e.data.data(), e.data.size(), &c);
+        v = c.v;
+        w = c.omega;
+      } else if (e.channel == "PLAN") {
+        evade::plan_t pl{};
+        bus::decode(e.data.data(), e.data.size(), &pl);
+        out.plans.push_back(pl);
+      }
+    }
+    if (std::fabs(x - 3.1) < 1.0)
+      out.min_body_clearance = std::min(out.min_body_clearance, disc_clearance(truth, p.footprint, x, y, yaw));
+    x += v * std::cos(yaw) * 0.02;
+    y += v * std::sin(yaw) * 0.02;
+    yaw += w * 0.02;
+  }
+  for (const auto& pl : out.plans) {
+    if (pl.status != evade::plan_t::STATUS_OK) continue;
+    for (size_t k = 1; k < pl.x.size(); ++k)
+      if (std::fabs(pl.x[k] - 3.1) < 0.8)
+        out.min_plan_clearance =
+            std::min(out.min_plan_clearance, disc_clearance(truth, p.footprint, pl.x[k], pl.y[k], pl.yaw[k]));
+  }
+  out.final_x = x;
+  out.stale = core.counter("static_map_stale");
+  out.fields = core.counter("static_field");
+  return out;
+}
+
+bool has_id(const evade::plan_t& pl, int64_t id) {
+  return std::find(pl.obstacle_id.begin(), pl.obstacle_id.end(), id) != pl.obstacle_id.end();
+}
+
+TEST(StaticField, DistanceTransformIsExact) {
+  std::mt19937 rng(7);
+  const int W = 23, H = 17;
+  std::vector<char> site(W * H, 0);
+  for (auto& s : site) s = (rng() % 13) == 0;
+  const std::vector<double> d = squared_distance_2d(site, W, H);
+  for (int r = 0; r < H; ++r)
+    for (int c = 0; c < W; ++c) {
+      double best = 1e12;
+      for (int rr = 0; rr < H; ++rr)
+        for (int cc = 0; cc < W; ++cc)
+          if (site[rr * W + cc]) best = std::min(best, double((r - rr) * (r - rr) + (c - cc) * (c - cc)));
+      EXPECT_DOUBLE_EQ(d[r * W + c], best) << r << "," << c;
+    }
+}
+
+TEST(StaticField, SignedDistanceIsZeroOnTheCellsEdgeAndAMoversCellsAreLeftOut) {
+  StaticFieldParams sp;
+  const evade::grid_map_t m = map_of({{3.0, 3.2, -6.0, 6.0}, {1.0, 1.2, -0.1, 0.1}}, 0);
+  // the small box is a mover's: left out; the wall stays
+  const Ellipse mover{1.1, 0.0, 0.15, 0.15, 0.0};
+  const auto f = StaticField::build(m, {mover}, {}, sp);
+  ASSERT_TRUE(f);
+  double gx, gy;
+  EXPECT_NEAR(f->distance(2.5, 0.05, &gx, &gy), 0.5, 0.02);  // in front of the wall's face at x = 3.0
+  EXPECT_LT(gx, -0.9);                                       // pointing away from it
+  EXPECT_NEAR(f->distance(3.0, 0.05, &gx, &gy), 0.0, 0.02);
+  EXPECT_LT(f->distance(3.1, 0.05, &gx, &gy), -0.04);  // inside: negative
+  EXPECT_GT(f->distance(1.1, 0.05, &gx, &gy), 1.5);    // the mover's cells are not static
+  // the same box kept (inside a static track's ellipse) stays static
+  const auto g = StaticField::build(m, {mover}, {mover}, sp);
+  EXPECT_LT(g->distance(1.1, 0.05, &gx, &gy), 0.0);
+}
+
+TEST(StaticField, AJackalGoesThroughAGapOfItsWidthPlus30cmWhoseEdgesEllipsesCloseIt) {
+  const PlannerParams p = jackal_params();
+  const double gap = 0.42 + 0.3;
+  const DoorRun r = run_door(p, gap, 20.0);
+  EXPECT_GT(r.final_x, 5.0) << "stopped at the door";
+  EXPECT_GT(r.min_body_clearance, 0.0);
+  EXPECT_GT(r.fields, 100);
+  // the same door by the tracks' ellipses alone: the robot does not get through
+  PlannerParams ellipses = p;
+  ellipses.static_field.enabled = false;
+  EXPECT_LT(run_door(ellipses, gap, 20.0).final_x, 3.0);
+}
+
+TEST(StaticField, EveryDiscOfEveryPlanKeepsDSafeFromTheStaticCells) {
+  const PlannerParams p = jackal_params();
+  const DoorRun r = run_door(p, 0.42 + 0.3, 20.0);
+  ASSERT_GT(r.final_x, 5.0);
+  EXPECT_GE(r.min_plan_clearance, p.static_field.d_safe_m - 2e-3);
+  EXPECT_LT(r.min_plan_clearance, p.static_field.d_safe_m + 0.05);  // the door made the constraint active
+}
+
+TEST(StaticField, APersonOrABinStandingAloneIsNotStructure) {
+  const evade::grid_map_t m = map_of({{3.0, 3.2, -6.0, 6.0}, {1.0, 1.4, -0.2, 0.2}}, 0);
+  const auto f = StaticField::build(m, {}, {}, StaticFieldParams{});
+  EXPECT_NEAR(f->structure_extent({1.2, 0.0, 0.3, 0.3, 0.0}), 0.4, 1e-6);  // its ellipse stays
+  EXPECT_NEAR(f->structure_extent({3.1, 1.0, 1.06, 0.14, M_PI / 2}), 12.0, 1e-6);
+  EXPECT_EQ(f->structure_extent({0.0, 0.0, 0.3, 0.3, 0.0}), 0.0);
+}
+
+TEST(StaticField, ATrackSeenMovingStaysItsEllipseWhenItStops) {
+  const PlannerParams p = jackal_params();
+  // the cart rolls for 1 s, then stands: tracked long and slow, a patch of
+  // 1.2 m, but seen moving, so it stays an ellipse (a walker turning round)
+  const DoorRun r = run_door(p, 0.42 + 0.3, 4.0, 1e9, 1.0);
+  const int64_t cart = static_cast<int64_t>(tiles(doorway(0.72)).size()) + 1;
+  int late = 0;
+  for (const auto& pl : r.plans) {
+    if (pl.obstacle_id.empty() || (pl.utime - 1'000'000) * 1e-6 < 2.5) continue;
+    EXPECT_TRUE(has_id(pl, cart));
+    EXPECT_TRUE(has_id(pl, kStaticFieldId));
+    ++late;
+  }
+  EXPECT_GT(late, 5);
+}
+
+TEST(StaticField, WithoutAMapOrWithAStaleOneTheStaticTracksAreEllipsesAgain) {
+  const PlannerParams p = jackal_params();
+  // maps for the first 2 s only: then the field goes stale, the tracks' ellipses come back
+  const DoorRun r = run_door(p, 0.42 + 0.3, 4.0, 2.0);
+  ASSERT_GT(r.plans.size(), 30u);
+  bool field_seen = false;
+  for (const auto& pl : r.plans) {
+    const double t = (pl.utime - 1'000'000) * 1e-6;
+    if (pl.obstacle_id.empty()) continue;  // a plan made without solving
+    if (t > 1.5 && t < 2.0) {
+      EXPECT_TRUE(has_id(pl, kStaticFieldId)) << t;
+      EXPECT_FALSE(has_id(pl, 4) || has_id(pl, 5)) << t;  // the static tiles beside the gap: by their cells
+      field_seen = true;
+    }
+    if (t > 2.0 + p.static_field.map_max_age_s + 0.05) {
+      EXPECT_FALSE(has_id(pl, kStaticFieldId)) << t;
+      EXPECT_TRUE(has_id(pl, 4) && has_id(pl, 5)) << t;  // the tiles beside the gap by their ellipses
+    }
+  }
+  EXPECT_TRUE(field_seen);
+  EXPECT_GT(r.stale, 5);
+  // never a map: always the ellipses
+  const DoorRun none = run_door(p, 0.42 + 0.3, 2.0, -1.0);
+  for (const auto& pl : none.plans) EXPECT_FALSE(has_id(pl, kStaticFieldId));
+  EXPECT_GT(none.stale, 5);
+}
+
+}  // namespace
+}  // namespace evade::planning
