@@ -52,23 +52,6 @@ double ahead_distance(double ax, double ay, double bx, double by, double px, dou
   return std::hypot(qx - px, qy - py);
 }
 
-// Distance from p to the segment a-b.
-double segment_distance(double ax, double ay, double bx, double by, double px, double py) {
-  const double ux = bx - ax, uy = by - ay, len2 = ux * ux + uy * uy;
-  const double f = len2 > 0 ? std::clamp(((px - ax) * ux + (py - ay) * uy) / len2, 0.0, 1.0) : 0.0;
-  return std::hypot(ax + f * ux - px, ay + f * uy - py);
-}
-
-bool occluder_is_mover(const OcclusionSpeedParams& p, const evade::hidden_region_t& r,
-                       const evade::prediction_list_t& predictions) {
-  for (const auto& t : predictions.tracks) {
-    if (t.horizon < 1 || std::hypot(t.vx, t.vy) < p.mover_speed_mps) continue;
-    const double reach = std::max(t.a[0], t.b[0]);
-    if (segment_distance(r.near_x[0], r.near_y[0], r.near_x[1], r.near_y[1], t.x[0], t.y[0]) <= reach) return true;
-  }
-  return false;
-}
-
 double footprint_reach(const Footprint& f) {
   double r = 0.0;
   for (double o : f.offsets) r = std::max(r, std::fabs(o));
@@ -88,18 +71,6 @@ double distance_to_exit_ahead(const evade::hidden_region_t& r, double x, double 
   for (int i = 0; i < 2; ++i)
     d = std::min(d, ahead_distance(r.near_x[i], r.near_y[i], r.far_x[i], r.far_y[i], x, y, hx, hy));
   return d;
-}
-
-evade::hidden_region_list_t regions_behind_static(const OcclusionSpeedParams& p,
-                                                  const evade::hidden_region_list_t& regions,
-                                                  const evade::prediction_list_t* predictions) {
-  evade::hidden_region_list_t out = regions;
-  if (!predictions) return out;
-  out.regions.clear();
-  for (const auto& r : regions.regions)
-    if (!occluder_is_mover(p, r, *predictions)) out.regions.push_back(r);
-  out.num_regions = int32_t(out.regions.size());
-  return out;
 }
 
 std::vector<double> occlusion_speed_caps(const OcclusionSpeedParams& p, const evade::hidden_region_list_t& regions,

@@ -18,7 +18,6 @@
 
 #include "config/fields.h"
 #include "evade/hidden_region_list_t.hpp"
-#include "evade/prediction_list_t.hpp"
 #include "planning/problem.h"
 
 namespace evade::planning {
@@ -30,7 +29,6 @@ struct OcclusionSpeedParams {
   double clearance_m = 0.3;        // the person's radius: their edge reaches the footprint this much sooner
   double min_speed_mps = 0.25;     // the bound never goes below this crawl
   double max_age_s = 0.5;          // OCCLUSIONS older than this (bus time) are not used
-  double mover_speed_mps = 0.3;    // a region whose occluder is a track this fast is not used
 
   template <class V>
   void fields(V& v) {
@@ -40,7 +38,6 @@ struct OcclusionSpeedParams {
     v.field("clearance_m", clearance_m, config::between(0.0, 5.0));
     v.field("min_speed_mps", min_speed_mps, config::between(0.0, 10.0));
     v.field("max_age_s", max_age_s, config::positive());
-    v.field("mover_speed_mps", mover_speed_mps, config::between(0.0, 10.0));
   }
 };
 
@@ -52,16 +49,6 @@ double stopping_safe_speed(const OcclusionSpeedParams& p, double decel_mps2, dou
 // that lies ahead of a robot at heading yaw (positive along it); infinity
 // when none does.
 double distance_to_exit_ahead(const evade::hidden_region_t& r, double x, double y, double yaw);
-
-// The regions whose occluder is not a mover: a region is dropped when a
-// track of `predictions` at least mover_speed_mps fast has its current
-// ellipse (index 0) within its larger semi-axis of the occluder's
-// silhouette segment (near[0]-near[1]). A bike passing the robot hides
-// what is behind it only for a moment, and bounding the robot's speed
-// behind a mover it is already evading slows it in the mover's way.
-evade::hidden_region_list_t regions_behind_static(const OcclusionSpeedParams& p,
-                                                  const evade::hidden_region_list_t& regions,
-                                                  const evade::prediction_list_t* predictions);
 
 // Upper bounds on v_k, k = 0..N-1, for pb (its reference path, footprint,
 // limits and start speed): each the stopping-safe speed at the step's

@@ -379,9 +379,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   update_static_field(odom);
   make_reference(odom, &pb);
   if (occlusions_ && age_us(now(), occlusions_->utime) <= std::llround(p_.occlusion.max_age_s * 1e6)) {
-    const auto behind_static =
-        regions_behind_static(p_.occlusion, *occlusions_, predictions_ ? &*predictions_ : nullptr);
-    pb.v_cap = occlusion_speed_caps(p_.occlusion, behind_static, pb);
+    pb.v_cap = occlusion_speed_caps(p_.occlusion, *occlusions_, pb);
     if (!pb.v_cap.empty()) count("occlusion_speed_bound");
   }
   int invalid = 0;

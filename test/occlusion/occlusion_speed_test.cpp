@@ -124,40 +124,6 @@ TEST(OcclusionSpeed, OnlyEdgesAheadOfTheRobotCount) {
   EXPECT_TRUE(std::isfinite(distance_to_exit_ahead(r, 12.0, 0.0, M_PI)));             // coming back
 }
 
-// A track at (5, 1.2) on the van's face, moving at `speed`, ellipse 0.5 x 0.4 m.
-evade::prediction_list_t track_on_face(double speed) {
-  evade::prediction_list_t l{};
-  l.dt = 0.1;
-  l.horizon = 1;
-  evade::track_prediction_t t{};
-  t.id = 7;
-  t.vx = -speed;
-  t.horizon = 1;
-  t.x = {5.0};
-  t.y = {1.2};
-  t.a = {0.5};
-  t.b = {0.4};
-  t.theta = {0.0};
-  l.tracks = {t};
-  l.num_tracks = 1;
-  return l;
-}
-
-TEST(OcclusionSpeed, ARegionBehindAMoverIsNotUsed) {
-  OcclusionSpeedParams p;
-  p.mover_speed_mps = 0.3;
-  const auto regions = van_shadow(0.0, 0);
-  EXPECT_EQ(regions_behind_static(p, regions, nullptr).regions.size(), 1u);
-  const auto standing = track_on_face(0.1), riding = track_on_face(2.0);
-  EXPECT_EQ(regions_behind_static(p, regions, &standing).regions.size(), 1u);  // parked, or a person beside it
-  const auto kept = regions_behind_static(p, regions, &riding);
-  EXPECT_TRUE(kept.regions.empty());  // the occluder is the bike itself
-  EXPECT_EQ(kept.num_regions, 0);
-  auto far = track_on_face(2.0);
-  far.tracks[0].y = {3.0};  // a mover 2.1 m from the face: the van still hides
-  EXPECT_EQ(regions_behind_static(p, regions, &far).regions.size(), 1u);
-}
-
 TEST(OcclusionSpeed, PlanPassingAVanKeepsTheStoppingSafeSpeed) {
   const PlannerParams p = default_params();
   ASSERT_TRUE(p.occlusion.enabled);
