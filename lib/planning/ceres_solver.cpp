@@ -303,7 +303,8 @@ class InnerCost : public ceres::CostFunction {
       const ObstacleTrack& o = pb_.obstacles[i];
       g = barrier_of(i, k + 1).h;
       if (o.decay != 0.0) g -= o.decay * barrier_of(i, k).h;
-      if (!pb_.relax.empty()) g += pb_.relax[j];
+      // an elastic row penalises the original constraint's violation
+      if (!pb_.relax.empty() && !active_[a].elastic) g += pb_.relax[j];
     }
     // residual = coef * g + offset when switched on, 0 otherwise
     double coef = 0, offset = 0;
@@ -744,10 +745,10 @@ struct Iterates {
     double violation = 0;
     for (double v : g) violation = std::max(violation, -v);
     if (violation > o.target_violation) {
-      if (violation <= o.projection_candidate_violation) near_feasible.emplace_back(objective(pb, u.data()), u);
+      if (violation <= o.projection_candidate_violation) near_feasible.emplace_back(relaxed_objective(pb, u.data(), o.relax_violation_weight), u);
       return;
     }
-    const double c = objective(pb, u.data());
+    const double c = relaxed_objective(pb, u.data(), o.relax_violation_weight);
     if (c < best_cost) {
       best_cost = c;
       best_feasible = u;
@@ -778,8 +779,13 @@ void augmented_lagrangian(const Problem& pb, const SolverOptions& o, SolveResult
     for (int j = 4; j < pb.num_rate_constraints(); ++j) active.push_back({j, false});
     for (int j = pb.num_rate_constraints(); j < m; ++j)
       if ((*lambda)[j] > 0 || g[j] < o.active_margin) active.push_back({j, false});
+    // the relaxed problem: each relaxed constraint's original form too, its
+    // violation penalised (relax_violation_weight)
+    if (!pb.relax.empty() && o.relax_violation_weight > 0)
+      for (int j = pb.num_rate_constraints(); j < m; ++j)
+        if (pb.relax[j] > 0) active.push_back({j, true});
     std::vector<double> before = res->u;
-    res->iterations += run_inner(pb, o, new InnerCost(pb, std::move(active), *lambda, *rho, /*elastic_penalty=*/1.0),
+    res->iterations += run_inner(pb, o, new InnerCost(pb, std::move(active), *lambda, *rho, o.relax_violation_weight),
                                  &res->u, o.max_inner_iterations, budget, &trust_radius);
     res->outer_iterations = outer + 1;
     if (!all_finite(res->u)) {
@@ -821,7 +827,7 @@ void project_iterates(const Problem& pb, const SolverOptions& o, Iterates* log, 
   bool improved = false;
   for (std::vector<double>& projected : to_project) {
     if (!project_onto_constraints(pb, o, &projected)) continue;
-    const double projected_cost = objective(pb, projected.data());
+    const double projected_cost = relaxed_objective(pb, projected.data(), o.relax_violation_weight);
     if (log->best_feasible.empty() || projected_cost < log->best_cost) {
       log->best_feasible = projected;
       log->best_cost = projected_cost;
@@ -854,7 +860,9 @@ void segment_search(const Problem& pb, const SolverOptions& o, const std::vector
     (at(mid) ? lo : hi) = mid;
   }
   res->u = best_feasible;
-  if (lo > 0.0 && at(lo) && objective(pb, trial.data()) < objective(pb, best_feasible.data())) res->u = trial;
+  const double w = o.relax_violation_weight;
+  if (lo > 0.0 && at(lo) && relaxed_objective(pb, trial.data(), w) < relaxed_objective(pb, best_feasible.data(), w))
+    res->u = trial;
   finish(pb, o, res);
 }
 
@@ -901,58 +909,58 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   return res;
 }
 
-std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& opts) {
+std::vector<double> braking_relaxation(const Problem& pb, const std::vector<double>& brake_u,
+                                       const SolverOptions& opts) {
   std::vector<double> relax(pb.num_constraints(), 0.0);
+  std::vector<double> states(3 * (pb.N + 1));
+  rollout(pb, brake_u.data(), states.data());
+  const int R = pb.num_rate_constraints();
   const double horizon_s = pb.N * pb.dt;
+  std::vector<double> hb(pb.N + 1);
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
     if (o.x.empty() || o.y.empty()) continue;
-    const int j0 = pb.num_rate_constraints() + static_cast<int>(i) * pb.N;
-    const double start[3] = {pb.x0, pb.y0, pb.yaw0};
-    const double h0 = barrier_at(pb, o, 0, start).h;
-    // Start inside d_safe: h' = h - h(X_0) meets the D-CBF from where it is.
-    const double inside = h0 < 0 ? -(1.0 - o.decay) * h0 : 0.0;
+    for (int k = 0; k <= pb.N; ++k) hb[k] = barrier_at(pb, o, k, &states[3 * k]).h;
     const double speed = std::hypot(o.x.back() - o.x.front(), o.y.back() - o.y.front()) / horizon_s;
     const bool settled = speed <= opts.relax_max_obstacle_speed && o.age_s >= opts.relax_min_obstacle_age;
-    // Nearly static: its predicted ellipses around the current centre.
-    ObstacleTrack held;
-    if (settled) {
-      held = o;
-      std::fill(held.x.begin(), held.x.end(), o.x[0]);
-      std::fill(held.y.begin(), held.y.end(), o.y[0]);
-    }
-    double w_prev = 0.0;  // w_k: how far the swelling alone has lowered h at X_0 by step k
+    const double inside = hb[0] < 0 ? -(1.0 - o.decay) * hb[0] : 0.0;
     for (int k = 0; k < pb.N; ++k) {
-      double swell = 0.0;
-      if (settled) {
-        const double w = h0 - barrier_at(pb, held, k + 1, start).h;
-        swell = w - o.decay * w_prev;  // the D-CBF on h + w_k
-        w_prev = w;
-      }
-      const double r = inside + std::max(0.0, swell);
-      if (std::isfinite(r) && r > 0) relax[static_cast<size_t>(j0 + k)] = r;
+      double r = std::max(0.0, o.decay * hb[k] - hb[k + 1]);  // braking's own shortfall
+      // a settled obstacle swells with its uncertainty, it does not come
+      // closer: the D-CBF on h + w_k, w_k = h_b(0) - h_b(k) what braking
+      // loses by step k
+      if (settled) r = std::max(r, inside + std::max(0.0, (hb[0] - hb[k + 1]) - o.decay * (hb[0] - hb[k])));
+      if (std::isfinite(r) && r > 0) relax[static_cast<size_t>(R + static_cast<int>(i) * pb.N + k)] = r;
     }
   }
   return relax;
 }
 
+double relaxed_objective(const Problem& pb, const double* u, double violation_weight) {
+  double out = objective(pb, u);
+  if (pb.relax.empty() || violation_weight <= 0) return out;
+  Problem hard = pb;
+  hard.relax.clear();
+  std::vector<double> states, g;
+  evaluate_constraints(hard, u, &states, &g);
+  for (int j = pb.num_rate_constraints(); j < pb.num_constraints(); ++j)
+    if (pb.relax[j] > 0 && g[j] < 0) out += violation_weight * g[j] * g[j];
+  return out;
+}
+
 SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vector<double>& start_u,
-                                          const std::vector<double>* relax) const {
-  // Some obstacles ask more than any plan can give: from inside d_safe
-  // (h(X_0) < 0) the constraint h(X_{k+1}) >= (1 - gamma) h(X_k) asks h to
-  // grow by gamma |h| at once, which a robot at rest or facing the obstacle
-  // cannot do; and the predicted ellipse of a static obstacle swells with
-  // its uncertainty, which can make h fall faster than a robot that must
-  // turn first can get away (a robot that only stops would then stay where
-  // it is, since standing misses the hard constraints every cycle). The
-  // relaxed problem (barrier_relaxation) applies the D-CBF to the obstacle
-  // as it is now: its swelling excused, and h measured from where it
-  // starts when that is inside d_safe. The cost then takes the robot out
-  // and around.
+                                          const std::vector<double>& relax) const {
+  // The hard problem has no solution the solve found: the relaxed one
+  // (braking_relaxation) asks of each constraint no more than braking
+  // meets, so braking is always one of its solutions; its cost keeps the
+  // route's preferences and adds the original constraints' violation, so
+  // that of the plans that close on no obstacle faster than braking, the
+  // one that gets out of the way (sideways, off the mover's path) wins.
   Problem pb = pb_in;
-  pb.relax = relax ? *relax : barrier_relaxation(pb_in, opts_);
+  pb.relax = relax;
   // Starts: the given one, braking (zero controls projected onto the rate
-  // limits), and a turn on the spot to either side followed by driving off;
+  // limits), a turn on the spot to either side followed by driving off,
+  // and, where the robot may reverse (v_min < 0), backing off straight;
   // braking alone would leave the robot standing (feasible, as h stays
   // where standing keeps it, but never out). The cheapest feasible plan
   // wins, else the least violating one.
@@ -965,6 +973,11 @@ SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vecto
       guess[2 * k + 1] = turning ? side * pb.lim.omega_max : 0.0;
     }
     starts.push_back(guess);
+  }
+  if (pb.lim.v_min < 0) {
+    std::vector<double> back(pb.num_controls(), 0.0);
+    for (int k = 0; k < pb.N; ++k) back[2 * k] = pb.lim.v_min;
+    starts.push_back(back);
   }
   // The starts share one solve's iteration budget: this runs after the hard
   // solve has already failed, and a planning cycle that overruns its period
@@ -987,6 +1000,7 @@ SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vecto
     project_controls(pb, &u);
     SolveResult r = budgeted.solve(pb, u);
     iterations += r.iterations;
+    r.cost = relaxed_objective(pb, r.u.data(), opts_.relax_violation_weight);
     const double to_beat = out_continues ? opts_.recovery_switch_ratio * out.cost : out.cost;
     const bool better = !have || (r.feasible && (!out.feasible || r.cost < to_beat)) ||
                         (!r.feasible && !out.feasible && r.max_violation < out.max_violation);

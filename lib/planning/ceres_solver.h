@@ -73,6 +73,7 @@ struct SolverOptions {
                                                  // inside d_safe
   double recovery_switch_ratio = 0.8;            // solve_elastic keeps the plan grown from the previous one unless
                                                  // another start's costs less than this fraction of it
+  double relax_violation_weight = 1e3;           // 1/m^2: solve_elastic's cost on the original constraints' violation
 };
 
 struct SolveResult {
@@ -101,18 +102,19 @@ class CeresMpcSolver {
   SolveResult solve(const Problem& pb, const std::vector<double>& warm_u,
                     const std::vector<double>* warm_multipliers = nullptr, double warm_penalty = 0.0) const;
 
-  // When the hard problem has no solution because some constraint cannot
-  // be met even by standing still (a start inside d_safe, a static
-  // obstacle whose predicted ellipse swells faster than the robot can get
-  // away): the D-CBF is applied to each such obstacle as it is now
-  // (barrier_relaxation). `feasible` then refers to the relaxed problem;
-  // max_violation and min_barrier to the original one.
-  // Starts: `start_u` (the planner's previous plan shifted, so that an
-  // escape under way goes on), braking at the limit, and a turn on the spot
-  // to either side followed by driving off.
-  // `relax`: barrier_relaxation(pb, options()) when the caller has it already.
+  // evade's fallback when the hard problem found no solution: the relaxed
+  // problem (`relax`: braking_relaxation, num_constraints), each relaxed
+  // constraint's original form entering the cost as
+  // relax_violation_weight times its violation squared (relaxed_objective).
+  // `feasible` then refers to the relaxed problem; max_violation and
+  // min_barrier to the original one, cost to the paper's J.
+  // Starts: `start_u` (the planner's previous plan shifted, so that a way
+  // out under way goes on), braking at the limit, and a turn on the spot
+  // to either side followed by driving off; the plan grown from `start_u`
+  // is kept unless another start's relaxed objective is less than
+  // recovery_switch_ratio of it.
   SolveResult solve_elastic(const Problem& pb, const std::vector<double>& start_u,
-                            const std::vector<double>* relax = nullptr) const;
+                            const std::vector<double>& relax) const;
 
  private:
   SolverOptions opts_;
@@ -125,18 +127,27 @@ bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vec
                               std::vector<double>* residuals, std::vector<double>* jacobian);
 
 // The relaxation of solve_elastic, per constraint (num_constraints; rate
-// limits 0), for obstacle i at step k:
-//   - a start inside d_safe: -(1 - decay) h(X_0, O_0) when that is
-//     negative, i.e. the D-CBF on h - h(X_0): h may not fall below its start;
-//   - an obstacle predicted slower than relax_max_obstacle_speed (m/s, mean
-//     over the horizon) and tracked for relax_min_obstacle_age: its swelling
-//     excused, the D-CBF on h + w_k, where
-//     w_k = h(X_0, O_0) - h(X_0, O'_k) is how far the ellipse of step k
-//     around the current centre (O'_k) has lowered h at the start:
-//     max(0, w_(k+1) - decay w_k). A mover's motion and swelling must still
-//     be got out of the way of.
-// All zero when neither applies; standing still meets the relaxed problem.
-std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& opts);
+// limits 0), from the rollout of `brake_u` (braking at the limits, already
+// projected onto the rate limits), h_b(k) its barrier against obstacle i:
+// braking's own shortfall max(0, decay h_b(k) - h_b(k+1)), so that braking
+// meets the relaxed problem and no plan may lose h at any step faster than
+// braking does where braking already misses the D-CBF (a mover walking at
+// a robot that cannot get away in time, a start inside d_safe). A settled
+// obstacle (predicted slower than relax_max_obstacle_speed, mean over the
+// horizon, and tracked relax_min_obstacle_age) swells with its uncertainty
+// rather than coming closer: for it, at least the D-CBF on h + w_k,
+// w_k = h_b(0) - h_b(k) what braking loses by step k, plus a start inside
+// d_safe: max(0, w_(k+1) - decay w_k) + max(0, -(1 - decay) h_b(0)).
+// All zero when braking meets every constraint.
+std::vector<double> braking_relaxation(const Problem& pb, const std::vector<double>& brake_u,
+                                       const SolverOptions& opts);
+
+// The relaxed problem's objective: the paper's J plus violation_weight
+// times the square of each relaxed constraint's original violation
+// (pb.relax[j] > 0, max(0, -g_j) without the relaxation); J alone without
+// a relaxation.
+double relaxed_objective(const Problem& pb, const double* u, double violation_weight);
+
 
 // Clamps controls into the bounds and rate limits (from the measured
 // controls forward), in place.

@@ -17,7 +17,6 @@ PlannerParams PlannerParams::from_config(const config::Node& root) {
   // shared robot limits (read first: the reference speed is bounded by them)
   const config::Node robot_node = root.section("robot");
   const config::RobotParams robot = config::load<config::RobotParams>(robot_node);
-  if (robot.min_v_mps < 0.0) robot_node.fail("min_v_mps", "the planner does not reverse: must be at least 0");
   PlannerParams p;
   p.limits.v_max = robot.max_v_mps;
   p.limits.v_min = robot.min_v_mps;

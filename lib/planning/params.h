@@ -55,27 +55,16 @@ struct PlannerParams {
   Limits limits;  // robot: (config/robot_params.h), not in the field list
   SolverOptions solver;
   // Ceres iterations of one planning cycle, all its solves together (the
-  // hard solve, the swerve restarts, the relaxed solve): a cycle in which
-  // the hard problem fails otherwise runs up to four solves' budgets
-  // (solver.max_total_iterations each). The restarts leave the relaxed
-  // solve its budget when it applies. Counted in iterations, not time, so
-  // that a replay plans exactly as the live run did.
+  // hard solve, then the fallback's relaxed solve, each at most
+  // solver.max_total_iterations; with guidance, the local solves). Counted
+  // in iterations, not time, so that a replay plans exactly as the live
+  // run did.
   int max_cycle_iterations = 900;
   DetourParams detour = default_detour();
   // Mode evade: guidance classes solved side by side and the choice among
   // them (guidance.h, topology_planner.h); off: one solve from the warm
-  // start and evade's recovery chain.
+  // start and evade's fallback (PlannerCore::fallback).
   GuidanceParams guidance = default_guidance();
-  // Inside d_safe of an obstacle that stands ahead and to one side, the
-  // relaxed problem keeps h from falling (at its edge the D-CBF lets it fall
-  // by only gamma h per step), and a robot that must turn on the spot for
-  // longer than the horizon before any motion raises h finds no plan better
-  // than standing, every cycle. Then it turns on the spot (h
-  // unchanged) towards the heading nearest the route's that moves away.
-  bool escape_enabled = true;
-  double escape_min_progress_m = 0.1;  // a relaxed plan ending nearer its start than this makes no headway
-  double escape_near_m = 0.1;          // ...while some obstacle's h at the start is below this (m beyond d_safe)
-  double escape_cone_half_angle_rad = M_PI / 4;  // the escape heading is at most this far from the way out (grad h)
 
   // The decay of this mode's constraints: 1 - gamma (its GammaKey) for a
   // CBF, 0 for a distance constraint.
@@ -105,18 +94,6 @@ struct CurvefitKeys {
   void fields(V& v) {
     v.field("degree", p.curvefit_degree, config::between(0, 5));
     v.field("window_s", p.curvefit_window_s, config::positive());
-  }
-};
-
-struct EscapeKeys {
-  PlannerParams& p;
-  template <class V>
-  void fields(V& v) {
-    v.field("enabled", p.escape_enabled);
-    v.field("min_progress_m", p.escape_min_progress_m, config::between(0.0, 10.0));
-    v.field("near_m", p.escape_near_m, config::between(-10.0, 10.0));
-    v.convert("cone_half_angle_deg", p.escape_cone_half_angle_rad,
-              config::degrees_as_radians(config::between(0.0, 89.0)));
   }
 };
 
@@ -232,6 +209,7 @@ void SolverKeys::fields(V& v) {
   v.field("relax_max_obstacle_speed_mps", o.relax_max_obstacle_speed, config::between(0.0, 100.0));
   v.field("relax_min_track_age_s", o.relax_min_obstacle_age, config::between(0.0, 3600.0));
   v.field("recovery_switch_ratio", o.recovery_switch_ratio, config::between(0.0, 1.0));
+  v.field("relax_violation_weight", o.relax_violation_weight, config::between(0.0, 1e9));
   v.field("estimate_margin_m", o.estimate_margin, config::between(0.0, 10.0));
 }
 
@@ -263,8 +241,6 @@ void PlannerParams::fields(V& v) {
   v.section("weights", w);
   CurvefitKeys c{*this};
   v.section("curvefit", c);
-  EscapeKeys e{*this};
-  v.section("escape", e);
   DetourKeys d{detour};
   v.section("detour", d);
   GuidanceKeys g{guidance};

@@ -6,8 +6,8 @@
 // which obstacle input (OBSTACLES or OBSTACLE_PREDICTIONS) enters which
 // constraint; in the paper's modes the route is the reference and a failed
 // solve brakes, in `evade` the reference goes round what stands on the route
-// and a failed solve is recovered from (restarts, relaxed problem, escape,
-// the plan with the most clearance; README).
+// and a failed solve falls back to the relaxed problem, else braking
+// (fallback; README).
 #pragma once
 
 #include <cstdint>
@@ -96,29 +96,20 @@ class PlannerCore : public bus::Core {
   // max_cycle_iterations after `spent`, less `reserve`, at most one solve's
   // budget; none (counted) when nothing is left.
   std::optional<CeresMpcSolver> budgeted_solver(int spent, int reserve = 0);
-  // evade's recovery after the hard solve failed (*res): swerve restarts,
-  // the relaxed problem, the escape turn, else the candidate plan with the
-  // most clearance. Sets *u and *res, adds to *iterations, returns the status.
-  int8_t recover(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom, double v0,
-                 double w0, SolveResult* res, std::vector<double>* u, int* iterations);
+  // evade's one fallback after the hard solve failed: the relaxed problem
+  // (CeresMpcSolver::solve_elastic with braking_relaxation: no obstacle
+  // approached faster than braking would, the original constraints'
+  // violation in the cost), PLAN.status RECOVERING; when it finds nothing
+  // in what is left of the cycle's iterations, braking at the limits,
+  // STOPPING. Sets *u (and *res for the relaxed plan), adds to *iterations,
+  // returns the status.
+  int8_t fallback(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0, SolveResult* res,
+                  std::vector<double>* u, int* iterations);
   // The last feasible plan shifted to this cycle, its tail braking; false
   // when there is none from within the horizon.
   bool last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const;
-  // Recovery starts and candidates (side +1 left, -1 right): a swerve at
-  // speed v0 to one side at the turn-rate limit, then back; a dash that
-  // accelerates at the limit while turning for half the horizon.
-  std::vector<double> swerve_controls(double side, double v0) const;
-  std::vector<double> dash_controls(double side, double v0) const;
-  // Nothing met every constraint: of the plans at hand (`attempts`, the
-  // last feasible plan shifted, braking) the one with the most clearance.
-  int8_t most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,
-                        const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u);
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;
-  // PlannerParams::escape_*: when *u (a relaxed plan) makes no headway from
-  // inside d_safe, replaces it with a turn on the spot towards the way out
-  // and returns true.
-  bool escape_turn(const Problem& pb, double v0, double omega0, std::vector<double>* u) const;
   // Mode evade with planner.guidance.enabled: the cycle's solves and choice
   // by TopologyPlanner (planner_guidance.cpp), then as plan_cycle's end.
   void plan_with_guidance(const Problem& pb, const std::vector<double>& warm_u, const std::vector<double>& warm_lambda,

@@ -1,6 +1,6 @@
 // The Ceres MPC solver: barrier derivatives, constraints met to 1e-3 when a
 // feasible solution exists, obstacles passed with h >= 0, start inside
-// d_safe escaped, never NaN.
+// d_safe escaped, the relaxed problem met by braking, never NaN.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,13 +21,22 @@ using testing::straight_problem;
 
 SolverOptions opts() { return SolverOptions{}; }
 
+// Braking at the deceleration limit from the problem's measured speed,
+// straight on (the planner's braking_controls for omega 0).
+std::vector<double> braking(const Problem& pb) {
+  std::vector<double> u(2 * pb.N, 0.0);
+  double v = pb.v_prev;
+  for (int k = 0; k < pb.N; ++k) u[2 * k] = v = std::max(0.0, v - pb.lim.decel * pb.dt);
+  return u;
+}
+
 // From rest: the hard solve must fail (checked), then the relaxed solve,
 // whose result is returned.
 SolveResult elastic_where_hard_fails(const Problem& pb) {
   const CeresMpcSolver solver(opts());
   const std::vector<double> rest(2 * pb.N, 0.0);
   EXPECT_FALSE(solver.solve(pb, rest).feasible);
-  return solver.solve_elastic(pb, rest);
+  return solver.solve_elastic(pb, rest, braking_relaxation(pb, braking(pb), opts()));
 }
 
 // h(X_k, O_k), k = 0..N, along a solved plan.
@@ -237,7 +246,7 @@ TEST(CeresSolver, RelaxationOfAStartInsideDSafeKeepsHFromFalling) {
   pb.obstacles.push_back(moving_obstacle(2, 3.0, 2.0, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt));   // far, static
   const double h0 = barrier_at(pb.obstacles[0], 0, 0, 0, pb.d_safe).h;
   ASSERT_LT(h0, 0.0);
-  const std::vector<double> relax = barrier_relaxation(pb, opts());
+  const std::vector<double> relax = braking_relaxation(pb, braking(pb), opts());
   ASSERT_EQ(static_cast<int>(relax.size()), pb.num_constraints());
   const int R = pb.num_rate_constraints();
   for (int j = 0; j < R; ++j) EXPECT_EQ(relax[j], 0.0);
@@ -247,27 +256,75 @@ TEST(CeresSolver, RelaxationOfAStartInsideDSafeKeepsHFromFalling) {
   }
 }
 
-// A mover coming at the robot with a swelling ellipse: standing misses its
-// barrier, but neither its motion nor its swelling is excused; only a start
-// inside d_safe would be.
-TEST(CeresSolver, RelaxationExcusesNothingOfAMoverOutsideDSafe) {
+// A mover coming at the robot with a swelling ellipse: braking (here,
+// standing) misses its barrier, and the relaxation excuses exactly that:
+// braking meets the relaxed problem, driving on towards the mover does
+// not, and a constraint braking meets is not relaxed at all.
+TEST(CeresSolver, RelaxationExcusesWhatBrakingMissesAndNoMore) {
   Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
   ObstacleTrack o = moving_obstacle(1, 1.0, 0.0, -1.0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
   for (int k = 0; k <= pb.N; ++k) o.a[k] = o.b[k] = 0.3 + 0.6 * k / pb.N;
   pb.obstacles.push_back(o);
+  pb.obstacles.push_back(moving_obstacle(2, 3.0, 3.0, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt));  // far, static
   ASSERT_GT(barrier_at(o, 0, 0, 0, pb.d_safe).h, 0.0);
-  pb.obstacles[0].age_s = 10.0;
-  const std::vector<double> relax = barrier_relaxation(pb, opts());
-  for (double s : relax) EXPECT_EQ(s, 0.0);
-  // counted as static (threshold above its 1 m/s): its swelling, which
-  // takes h from 0.4 to -0.2 at the robot's place, is excused...
-  SolverOptions slow = opts();
-  slow.relax_max_obstacle_speed = 2.0;
-  const std::vector<double> held = barrier_relaxation(pb, slow);
-  EXPECT_GT(*std::max_element(held.begin(), held.end()), 0.0);
-  // ...but not while the track is new: its velocity is not known yet
-  pb.obstacles[0].age_s = 0.5;
-  for (double s : barrier_relaxation(pb, slow)) EXPECT_EQ(s, 0.0);
+  const std::vector<double> brake = braking(pb);
+  ASSERT_GT(max_violation(pb, brake.data()), 0.01);  // the hard problem: braking misses it
+  const std::vector<double> relax = braking_relaxation(pb, brake, opts());
+  const int R = pb.num_rate_constraints();
+  EXPECT_GT(*std::max_element(relax.begin() + R, relax.begin() + R + pb.N), 0.01);
+  for (int k = 0; k < pb.N; ++k) EXPECT_EQ(relax[R + pb.N + k], 0.0) << k;  // the far one: as it is
+  Problem relaxed = pb;
+  relaxed.relax = relax;
+  EXPECT_LE(max_violation(relaxed, brake.data()), 1e-9);
+  std::vector<double> on(2 * pb.N, 0.0);
+  for (int k = 0; k < pb.N; ++k) on[2 * k] = std::min(0.8, 0.1 * (k + 1));  // accelerating at the limit
+  EXPECT_GT(max_violation(relaxed, on.data()), 0.01);
+  // the relaxed solve gets out of its way rather than standing in it
+  const SolveResult r = CeresMpcSolver(opts()).solve_elastic(pb, std::vector<double>(2 * pb.N, 0.0), relax);
+  ASSERT_TRUE(r.finite);
+  EXPECT_TRUE(r.feasible);
+  const std::vector<double> h = barriers_along(pb, o, r);
+  std::vector<double> hb;
+  {
+    std::vector<double> states(3 * (pb.N + 1));
+    rollout(pb, brake.data(), states.data());
+    for (int k = 0; k <= pb.N; ++k) hb.push_back(barrier_at(o, k, states[3 * k], states[3 * k + 1], pb.d_safe).h);
+  }
+  EXPECT_GE(h.back(), hb.back() - 1e-3);
+}
+
+// The same kind of mover, walking at a robot on its way at 0.6 m/s: of the
+// plans that close on it no faster than braking, the relaxed solve's cost
+// (relax_violation_weight on the original constraints' violation) takes
+// one that gets off its path, where the route's cost alone keeps the robot
+// braking in its way.
+TEST(CeresSolver, TheRelaxedSolveGetsOutOfAMoversWayRatherThanStandInIt) {
+  Problem pb = straight_problem(0, 0, 0, 0.6, 0.8);
+  pb.obstacles.push_back(moving_obstacle(1, 2.2, 0.1, -1.2, 0, 0.35, 0.35, 0, 0.9, pb.N, pb.dt));
+  const std::vector<double> brake = braking(pb);
+  ASSERT_GT(max_violation(pb, brake.data()), 0.01);  // the premise: braking misses it
+  const std::vector<double> relax = braking_relaxation(pb, brake, opts());
+  SolverOptions cost_only = opts();
+  cost_only.relax_violation_weight = 0.0;
+  const SolveResult out = CeresMpcSolver(opts()).solve_elastic(pb, brake, relax);
+  const SolveResult in_way = CeresMpcSolver(cost_only).solve_elastic(pb, brake, relax);
+  ASSERT_TRUE(out.feasible);
+  ASSERT_TRUE(in_way.feasible);
+  const std::vector<double> ho = barriers_along(pb, pb.obstacles[0], out);
+  const double h_out = *std::min_element(ho.begin() + 1, ho.end());
+  const std::vector<double> hw = barriers_along(pb, pb.obstacles[0], in_way);
+  const double h_in_way = *std::min_element(hw.begin() + 1, hw.end());
+  std::printf("[figures] mover head-on: lowest h %.2f m with the violation in the cost, %.2f m without\n", h_out,
+              h_in_way);
+  Problem rp = pb;
+  rp.relax = relax;
+  std::printf("DEBUG end h %.3f %.3f  robj %.2f %.2f  J %.2f %.2f yN %.2f %.2f xN %.2f %.2f\n", ho.back(), hw.back(),
+              relaxed_objective(rp, out.u.data(), 1e3), relaxed_objective(rp, in_way.u.data(), 1e3), out.cost,
+              in_way.cost, out.states[3 * pb.N + 1], in_way.states[3 * pb.N + 1], out.states[3 * pb.N],
+              in_way.states[3 * pb.N]);
+  for (int k = 0; k <= pb.N; k += 2) std::printf("  k%d h %.2f %.2f\n", k, ho[k], hw[k]);
+  EXPECT_GT(h_out, h_in_way + 0.1);
+  EXPECT_LT(out.max_violation, in_way.max_violation);
 }
 
 // A static obstacle beside the path whose predicted ellipse swells with
@@ -286,7 +343,7 @@ TEST(CeresSolver, SwellingObstacleElasticPlanMeetsTheDcbfOnTheObstacleAsItIs) {
     w.push_back(barrier_at(o, 0, 0, 0, pb.d_safe).h - barrier_at(o, k, 0, 0, pb.d_safe).h);
   ASSERT_GT(barrier_at(o, 0, 0, 0, pb.d_safe).h, 0.0);
   ASSERT_LT(barrier_at(o, pb.N, 0, 0, pb.d_safe).h, 0.0);  // standing ends inside d_safe
-  const std::vector<double> relax = barrier_relaxation(pb, opts());
+  const std::vector<double> relax = braking_relaxation(pb, braking(pb), opts());
   EXPECT_GT(*std::max_element(relax.begin(), relax.end()), 0.0);
 
   const SolveResult r = elastic_where_hard_fails(pb);
@@ -326,8 +383,9 @@ TEST(CeresSolver, RecoveringKeepsThePreviousPlansSideOfAnObstacle) {
   };
   SolverOptions keep = opts(), cheapest = opts();
   cheapest.recovery_switch_ratio = 1.0;
-  const SolveResult kept = CeresMpcSolver(keep).solve_elastic(pb, left);
-  const SolveResult fresh = CeresMpcSolver(cheapest).solve_elastic(pb, left);
+  const std::vector<double> relax = braking_relaxation(pb, braking(pb), opts());
+  const SolveResult kept = CeresMpcSolver(keep).solve_elastic(pb, left, relax);
+  const SolveResult fresh = CeresMpcSolver(cheapest).solve_elastic(pb, left, relax);
   ASSERT_TRUE(kept.feasible);
   ASSERT_TRUE(fresh.feasible);
   EXPECT_GT(side_at_obstacle(kept), 0.3);    // left, as the previous plan
@@ -375,7 +433,7 @@ TEST(CeresSolver, NeverNaNOnDegenerateInput) {
   pb.obstacles.push_back(moving_obstacle(1, 0.0, 0.0, 0, 0, 0.2, 0.1, 0, 0.9, pb.N, pb.dt));
   CeresMpcSolver solver(opts());
   SolveResult r = solver.solve(pb, std::vector<double>(2 * pb.N, std::nan("")));
-  SolveResult e = solver.solve_elastic(pb, r.u);
+  SolveResult e = solver.solve_elastic(pb, r.u, braking_relaxation(pb, braking(pb), opts()));
   for (double v : e.u) EXPECT_TRUE(std::isfinite(v));
   for (double v : e.states) EXPECT_TRUE(std::isfinite(v));
 }
