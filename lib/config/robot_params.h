@@ -16,7 +16,7 @@ struct RobotParams {
   double footprint_length_m = 0.42;  // rectangle centred on the base, along the heading
   double footprint_width_m = 0.31;
   double max_v_mps = 1.0;  // forward speed limit
-  double min_v_mps = -0.5;  // below 0: the robot may reverse
+  double min_v_mps = 0.0;  // below 0: the robot may reverse
   double max_omega_radps = 0.5;
   double max_accel_mps2 = 1.0;
   double max_decel_mps2 = 1.5;

@@ -73,7 +73,7 @@ struct SolverOptions {
                                                  // inside d_safe
   double recovery_switch_ratio = 0.8;            // solve_elastic keeps the plan grown from the previous one unless
                                                  // another start's costs less than this fraction of it
-  double relax_violation_weight = 1e3;           // 1/m^2: solve_elastic's cost on the original constraints' violation
+  double relax_violation_weight = 1e4;           // 1/m^2: solve_elastic's cost on the original constraints' violation
 };
 
 struct SolveResult {

@@ -280,6 +280,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   int8_t status = evade::plan_t::STATUS_OK;
   std::vector<double> u = res.u;
   if (mode_.evade_layers) {
+    if (!(res.finite && res.feasible) && restarted(pb, v0, &res, &iterations)) u = res.u;
     if (!(res.finite && res.feasible)) status = fallback(pb, warm_u, v0, w0, &res, &u, &iterations);
   } else if (!(res.finite && res.feasible)) {
     status = paper_fallback(pb, odom, v0, w0, &u);
@@ -425,6 +426,38 @@ std::optional<CeresMpcSolver> PlannerCore::budgeted_solver(int spent, int reserv
   SolverOptions o = p_.solver;
   o.max_total_iterations = std::min(o.max_total_iterations, left);
   return CeresMpcSolver(o);
+}
+
+std::vector<double> PlannerCore::swerve_controls(double side, double v0) const {
+  // a swerve to one side at the current speed, then back
+  const int N = p_.horizon_steps;
+  std::vector<double> guess(2 * N);
+  for (int k = 0; k < N; ++k) {
+    guess[2 * k] = v0;
+    guess[2 * k + 1] = (k < N / 2 ? side : -side) * p_.limits.omega_max;
+  }
+  return guess;
+}
+
+bool PlannerCore::restarted(const Problem& pb, double v0, SolveResult* res, int* iterations) {
+  if (pb.obstacles.empty()) return false;  // nothing but the rate limits failed
+  // One local solve keeps the side of its warm start; the hard problem from
+  // a swerve to either side finds the way round on the other. They share
+  // what the fallback's solve leaves of the cycle's iterations.
+  const int reserve = p_.solver.max_total_iterations;
+  for (double side : {1.0, -1.0}) {
+    const int left = p_.max_cycle_iterations - *iterations - reserve;
+    const std::optional<CeresMpcSolver> solver = budgeted_solver(*iterations, reserve + (side > 0 ? left / 2 : 0));
+    if (!solver) return false;
+    const SolveResult alt = solver->solve(pb, swerve_controls(side, v0));
+    *iterations += alt.iterations;
+    count("solver_restart");
+    if (alt.finite && alt.feasible) {
+      *res = alt;
+      return true;
+    }
+  }
+  return false;
 }
 
 int8_t PlannerCore::fallback(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0,

@@ -96,7 +96,14 @@ class PlannerCore : public bus::Core {
   // max_cycle_iterations after `spent`, less `reserve`, at most one solve's
   // budget; none (counted) when nothing is left.
   std::optional<CeresMpcSolver> budgeted_solver(int spent, int reserve = 0);
-  // evade's one fallback after the hard solve failed: the relaxed problem
+  // Mode evade, the hard solve from the warm start failed: the hard problem
+  // again from a swerve (at speed v0, to one side at the turn-rate limit,
+  // then back) to either side, within what the fallback's solve leaves of
+  // the cycle's iterations; true (and *res) when one meets every
+  // constraint. Adds to *iterations.
+  bool restarted(const Problem& pb, double v0, SolveResult* res, int* iterations);
+  std::vector<double> swerve_controls(double side, double v0) const;
+  // evade's one fallback after the hard solves failed: the relaxed problem
   // (CeresMpcSolver::solve_elastic with braking_relaxation: no obstacle
   // approached faster than braking would, the original constraints'
   // violation in the cost), PLAN.status RECOVERING; when it finds nothing

@@ -91,7 +91,7 @@ TEST(BaseDriverConfig, ReadsRobotYaml) {
   EXPECT_DOUBLE_EQ(p.command_rate_hz, 50.0);
   EXPECT_DOUBLE_EQ(p.watchdog_timeout_s, 0.25);
   EXPECT_DOUBLE_EQ(p.limits.max_v_mps, 1.0);
-  EXPECT_DOUBLE_EQ(p.limits.min_v_mps, -0.5);
+  EXPECT_DOUBLE_EQ(p.limits.min_v_mps, 0.0);
   EXPECT_DOUBLE_EQ(p.limits.max_omega_radps, 0.5);
 }
 
