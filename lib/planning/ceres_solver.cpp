@@ -745,7 +745,8 @@ struct Iterates {
     double violation = 0;
     for (double v : g) violation = std::max(violation, -v);
     if (violation > o.target_violation) {
-      if (violation <= o.projection_candidate_violation) near_feasible.emplace_back(relaxed_objective(pb, u.data(), o.relax_violation_weight), u);
+      if (violation <= o.projection_candidate_violation)
+        near_feasible.emplace_back(relaxed_objective(pb, u.data(), o.relax_violation_weight), u);
       return;
     }
     const double c = relaxed_objective(pb, u.data(), o.relax_violation_weight);

@@ -148,7 +148,6 @@ std::vector<double> braking_relaxation(const Problem& pb, const std::vector<doub
 // a relaxation.
 double relaxed_objective(const Problem& pb, const double* u, double violation_weight);
 
-
 // Clamps controls into the bounds and rate limits (from the measured
 // controls forward), in place.
 void project_controls(const Problem& pb, std::vector<double>* u);

@@ -52,8 +52,8 @@ struct GuidanceParams {
   double longitudinal_step_m = 0.25;  // lattice spacing along the route
   double switch_cost_factor = 1.3;    // a plan of another class than last cycle's counts its cost times this
   // When no local solve meets every constraint: the least violating plan
-  // (braking among the candidates), or evade's recovery chain (restarts,
-  // relaxed problem, escape turn, most clearance; planner_core.h recover).
+  // (braking among the candidates), or evade's fallback (the relaxed
+  // problem, else braking; planner_core.h fallback).
   enum class Fallback { kLeastViolating, kRecovery };
   Fallback fallback = Fallback::kRecovery;
 };

@@ -49,10 +49,10 @@ struct ModeSpec {
   GammaKey gamma;  // used by kCbf only
   // evade's layers beyond the paper. Reference shaping: the detour round
   // settled obstacles, slow leaders and oncoming movers swept into its grid
-  // (detour.h). Recovery when the hard solve fails: swerve restarts, the
-  // relaxed problem, the escape turn, dashes, the last feasible plan, the
-  // plan with the most clearance. Off: the route is the reference and a
-  // failed solve brakes at the deceleration limits (STATUS_STOPPING).
+  // (detour.h). When the hard solve fails: restarts from swerves, then one
+  // fallback (the relaxed problem, else braking; PlannerCore::fallback).
+  // Off: the route is the reference and a failed solve brakes at the
+  // deceleration limits (STATUS_STOPPING).
   bool evade_layers;
 };
 

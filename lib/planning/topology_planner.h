@@ -34,8 +34,8 @@ struct TopologyOutcome {
 };
 
 // The local solves' share of a cycle's Ceres iterations (cycle_budget):
-// all of them, less one solve's (max_total) kept for the recovery chain
-// when that is the fallback; at least 1.
+// all of them, less one solve's (max_total) kept for evade's fallback
+// when that is guidance's fallback (`recovery`); at least 1.
 int local_solves_budget(const GuidanceParams& g, int max_total, int cycle_budget);
 
 class TopologyPlanner {
