@@ -19,6 +19,19 @@ bool valid_track(const evade::track_prediction_t& t) {
   return true;
 }
 
+namespace {
+
+// The prediction step whose shape a plan step at fractional prediction
+// index f takes (align_track).
+int shape_index(double f, int last) {
+  if (f <= 0 || last == 0) return 0;
+  if (f >= last) return last;
+  const int i = static_cast<int>(std::floor(f));
+  return f - i < 0.5 ? i : i + 1;
+}
+
+}  // namespace
+
 ObstacleTrack align_track(const evade::track_prediction_t& t, double pred_dt, double offset_s, int N, double plan_dt) {
   ObstacleTrack o;
   o.id = t.id;
@@ -26,24 +39,21 @@ ObstacleTrack align_track(const evade::track_prediction_t& t, double pred_dt, do
   for (int k = 0; k <= N; ++k) {
     const double f = (offset_s + k * plan_dt) / pred_dt;  // fractional prediction index
     double x, y;
-    int shape;
     if (f <= 0 || last == 0) {  // before the first step, or a single-step track
       const double tau = f * pred_dt;
       x = t.x[0] + t.vx * tau;
       y = t.y[0] + t.vy * tau;
-      shape = 0;
     } else if (f >= last) {
       const double tau = (f - last) * pred_dt;
       x = t.x[last] + t.vx * tau;
       y = t.y[last] + t.vy * tau;
-      shape = last;
     } else {
       const int i = static_cast<int>(std::floor(f));
       const double w = f - i;
       x = (1 - w) * t.x[i] + w * t.x[i + 1];
       y = (1 - w) * t.y[i] + w * t.y[i + 1];
-      shape = w < 0.5 ? i : i + 1;
     }
+    const int shape = shape_index(f, last);
     o.x.push_back(x);
     o.y.push_back(y);
     o.a.push_back(t.a[shape]);
@@ -51,6 +61,24 @@ ObstacleTrack align_track(const evade::track_prediction_t& t, double pred_dt, do
     o.theta.push_back(t.theta[shape]);
   }
   return o;
+}
+
+void bound_uncertain(const evade::track_prediction_t& t, const UncertainParams& u, double pred_dt, double offset_s,
+                     double plan_dt, ObstacleTrack* o) {
+  if (!u.enabled || t.sigma.size() != t.a.size() || t.horizon < 1) return;
+  const double body = t.a[0] - t.sigma[0];
+  const double speed = body <= u.small_max_axis_m ? u.small_max_speed_mps : u.large_max_speed_mps;
+  for (size_t k = 0; k < o->x.size(); ++k) {
+    const double tau = offset_s + k * plan_dt;
+    const int shape = shape_index(tau / pred_dt, t.horizon - 1);
+    if (!(t.sigma[shape] > u.max_sigma_m)) continue;
+    const double r = t.a[0] + speed * std::clamp(tau, 0.0, u.reach_s);
+    if (r * r >= o->a[k] * o->b[k]) continue;  // the published ellipse is the smaller bound
+    o->x[k] = t.x[0];
+    o->y[k] = t.y[0];
+    o->a[k] = o->b[k] = r;
+    o->theta[k] = 0.0;
+  }
 }
 
 bool valid_observed(const evade::obstacle_t& o) {
@@ -142,6 +170,7 @@ std::vector<ObstacleTrack> moved_obstacles(const PlannerParams& p, const Obstacl
         continue;
       }
       out.push_back(align_track(t, msg.dt, offset_s, N, p.dt_s));
+      bound_uncertain(t, p.uncertain, msg.dt, offset_s, p.dt_s, &out.back());
     }
   } else if (mode.source == ObstacleSource::kObserved && in.observed) {
     for (const auto& o : in.observed->obstacles) {

@@ -10,6 +10,7 @@
 
 #include "evade/obstacle_list_t.hpp"
 #include "evade/prediction_list_t.hpp"
+#include "planning/obstacles_uncertain.h"
 #include "planning/params.h"
 #include "planning/problem.h"
 
@@ -25,6 +26,13 @@ bool valid_observed(const evade::obstacle_t& o);
 // prediction steps (dt = pred_dt), constant-velocity extrapolation (the
 // track's vx, vy) outside them; shape from the nearest step.
 ObstacleTrack align_track(const evade::track_prediction_t& t, double pred_dt, double offset_s, int N, double plan_dt);
+
+// UncertainParams applied to an aligned track (align_track with the same
+// offset_s and steps): each step whose published sigma exceeds max_sigma_m
+// becomes the reachable disc about (x[0], y[0]), radius a[0] + the class's
+// speed x min(time since utime, reach_s), where that disc is smaller.
+void bound_uncertain(const evade::track_prediction_t& t, const UncertainParams& u, double pred_dt, double offset_s,
+                     double plan_dt, ObstacleTrack* o);
 
 // An observed ellipse held for all steps.
 ObstacleTrack hold_observed(const evade::obstacle_t& o, int N);

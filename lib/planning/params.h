@@ -14,6 +14,7 @@
 #include "planning/detour.h"
 #include "planning/guidance.h"
 #include "planning/modes.h"
+#include "planning/obstacles_uncertain.h"
 #include "planning/problem.h"
 
 namespace evade::planning {
@@ -66,6 +67,7 @@ struct PlannerParams {
   // them (guidance.h, topology_planner.h); off: one solve from the warm
   // start and evade's recovery chain.
   GuidanceParams guidance = default_guidance();
+  UncertainParams uncertain;  // predicted steps too uncertain to be useful (obstacles_uncertain.h)
   // Inside d_safe of an obstacle that stands ahead and to one side, the
   // relaxed problem keeps h from falling (at its edge the D-CBF lets it fall
   // by only gamma h per step), and a robot that must turn on the spot for
@@ -271,6 +273,7 @@ void PlannerParams::fields(V& v) {
   v.section("guidance", g);
   SolverKeys o{*this};
   v.section("solver", o);
+  v.section("uncertain", uncertain);
 }
 
 }  // namespace evade::planning

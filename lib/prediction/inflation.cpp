@@ -86,4 +86,47 @@ double shape_radius(double var_a, double var_b, double var_theta, double elongat
   return z * std::sqrt(v);
 }
 
+namespace {
+
+double wrap_axis(double angle) {
+  const double pi = 3.14159265358979323846;
+  double w = std::fmod(angle + 0.5 * pi, pi);
+  if (w < 0) w += pi;
+  return w - 0.5 * pi;
+}
+
+}  // namespace
+
+PublishedStep published_step(const Ellipse& body, double pxx, double pxy, double pyy, double r_eta,
+                             const StepRule& rule) {
+  const double r_p = position_radius(pxx, pxy, pyy, rule.chi2_2dof);
+  const Inflation grown = solve_inflation(body.a, body.b, r_p + r_eta, rule.tolerance);
+  PublishedStep out;
+  const double s = rule.max_inflation > 0.0 ? std::min(grown.total, rule.max_inflation) : grown.total;
+  out.sigma = s;
+  out.ellipse = {body.a + s, body.b + s, body.theta};
+  if (rule.max_inflation > 0.0 || !rule.oriented) return out;
+  // The confidence ellipse: eigen-decomposition of the 2x2 covariance.
+  const double mean = 0.5 * (pxx + pyy), half_diff = 0.5 * (pxx - pyy);
+  const double root = std::sqrt(half_diff * half_diff + pxy * pxy);
+  const double r1 = std::max(std::sqrt(rule.chi2_2dof * std::max(0.0, mean + root)), rule.min_axis_m);
+  const double r2 = std::max(std::sqrt(rule.chi2_2dof * std::max(0.0, mean - root)), rule.min_axis_m);
+  const Inflation around = solve_inflation(r1, r2, body.a + r_eta, rule.tolerance);
+  const Ellipse region{r1 + around.total, r2 + around.total, wrap_axis(0.5 * std::atan2(2.0 * pxy, pxx - pyy))};
+  if (region.a * region.b < out.ellipse.a * out.ellipse.b) out.ellipse = region;
+  return out;
+}
+
+void add_manoeuvre_spread(double vx, double vy, double t, double along_std, double across_std, double* pxx, double* pxy,
+                          double* pyy) {
+  const double speed = std::hypot(vx, vy);
+  if (!(speed > 0.0) || !(t > 0.0)) return;
+  const double c = vx / speed, s = vy / speed;
+  const double va = along_std * along_std * speed * speed * t * t;
+  const double vc = across_std * across_std * speed * speed * t * t;
+  *pxx += c * c * va + s * s * vc;
+  *pxy += c * s * (va - vc);
+  *pyy += s * s * va + c * c * vc;
+}
+
 }  // namespace evade::prediction

@@ -41,4 +41,39 @@ double position_radius(double pxx, double pxy, double pyy, double chi2_2dof);
 // largest boundary displacement a rotation dtheta causes.
 double shape_radius(double var_a, double var_b, double var_theta, double elongation, double z);
 
+// An ellipse: semi-axes a >= b, orientation theta in [-pi/2, pi/2).
+struct Ellipse {
+  double a = 0.0, b = 0.0, theta = 0.0;
+};
+
+// What one predicted step publishes: the ellipse and the uncertainty radius
+// sigma (r_p + r_eta + sigma_min: the body's axes grown by it hold the
+// position region at the confidence level).
+struct PublishedStep {
+  Ellipse ellipse;
+  double sigma = 0.0;
+};
+
+// How the published ellipse of one step is made.
+struct StepRule {
+  double chi2_2dof = 0.0;      // position quantile
+  double tolerance = 1e-9;     // root finder
+  double min_axis_m = 0.05;    // floor of the confidence ellipse's axes
+  double max_inflation = 0.0;  // > 0: the body grown by min(sigma, this), never oriented
+  bool oriented = false;       // also try the confidence ellipse grown by the body's circumradius
+};
+
+// The step's ellipse holding body (+) shape disc r_eta (+) the position
+// confidence region of covariance [[pxx, pxy], [pxy, pyy]]: the body grown
+// by the region's enclosing circle (the paper's), or, when smaller and
+// rule.oriented, the region's own ellipse grown by body.a + r_eta.
+PublishedStep published_step(const Ellipse& body, double pxx, double pxy, double pyy, double r_eta,
+                             const StepRule& rule);
+
+// The spread of a manoeuvre over t seconds for a mover of velocity
+// (vx, vy): std along_std * speed * t along its heading and across_std *
+// speed * t across it, as a covariance added to (pxx, pxy, pyy).
+void add_manoeuvre_spread(double vx, double vy, double t, double along_std, double across_std, double* pxx, double* pxy,
+                          double* pyy);
+
 }  // namespace evade::prediction

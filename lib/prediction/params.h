@@ -126,11 +126,20 @@ struct UncertaintyParams {
   double confidence = 0.95;        // probability mass covered by r_p and r_eta
   double min_axis_m = 0.05;        // axes are floored at this before inflation
   double root_tolerance_m = 1e-9;  // sigma_min bracket width at convergence
-  // Upper bound of the inflation added to both axes. The paper lets the
-  // ellipse grow with k; a constant-acceleration covariance grows like k^4,
-  // and unbounded it makes every moving obstacle cover the road by k = 25,
-  // which leaves the planner no feasible plan.
-  double max_inflation_m = 0.5;
+  // 0: none, the published ellipse holds the whole uncertainty. Above 0
+  // each axis's inflation is clipped to it (and the ellipse is never
+  // oriented): what was published before, kept to compare against.
+  double max_inflation_m = 0.0;
+  // A mover's possible manoeuvres over t seconds (stop, turn back, turn
+  // aside), as a position spread about the constant-velocity mean in its
+  // heading frame: std along = turn_along_std * speed * t, across =
+  // turn_across_std * speed * t, added to the filter's position covariance.
+  double turn_along_std = 0.4;
+  double turn_across_std = 0.2;
+  // Publish the smaller (by area) of the body grown by the uncertainty
+  // radius and the position confidence ellipse grown by the body's
+  // circumradius; false: always the former (the paper's construction).
+  bool oriented = true;
 
   template <class V>
   void fields(V& v) {
@@ -138,6 +147,9 @@ struct UncertaintyParams {
     v.field("min_axis_m", min_axis_m, config::positive());
     v.field("root_tolerance_m", root_tolerance_m, config::between(1e-15, 1e-3));
     v.field("max_inflation_m", max_inflation_m, config::between(0.0, 100.0));
+    v.field("turn_along_std", turn_along_std, config::between(0.0, 10.0));
+    v.field("turn_across_std", turn_across_std, config::between(0.0, 10.0));
+    v.field("oriented", oriented);
   }
 };
 

@@ -27,6 +27,25 @@ void clip_norm(double* x, double* y, double max_norm) {
   }
 }
 
+// One step of the mean: x_k = A x_(k-1) (paper) with the speed cap (once
+// at the cap the acceleration stops acting); past max_accel_time_s the
+// velocity is held (a constant acceleration is rarely sustained by people
+// or bikes). The covariance is propagated linearly, uncapped.
+void advance_mean(State* x, const LimitParams& lim, double T, int k) {
+  State& s = *x;
+  if (k * T > lim.max_accel_time_s + 1e-9) s(kAx) = s(kAy) = 0.0;
+  const double vx0 = s(kVx), vy0 = s(kVy);
+  double vx1 = vx0 + T * s(kAx), vy1 = vy0 + T * s(kAy);
+  if (std::hypot(vx1, vy1) > lim.max_speed_mps) {
+    clip_norm(&vx1, &vy1, lim.max_speed_mps);
+    s(kAx) = s(kAy) = 0.0;
+  }
+  s(kX) += 0.5 * (vx0 + vx1) * T;  // = vx T + ax T^2 / 2 when not capped
+  s(kY) += 0.5 * (vy0 + vy1) * T;
+  s(kVx) = vx1;
+  s(kVy) = vy1;
+}
+
 }  // namespace
 
 Predictor::Predictor(const PredictorParams& params)
@@ -201,6 +220,14 @@ void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::trac
     theta = wrap_half_pi(theta + 0.5 * 3.14159265358979323846);
   }
 
+  const double v0x = x(kVx), v0y = x(kVy);  // the manoeuvre spread grows with the speed now
+  StepRule rule;
+  rule.chi2_2dof = chi2_position_;
+  rule.tolerance = unc.root_tolerance_m;
+  rule.min_axis_m = unc.min_axis_m;
+  rule.max_inflation = unc.max_inflation_m;
+  rule.oriented = unc.oriented;
+
   out->id = id;
   out->vx = x(kVx);
   out->vy = x(kVy);
@@ -215,34 +242,20 @@ void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::trac
   out->sigma.resize(n);
   for (int k = 0; k < n; ++k) {
     if (k > 0) {
-      // Paper: x_k = A x_(k-1), P_k = A P_(k-1) A^T + Q; the mean with the speed cap
-      // (once at the cap the acceleration stops acting), the covariance linear.
-      // Past max_accel_time_s the velocity is held (a constant acceleration
-      // is rarely sustained by people or bikes).
-      if (k * T > lim.max_accel_time_s + 1e-9) x(kAx) = x(kAy) = 0.0;
-      const double vx0 = x(kVx), vy0 = x(kVy);
-      double vx1 = vx0 + T * x(kAx), vy1 = vy0 + T * x(kAy);
-      if (std::hypot(vx1, vy1) > lim.max_speed_mps) {
-        clip_norm(&vx1, &vy1, lim.max_speed_mps);
-        x(kAx) = x(kAy) = 0.0;
-      }
-      x(kX) += 0.5 * (vx0 + vx1) * T;  // = vx T + ax T^2 / 2 when not capped
-      x(kY) += 0.5 * (vy0 + vy1) * T;
-      x(kVx) = vx1;
-      x(kVy) = vy1;
+      advance_mean(&x, lim, T, k);
       State unused = State::Zero();
       propagate(&unused, &P, Q, T);
     }
-    const double r_p = position_radius(P(kX, kX), P(kX, kY), P(kY, kY), chi2_position_);
+    double pxx = P(kX, kX), pxy = P(kX, kY), pyy = P(kY, kY);
+    add_manoeuvre_spread(v0x, v0y, k * T, unc.turn_along_std, unc.turn_across_std, &pxx, &pxy, &pyy);
     const double r_eta = shape_radius(P(kA, kA), P(kB, kB), P(kTheta, kTheta), a - b, z_shape_);
-    const Inflation inf = solve_inflation(a, b, r_p + r_eta, unc.root_tolerance_m);
-    const double sigma = std::min(inf.total, unc.max_inflation_m);
+    const PublishedStep step = published_step({a, b, theta}, pxx, pxy, pyy, r_eta, rule);
     out->x[k] = x(kX);
     out->y[k] = x(kY);
-    out->a[k] = a + sigma;
-    out->b[k] = b + sigma;
-    out->theta[k] = theta;
-    out->sigma[k] = sigma;
+    out->a[k] = step.ellipse.a;
+    out->b[k] = step.ellipse.b;
+    out->theta[k] = step.ellipse.theta;
+    out->sigma[k] = step.sigma;
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 
 namespace evade::prediction {
@@ -98,6 +99,62 @@ TEST(Inflation, RadiiFromCovariance) {
   // eigenvalues of [[2, 1], [1, 2]] are 1 and 3
   EXPECT_NEAR(position_radius(2.0, 1.0, 2.0, 1.0), std::sqrt(3.0), 1e-12);
   EXPECT_NEAR(shape_radius(0.01, 0.04, 0.25, 0.2, 2.0), 2.0 * std::sqrt(0.04 + 0.04 * 0.25), 1e-12);
+}
+
+}  // namespace
+}  // namespace evade::prediction
+
+namespace evade::prediction {
+namespace {
+
+bool inside(const Ellipse& e, double dx, double dy) {
+  const double c = std::cos(e.theta), s = std::sin(e.theta);
+  const double u = (c * dx + s * dy) / e.a, v = (-s * dx + c * dy) / e.b;
+  return u * u + v * v <= 1.0 + 1e-9;
+}
+
+// Every point of body (+) the confidence ellipse of P (+) a disc of r_eta,
+// sampled over both boundaries, lies in the published ellipse; an
+// elongated covariance gives an oriented ellipse smaller than the body
+// grown by the enclosing circle.
+TEST(Inflation, PublishedStepHoldsBodyPlusConfidenceRegion) {
+  StepRule rule;
+  rule.chi2_2dof = chi_square_2dof_quantile(0.95);
+  rule.oriented = true;
+  const Ellipse body{0.4, 0.25, 0.3};
+  const double pxx = 0.9, pxy = 0.5, pyy = 0.4, r_eta = 0.05;
+  const PublishedStep step = published_step(body, pxx, pxy, pyy, r_eta, rule);
+  Eigen::Matrix2d P;
+  P << pxx, pxy, pxy, pyy;
+  const Eigen::Matrix2d L = Eigen::LLT<Eigen::Matrix2d>(P).matrixL();
+  const double scale = std::sqrt(rule.chi2_2dof);
+  for (int i = 0; i < 360; ++i)
+    for (int j = 0; j < 360; j += 5) {
+      const double u = 2 * M_PI * i / 360, w = 2 * M_PI * j / 360;
+      const Eigen::Vector2d region = scale * L * Eigen::Vector2d(std::cos(u), std::sin(u));
+      const double bx = body.a * std::cos(w), by = body.b * std::sin(w);
+      const double x = region.x() + std::cos(body.theta) * bx - std::sin(body.theta) * by + r_eta * std::cos(w);
+      const double y = region.y() + std::sin(body.theta) * bx + std::cos(body.theta) * by + r_eta * std::sin(w);
+      ASSERT_TRUE(inside(step.ellipse, x, y)) << i << " " << j;
+    }
+  const double r = position_radius(pxx, pxy, pyy, rule.chi2_2dof) + r_eta;
+  EXPECT_NEAR(step.sigma, solve_inflation(body.a, body.b, r, 1e-9).total, 1e-12);
+  EXPECT_LT(step.ellipse.a * step.ellipse.b, 0.8 * (body.a + step.sigma) * (body.b + step.sigma));
+  EXPECT_NEAR(step.ellipse.theta, 0.5 * std::atan2(2 * pxy, pxx - pyy), 1e-12);
+  rule.oriented = false;  // the paper's: the body grown by sigma
+  const PublishedStep paper = published_step(body, pxx, pxy, pyy, r_eta, rule);
+  EXPECT_DOUBLE_EQ(paper.ellipse.a, body.a + paper.sigma);
+  EXPECT_DOUBLE_EQ(paper.ellipse.theta, body.theta);
+}
+
+TEST(Inflation, ManoeuvreSpreadAlongAndAcrossTheHeading) {
+  double pxx = 0, pxy = 0, pyy = 0;
+  add_manoeuvre_spread(0.0, 2.0, 1.5, 0.4, 0.1, &pxx, &pxy, &pyy);  // heading +y, 3 m travelled
+  EXPECT_NEAR(pyy, 1.2 * 1.2, 1e-12);
+  EXPECT_NEAR(pxx, 0.3 * 0.3, 1e-12);
+  EXPECT_NEAR(pxy, 0.0, 1e-12);
+  add_manoeuvre_spread(0.0, 0.0, 1.5, 0.4, 0.1, &pxx, &pxy, &pyy);  // standing: nothing added
+  EXPECT_NEAR(pyy, 1.44, 1e-12);
 }
 
 }  // namespace
