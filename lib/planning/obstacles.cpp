@@ -68,11 +68,24 @@ void bound_uncertain(const evade::track_prediction_t& t, const UncertainParams& 
   if (!u.enabled || t.sigma.size() != t.a.size() || t.horizon < 1) return;
   const double body = t.a[0] - t.sigma[0];
   const double speed = body <= u.small_max_axis_m ? u.small_max_speed_mps : u.large_max_speed_mps;
+  size_t held = 0;  // the last step within reach_s or certain enough
   for (size_t k = 0; k < o->x.size(); ++k) {
     const double tau = offset_s + k * plan_dt;
     const int shape = shape_index(tau / pred_dt, t.horizon - 1);
-    if (!(t.sigma[shape] > u.max_sigma_m)) continue;
-    const double r = t.a[0] + speed * std::clamp(tau, 0.0, u.reach_s);
+    if (!(t.sigma[shape] > u.max_sigma_m)) {
+      held = k;
+      continue;
+    }
+    if (tau > u.reach_s) {  // beyond what it can reach before the next cycles: as at the held step
+      o->x[k] = o->x[held];
+      o->y[k] = o->y[held];
+      o->a[k] = o->a[held];
+      o->b[k] = o->b[held];
+      o->theta[k] = o->theta[held];
+      continue;
+    }
+    held = k;
+    const double r = t.a[0] + speed * std::max(tau, 0.0);
     if (r * r >= o->a[k] * o->b[k]) continue;  // the published ellipse is the smaller bound
     o->x[k] = t.x[0];
     o->y[k] = t.y[0];

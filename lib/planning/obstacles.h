@@ -28,9 +28,11 @@ bool valid_observed(const evade::obstacle_t& o);
 ObstacleTrack align_track(const evade::track_prediction_t& t, double pred_dt, double offset_s, int N, double plan_dt);
 
 // UncertainParams applied to an aligned track (align_track with the same
-// offset_s and steps): each step whose published sigma exceeds max_sigma_m
-// becomes the reachable disc about (x[0], y[0]), radius a[0] + the class's
-// speed x min(time since utime, reach_s), where that disc is smaller.
+// offset_s and steps): a step whose published sigma exceeds max_sigma_m
+// becomes, up to reach_s after utime, the reachable disc about (x[0],
+// y[0]) of radius a[0] + the class's speed x that time where the disc is
+// smaller, and after reach_s the ellipse of the last step within reach_s
+// or certain enough.
 void bound_uncertain(const evade::track_prediction_t& t, const UncertainParams& u, double pred_dt, double offset_s,
                      double plan_dt, ObstacleTrack* o);
 

@@ -140,6 +140,10 @@ struct UncertaintyParams {
   // radius and the position confidence ellipse grown by the body's
   // circumradius; false: always the former (the paper's construction).
   bool oriented = true;
+  // Roll the covariance forward with each IMM mode's process noise weighted
+  // by its probability (true), or with the quiet mode's alone (false: the
+  // manoeuvres are then the spread above).
+  bool mixed_mode_noise = true;
 
   template <class V>
   void fields(V& v) {
@@ -150,6 +154,7 @@ struct UncertaintyParams {
     v.field("turn_along_std", turn_along_std, config::between(0.0, 10.0));
     v.field("turn_across_std", turn_across_std, config::between(0.0, 10.0));
     v.field("oriented", oriented);
+    v.field("mixed_mode_noise", mixed_mode_noise);
   }
 };
 

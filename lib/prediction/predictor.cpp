@@ -206,7 +206,8 @@ void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::trac
   Covariance P = filter.covariance();
   // Q of one prediction step: with the IMM, each mode's own model weighted
   // by its probability, so that a manoeuvring target's ellipse grows faster.
-  const Covariance Q = filter.prediction_noise(T);
+  const Covariance Q = unc.mixed_mode_noise ? filter.prediction_noise(T)
+                                            : process_noise(params_->filter, T, params_->filter.jerk_psd_m2ps5);
   // Caps: a noisy acceleration estimate must not fling the prediction across
   // the map, so the acceleration and speed used for extrapolation are clipped.
   clip_norm(&x(kVx), &x(kVy), lim.max_speed_mps);

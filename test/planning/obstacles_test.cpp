@@ -29,21 +29,34 @@ evade::track_prediction_t track(double vx, double body, double sigma0, double gr
 }
 
 TEST(ObstaclesUncertain, NewTrackBecomesTheReachableDiscHeldAfterReach) {
-  UncertainParams u;                          // max_sigma 1.0 m, reach 0.5 s, small bodies 3 m/s
-  const auto t = track(0.0, 0.25, 0.1, 2.0);  // velocity unknown: sigma 2 m per s
+  UncertainParams u;  // max_sigma 1.0 m, reach 0.5 s, small bodies 3 m/s
+  const auto t = track(0.0, 0.25, 0.1, 4.0);  // velocity unknown: sigma 4 m per s
   ObstacleTrack o = align_track(t, 0.1, 0.0, 25, 0.1);
   bound_uncertain(t, u, 0.1, 0.0, 0.1, &o);
-  for (int k = 0; k <= 25; ++k) {
+  for (int k = 0; k <= 5; ++k) {
     const double tau = 0.1 * k;
     if (t.sigma[k] <= u.max_sigma_m) {  // useful: as published
       EXPECT_DOUBLE_EQ(o.a[k], t.a[k]) << k;
       continue;
     }
-    const double r = t.a[0] + 3.0 * std::min(tau, 0.5);
-    EXPECT_NEAR(o.a[k], std::min(r, t.a[k]), 1e-12) << k;
-    EXPECT_DOUBLE_EQ(o.x[k], r < t.a[k] ? t.x[0] : t.x[k]) << k;
+    EXPECT_NEAR(o.a[k], std::min(t.a[0] + 3.0 * tau, t.a[k]), 1e-12) << k;
   }
-  EXPECT_NEAR(o.a[25], t.a[0] + 1.5, 1e-12);  // held at its 0.5 s size
+  EXPECT_NEAR(o.a[5], t.a[0] + 1.5, 1e-12);  // the disc is the smaller bound at 0.5 s
+  EXPECT_DOUBLE_EQ(o.x[5], t.x[0]);
+  for (int k = 6; k <= 25; ++k) EXPECT_DOUBLE_EQ(o.a[k], o.a[5]) << k;  // held after reach_s
+}
+
+TEST(ObstaclesUncertain, AMoverCertainPastReachHoldsItsLastCertainStep) {
+  UncertainParams u;
+  const auto t = track(1.0, 0.25, 0.05, 0.5);  // sigma crosses 1 m at 1.9 s
+  ObstacleTrack o = align_track(t, 0.1, 0.0, 25, 0.1);
+  const ObstacleTrack published = o;
+  bound_uncertain(t, u, 0.1, 0.0, 0.1, &o);
+  for (int k = 0; k <= 19; ++k) EXPECT_DOUBLE_EQ(o.a[k], published.a[k]) << k;
+  for (int k = 20; k <= 25; ++k) {
+    EXPECT_DOUBLE_EQ(o.a[k], published.a[19]) << k;
+    EXPECT_DOUBLE_EQ(o.x[k], published.x[19]) << k;
+  }
 }
 
 TEST(ObstaclesUncertain, ConfidentTrackAndDisabledRuleKeepThePublishedEllipses) {
@@ -64,7 +77,7 @@ TEST(ObstaclesUncertain, ConfidentTrackAndDisabledRuleKeepThePublishedEllipses) 
 
 TEST(ObstaclesUncertain, LargeBodiesReachAtTheirOwnSpeed) {
   UncertainParams u;
-  const auto bike = track(0.0, 0.9, 0.1, 4.0);
+  const auto bike = track(0.0, 0.9, 0.1, 8.0);
   ObstacleTrack o = align_track(bike, 0.1, 0.0, 25, 0.1);
   bound_uncertain(bike, u, 0.1, 0.0, 0.1, &o);
   EXPECT_NEAR(o.a[25], bike.a[0] + 5.0 * 0.5, 1e-12);
