@@ -134,8 +134,8 @@ struct UncertaintyParams {
   // aside), as a position spread about the constant-velocity mean in its
   // heading frame: std along = turn_along_std * speed * t, across =
   // turn_across_std * speed * t, added to the filter's position covariance.
-  double turn_along_std = 0.4;
-  double turn_across_std = 0.2;
+  double turn_along_std = 0.7;
+  double turn_across_std = 0.05;
   // Publish the smaller (by area) of the body grown by the uncertainty
   // radius and the position confidence ellipse grown by the body's
   // circumradius; false: always the former (the paper's construction).
