@@ -29,7 +29,7 @@ evade::track_prediction_t track(double vx, double body, double sigma0, double gr
 }
 
 TEST(ObstaclesUncertain, NewTrackBecomesTheReachableDiscHeldAfterReach) {
-  UncertainParams u;  // max_sigma 1.0 m, reach 0.5 s, small bodies 3 m/s
+  UncertainParams u;                          // max_sigma 1.0 m, reach 0.5 s, small bodies 3 m/s
   const auto t = track(0.0, 0.25, 0.1, 4.0);  // velocity unknown: sigma 4 m per s
   ObstacleTrack o = align_track(t, 0.1, 0.0, 25, 0.1);
   bound_uncertain(t, u, 0.1, 0.0, 0.1, &o);
