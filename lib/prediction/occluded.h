@@ -21,7 +21,7 @@
 namespace evade::prediction {
 
 struct OccludedParams {
-  bool enabled = true;         // keep tracks that vanish inside a hidden region
+  bool enabled = false;        // keep tracks that vanish inside a hidden region
   double max_speed_mps = 1.6;  // how fast something hidden may move: a walking person
   double max_s = 3.0;          // longest time a hidden track is kept
   double max_age_s = 0.3;      // OCCLUSIONS this much older or newer than the obstacle list are not used

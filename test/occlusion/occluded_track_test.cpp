@@ -11,9 +11,12 @@
 namespace evade::prediction {
 namespace {
 
+// robot.yaml's predictor with the hidden tracks on (off by default).
 PredictorParams default_params() {
-  return PredictorParams::from_config(
+  auto p = PredictorParams::from_config(
       config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml").section("predictor"));
+  p.occluded.enabled = true;
+  return p;
 }
 
 // The shadow behind a van's near face x in [2, 6], y = 2, seen from the origin.

@@ -21,8 +21,11 @@
 namespace evade::planning {
 namespace {
 
+// robot.yaml's planner with the speed bound on (off by default).
 PlannerParams default_params() {
-  return PlannerParams::from_config(config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
+  auto p = PlannerParams::from_config(config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
+  p.occlusion.enabled = true;
+  return p;
 }
 
 // The shadow of a van's near face x in [3, 7.5], y = 0.9 (the route runs
