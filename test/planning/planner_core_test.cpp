@@ -483,14 +483,14 @@ TEST(PlannerCore, NoCycleSpendsMoreCeresIterationsThanItsBudget) {
   }
   obs.push_back({1.0, 0.6, 0.0, 0.0, 0.2, 0.1});  // a start inside d_safe: the relaxed solve runs too
   PlannerParams unbounded = default_params();
-  unbounded.max_cycle_iterations = 1'000'000;
+  unbounded.solver.max_cycle_iterations = 1'000'000;
   int most = 0;
   for (const auto& pl : run(unbounded, obs, 2.0).plan_log) most = std::max(most, static_cast<int>(pl.iterations));
   const int budget = default_params().solver.max_total_iterations + 10;
   ASSERT_GT(most, budget) << "the premise: a cycle that runs more than one solve";
   for (int b : {budget, 5, 1}) {
     PlannerParams p = default_params();
-    p.max_cycle_iterations = b;
+    p.solver.max_cycle_iterations = b;
     RunResult r = run(p, obs, 2.0);
     ASSERT_FALSE(r.plan_log.empty());
     EXPECT_EQ(r.nan, 0);
@@ -661,7 +661,7 @@ TEST(Modes, EachModeBuildsItsConstraintFromItsOwnInput) {
   const int N = p.horizon_steps;
   const auto pred = predictions({{2.5, 1.0, -1.0, 0.0, 0.4, 0.1}}, 1'000'000, 0.0);
   const auto obs = observed({{2.0, 0.0, 0.0, 0.0, 0.3}}, 1'000'000, 0.0);
-  CurveFitHistory hist(p.curvefit_degree, p.curvefit_window_s);
+  CurveFitHistory hist(p.curvefit.degree, p.curvefit.window_s);
   hist.add(obs);
   const int64_t t_plan = 1'050'000;  // 0.05 s after both
   auto build = [&](Mode m) {
