@@ -270,8 +270,9 @@ void BM_GuidanceCycle(benchmark::State& state) {
   const PlannerParams p = config_params();
   const Problem pb = evade::planning::testing::bench_problem(k);
   const Warm w = warm_start(k, CeresMpcSolver(p.solver));
-  TopologyPlanner planner(p.guidance, p.solver,
-                          local_solves_budget(p.guidance, p.solver.max_total_iterations, p.max_cycle_iterations));
+  TopologyPlanner planner(
+      p.guidance, p.solver,
+      local_solves_budget(p.guidance, p.solver.max_total_iterations, p.solver.max_cycle_iterations));
   TopologyOutcome o;
   for (auto _ : state) {
     planner.reset();

@@ -419,14 +419,14 @@ void set_bounds(const Problem& pb, ceres::Problem* problem, double* u) {
 
 ceres::Solver::Options inner_options(const SolverOptions& o, int max_iterations) {
   ceres::Solver::Options opt;
-  opt.linear_solver_type = o.dense_qr ? ceres::DENSE_QR : ceres::DENSE_NORMAL_CHOLESKY;
+  opt.linear_solver_type = o.linear_solver == LinearSolver::kDenseQr ? ceres::DENSE_QR : ceres::DENSE_NORMAL_CHOLESKY;
   opt.max_num_iterations = max_iterations;
   opt.function_tolerance = o.inner_function_tolerance;
   opt.parameter_tolerance = o.inner_parameter_tolerance;
   opt.minimizer_progress_to_stdout = false;
   opt.logging_type = ceres::SILENT;
   opt.num_threads = 1;
-  switch (o.line_search) {
+  switch (o.line_search_interpolation) {
     case LineSearchInterpolation::kBisection:
       opt.line_search_interpolation_type = ceres::BISECTION;
       break;
@@ -613,7 +613,7 @@ void estimate_multipliers(const Problem& pb, const std::vector<double>& u, doubl
 // D-CBF chain (big multipliers, distance functions curved around the
 // obstacle), so the outer loop can creep and end a few mm outside the
 // tolerance. From that point, damped minimum-norm Newton steps that lift
-// the violated constraints to a small margin (projection_target), over the
+// the violated constraints to a small margin (projection_target_m), over the
 // controls not held on a bound, each shortened until the summed squared
 // violation falls, reach the feasible set nearby and keep nearly all of the
 // loop's progress. Returns true when u meets every constraint within
@@ -636,7 +636,7 @@ bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::ve
     if (it == o.projection_iterations) break;
     std::vector<int> near;
     for (int j = 4; j < m; ++j)  // j < 4: the rate limits at k = 0 are bounds on u_0
-      if (g[j] < o.projection_target) near.push_back(j);
+      if (g[j] < o.projection_target_m) near.push_back(j);
     std::vector<double> r, jac;  // constraint rows: -grad g_j
     if (!switched_on_jacobian(pb, *u, near, &r, &jac)) return false;
     // Minimum-norm step over the controls, those on a bound that it would
@@ -646,7 +646,7 @@ bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::ve
     if (na == 0) return false;
     Eigen::VectorXd dg(na);
     for (int a = 0; a < na; ++a)
-      dg[a] = std::max(0.0, o.projection_target - g[near[a]]);  // violated ones to the margin
+      dg[a] = std::max(0.0, o.projection_target_m - g[near[a]]);  // violated ones to the margin
     std::vector<int> free(n);
     for (int i = 0; i < n; ++i) free[i] = i;
     Eigen::VectorXd step;
@@ -733,6 +733,10 @@ void project_controls(const Problem& pb, std::vector<double>* u) {
 
 namespace {
 
+// Ceres' trust region at the first outer iteration (then carried between
+// outer iterations, at least min_trust_radius).
+constexpr double kInitialTrustRadius = 1e4;
+
 // The iterates of one solve worth keeping: the cheapest feasible one (the
 // start included): when the AL loop ends outside the tolerance (it can
 // jump through an obstacle early and not find its way back), a feasible if
@@ -751,7 +755,7 @@ struct Iterates {
     double violation = 0;
     for (double v : g) violation = std::max(violation, -v);
     if (violation > o.target_violation) {
-      if (violation <= o.projection_candidate_violation) near_feasible.emplace_back(objective(pb, u.data()), u);
+      if (violation <= o.projection_candidate_violation_m) near_feasible.emplace_back(objective(pb, u.data()), u);
       return;
     }
     const double c = objective(pb, u.data());
@@ -767,7 +771,7 @@ struct Iterates {
 void augmented_lagrangian(const Problem& pb, const SolverOptions& o, SolveResult* res, std::vector<double>* lambda,
                           double* rho, Iterates* log) {
   const int m = pb.num_constraints();
-  double trust_radius = o.initial_trust_radius;
+  double trust_radius = kInitialTrustRadius;
   double prev_violation = std::numeric_limits<double>::infinity();
   std::vector<double> states, g;
   evaluate_constraints(pb, res->u.data(), &states, &g);
@@ -784,7 +788,7 @@ void augmented_lagrangian(const Problem& pb, const SolverOptions& o, SolveResult
     // from a badly violated point. The rate limits at k = 0 are bounds on u_0.
     for (int j = 4; j < pb.num_rate_constraints(); ++j) active.push_back({j, false});
     for (int j = pb.num_rate_constraints(); j < m; ++j)
-      if ((*lambda)[j] > 0 || g[j] < o.active_margin) active.push_back({j, false});
+      if ((*lambda)[j] > 0 || g[j] < o.active_margin_m) active.push_back({j, false});
     std::vector<double> before = res->u;
     res->iterations += run_inner(pb, o, new InnerCost(pb, std::move(active), *lambda, *rho, /*elastic_penalty=*/1.0),
                                  &res->u, o.max_inner_iterations, budget, &trust_radius);
@@ -807,7 +811,7 @@ void augmented_lagrangian(const Problem& pb, const SolverOptions& o, SolveResult
       if ((*lambda)[j] > 0) complementarity = std::max(complementarity, std::min(g[j], (*lambda)[j] / *rho));
     // Aim below the tolerance: in a D-CBF chain a violation at the tolerance
     // at every step adds up to a visibly cheaper (and less safe) plan.
-    if (violation <= o.target_violation && complementarity <= o.complementarity_tolerance) break;
+    if (violation <= o.target_violation && complementarity <= o.complementarity_tolerance_m) break;
     for (int j = 0; j < m; ++j) (*lambda)[j] = std::max(0.0, (*lambda)[j] - *rho * g[j]);
     if (violation > o.violation_shrink * prev_violation) *rho = std::min(*rho * o.penalty_growth, o.penalty_max);
     prev_violation = violation;
@@ -887,7 +891,7 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
     // penalty suffices (the loop raises it again when needed).
     if (warm_penalty > 0) rho = std::clamp(warm_penalty, opts_.penalty_initial, opts_.warm_penalty_max);
   } else if (opts_.estimate_multipliers) {
-    estimate_multipliers(pb, res.u, opts_.estimate_margin, &lambda);
+    estimate_multipliers(pb, res.u, opts_.estimate_margin_m, &lambda);
   }
   Iterates log;
   augmented_lagrangian(pb, opts_, &res, &lambda, &rho, &log);
@@ -920,7 +924,7 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
     // Start inside d_safe: h' = h - h(X_0) meets the D-CBF from where it is.
     const double inside = h0 < 0 ? -(1.0 - o.decay) * h0 : 0.0;
     const double speed = std::hypot(o.x.back() - o.x.front(), o.y.back() - o.y.front()) / horizon_s;
-    const bool settled = speed <= opts.relax_max_obstacle_speed && o.age_s >= opts.relax_min_obstacle_age;
+    const bool settled = speed <= opts.relax_max_obstacle_speed_mps && o.age_s >= opts.relax_min_track_age_s;
     // Nearly static: its predicted ellipses around the current centre.
     ObstacleTrack held;
     if (settled) {

@@ -9,7 +9,7 @@
 // per constraint; after each inner solve lambda_j <- max(0, lambda_j - rho g_j)
 // and rho grows while the violation does not shrink fast enough. The loop
 // stops once no constraint is violated by more than target_violation and
-// none with a multiplier has more slack than complementarity_tolerance
+// none with a multiplier has more slack than complementarity_tolerance_m
 // (first-order optimality of the AL: lambda_j > 0 only on active ones).
 //
 // Constraints far from active (g_j > active margin and lambda_j = 0) are left
@@ -28,6 +28,7 @@
 
 #include <vector>
 
+#include "config/fields.h"
 #include "planning/problem.h"
 
 namespace evade::planning {
@@ -38,41 +39,48 @@ namespace evade::planning {
 // the full step is accepted at once; bisection needs only cost values.
 enum class LineSearchInterpolation { kBisection, kQuadratic, kCubic };
 
+// Ceres' linear solver for the inner problem's normal equations.
+enum class LinearSolver { kDenseNormalCholesky, kDenseQr };
+
+// `planner.solver` (but the planner's own keys: PlannerSolverParams,
+// params.h); the defaults are config/robot.yaml's.
 struct SolverOptions {
   int max_outer_iterations = 20;
-  int max_inner_iterations = 50;            // an inner solve runs to convergence: multiplier updates
-                                            // from half-solved inner problems measured slower overall
-  int max_total_iterations = 300;           // Ceres iterations of one solve, all outer iterations together
-  double constraint_tolerance = 1e-3;       // m (barriers), m/s and rad/s (rate limits)
-  double target_violation = 1e-4;           // the outer loop stops below this (<= constraint_tolerance)
-  double complementarity_tolerance = 1e-3;  // ... and when no constraint with a multiplier has more
-                                            // slack than this (m; min(g_j, lambda_j / rho))
-  double penalty_initial = 3e4;             // rho at the first outer iteration
-  double warm_penalty_max = 3e4;            // cap on the penalty that comes with warm multipliers
-  double penalty_growth = 3.0;              // rho factor when the violation stalls
+  int max_inner_iterations = 50;              // an inner solve runs to convergence: multiplier updates
+                                              // from half-solved inner problems measured slower overall
+  int max_total_iterations = 300;             // Ceres iterations of one solve, all outer iterations together
+  double constraint_tolerance = 1e-3;         // m (barriers), m/s and rad/s (rate limits)
+  double target_violation = 1e-4;             // the outer loop stops below this (<= constraint_tolerance)
+  double complementarity_tolerance_m = 1e-3;  // ... and when no constraint with a multiplier has more
+                                              // slack than this (min(g_j, lambda_j / rho))
+  double penalty_initial = 3e4;               // rho at the first outer iteration
+  double warm_penalty_max = 3e4;              // cap on the penalty that comes with warm multipliers
+  double penalty_growth = 3.0;                // rho factor when the violation stalls
   double penalty_max = 1e6;
   double violation_shrink = 0.25;           // violation must shrink by this factor or rho grows
-  double active_margin = 0.3;               // m: constraints with g above this and lambda = 0 are left out
+  double active_margin_m = 0.3;             // constraints with g above this and lambda = 0 are left out
   double inner_function_tolerance = 1e-5;   // relative cost change that ends an inner solve
   double inner_parameter_tolerance = 1e-8;  // relative step that ends an inner solve
-  double initial_trust_radius = 1e4;        // Ceres' trust region at the first outer iteration
   double min_trust_radius = 1e-2;           // floor of the trust region carried between outer iterations
-  bool dense_qr = false;                    // DENSE_QR instead of DENSE_NORMAL_CHOLESKY
-  LineSearchInterpolation line_search = LineSearchInterpolation::kBisection;
-  int projection_iterations = 10;                // Newton steps onto the constraints when the AL loop ends outside them
-  double projection_target = 2e-5;               // m: a projection step aims the constraints below this at this
-  double projection_damping = 1e-5;              // relative ridge of a projection step's normal equations
-  int projection_candidates = 5;                 // earlier iterates projected too (the cheapest within ...)
-  double projection_candidate_violation = 0.01;  // m: ... this violation), besides the last
-  bool estimate_multipliers = true;              // without warm multipliers: estimate them at the warm start
-  double estimate_margin = 1e-3;                 // m: constraints with g below this enter the estimate
-  double relax_max_obstacle_speed = 0.2;         // m/s: solve_elastic excuses the swelling of obstacles predicted
-                                                 // slower than this (mean over the horizon) ...
-  double relax_min_obstacle_age = 1.0;           // s: ... and tracked for this long (a new track reads as
-                                                 // static while its velocity is unknown); others only a start
-                                                 // inside d_safe
-  double recovery_switch_ratio = 0.8;            // solve_elastic keeps the plan grown from the previous one unless
-                                                 // another start's costs less than this fraction of it
+  LinearSolver linear_solver = LinearSolver::kDenseNormalCholesky;
+  LineSearchInterpolation line_search_interpolation = LineSearchInterpolation::kBisection;
+  int projection_iterations = 10;                  // Newton steps onto the constraints when the AL loop ends outside
+  double projection_target_m = 2e-5;               // a projection step aims the constraints below this at this
+  double projection_damping = 1e-5;                // relative ridge of a projection step's normal equations
+  int projection_candidates = 5;                   // earlier iterates projected too (the cheapest within ...)
+  double projection_candidate_violation_m = 0.01;  // ... this violation), besides the last
+  bool estimate_multipliers = true;                // without warm multipliers: estimate them at the warm start
+  double estimate_margin_m = 1e-3;                 // constraints with g below this enter the estimate
+  double relax_max_obstacle_speed_mps = 0.2;       // solve_elastic excuses the swelling of obstacles predicted
+                                                   // slower than this (mean over the horizon) ...
+  double relax_min_track_age_s = 1.0;              // ... and tracked for this long (a new track reads as
+                                                   // static while its velocity is unknown); others only a start
+                                                   // inside d_safe
+  double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
+                                                   // another start's costs less than this fraction of it
+
+  template <class V>
+  void fields(V& v);
 };
 
 struct SolveResult {
@@ -128,8 +136,8 @@ bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vec
 // limits 0), for obstacle i at step k:
 //   - a start inside d_safe: -(1 - decay) h(X_0, O_0) when that is
 //     negative, i.e. the D-CBF on h - h(X_0): h may not fall below its start;
-//   - an obstacle predicted slower than relax_max_obstacle_speed (m/s, mean
-//     over the horizon) and tracked for relax_min_obstacle_age: its swelling
+//   - an obstacle predicted slower than relax_max_obstacle_speed_mps (mean
+//     over the horizon) and tracked for relax_min_track_age_s: its swelling
 //     excused, the D-CBF on h + w_k, where
 //     w_k = h(X_0, O_0) - h(X_0, O'_k) is how far the ellipse of step k
 //     around the current centre (O'_k) has lowered h at the start:
@@ -141,5 +149,41 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
 // Clamps controls into the bounds and rate limits (from the measured
 // controls forward), in place.
 void project_controls(const Problem& pb, std::vector<double>* u);
+
+template <class V>
+void SolverOptions::fields(V& v) {
+  v.field("max_outer_iterations", max_outer_iterations, config::between(1, 1000));
+  v.field("max_inner_iterations", max_inner_iterations, config::between(1, 1000));
+  v.field("max_total_iterations", max_total_iterations, config::between(1, 100000));
+  v.field("constraint_tolerance", constraint_tolerance, config::positive());
+  v.field("target_violation", target_violation, config::between(0.0, constraint_tolerance));
+  v.field("complementarity_tolerance_m", complementarity_tolerance_m, config::between(0.0, 10.0));
+  v.field("min_trust_radius", min_trust_radius, config::positive());
+  v.field("penalty_initial", penalty_initial, config::positive());
+  v.field("warm_penalty_max", warm_penalty_max, config::between(penalty_initial, 1e12));
+  v.field("penalty_growth", penalty_growth, config::between(1.0, 1e3));
+  v.field("penalty_max", penalty_max, config::positive());
+  v.field("violation_shrink", violation_shrink, config::between(0.0, 1.0));
+  v.field("active_margin_m", active_margin_m, config::between(0.0, 100.0));
+  v.field("inner_function_tolerance", inner_function_tolerance, config::positive());
+  v.field("inner_parameter_tolerance", inner_parameter_tolerance, config::positive());
+  v.choice("linear_solver", linear_solver,
+           config::Choices<LinearSolver>{{"dense_normal_cholesky", LinearSolver::kDenseNormalCholesky},
+                                         {"dense_qr", LinearSolver::kDenseQr}});
+  v.choice("line_search_interpolation", line_search_interpolation,
+           config::Choices<LineSearchInterpolation>{{"bisection", LineSearchInterpolation::kBisection},
+                                                    {"quadratic", LineSearchInterpolation::kQuadratic},
+                                                    {"cubic", LineSearchInterpolation::kCubic}});
+  v.field("projection_iterations", projection_iterations, config::between(0, 1000));
+  v.field("projection_target_m", projection_target_m, config::between(0.0, target_violation));
+  v.field("projection_damping", projection_damping, config::between(0.0, 1.0));
+  v.field("projection_candidates", projection_candidates, config::between(0, 1000));
+  v.field("projection_candidate_violation_m", projection_candidate_violation_m, config::between(0.0, 10.0));
+  v.field("estimate_multipliers", estimate_multipliers);
+  v.field("relax_max_obstacle_speed_mps", relax_max_obstacle_speed_mps, config::between(0.0, 100.0));
+  v.field("relax_min_track_age_s", relax_min_track_age_s, config::between(0.0, 3600.0));
+  v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
+  v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
+}
 
 }  // namespace evade::planning

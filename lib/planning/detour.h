@@ -18,6 +18,7 @@
 // that the swelling of the predicted ellipses closes later.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -25,11 +26,13 @@
 #include <utility>
 #include <vector>
 
+#include "config/fields.h"
 #include "planning/reference.h"
 #include "planning/static_field.h"
 
 namespace evade::planning {
 
+// `planner.detour`; the defaults are config/robot.yaml's.
 struct DetourParams {
   bool enabled = true;
   double lookahead_m = 5.0;             // route checked this far ahead of the progress
@@ -51,18 +54,46 @@ struct DetourParams {
   // Slow leaders: a track ahead going the route's way slower than this
   // (faster than max_obstacle_speed_mps)...
   double leader_max_speed_mps = 0.6;
-  double leader_max_angle_rad = 0.5236;  // ...within this of the route's heading (config: degrees)...
-  double leader_sweep_s = 2.0;           // ...enters the grid as its ellipse swept this far ahead
+  double leader_max_angle_rad = 30.0 * M_PI / 180.0;  // ...within this of the route's heading (config: degrees)...
+  double leader_sweep_s = 2.0;                        // ...enters the grid as its ellipse swept this far ahead
   // An oncoming mover (within this of the route's reverse heading) enters
   // the grid swept up to the robot, at most oncoming_sweep_s ahead (0 =
   // off), if its uncertainty inflation at k = 0 is at most
   // oncoming_max_sigma_m: a static object the robot drives up to reads as
   // oncoming while its visible part changes, and with the shape change
   // comes a large sigma.
-  double oncoming_max_angle_rad = 0.5236;  // config: degrees
+  double oncoming_max_angle_rad = 30.0 * M_PI / 180.0;  // config: degrees
   double oncoming_sweep_s = 4.0;
   double oncoming_max_sigma_m = 0.25;
   double min_mover_age_s = 0.5;  // a leader or oncoming mover is swept once tracked this long
+
+  template <class V>
+  void fields(V& v) {
+    v.field("enabled", enabled);
+    v.field("lookahead_m", lookahead_m, config::between(0.0, 100.0));
+    v.field("cell_m", cell_m, config::between(0.01, 1.0));
+    v.field("margin_m", margin_m, config::between(0.0, 10.0));
+    v.field("comfort_m", comfort_m, config::between(margin_m + 1e-3, 20.0));
+    v.field("proximity_cost", proximity_cost, config::between(0.0, 1e3));
+    v.field("deviation_cost", deviation_cost, config::between(0.0, 1e3));
+    v.field("rejoin_m", rejoin_m, config::between(0.0, 100.0));
+    v.field("pad_m", pad_m, config::between(0.0, 100.0));
+    v.field("max_obstacle_speed_mps", max_obstacle_speed_mps, config::between(0.0, 100.0));
+    v.field("min_track_age_s", min_track_age_s, config::between(0.0, 3600.0));
+    v.field("blocked_cost", blocked_cost, config::between(1.0, 1e6));
+    v.field("keep_side_discount", keep_side_discount, config::between(0.01, 1.0));
+    v.field("smoothing_m", smoothing_m, config::between(0.0, 10.0));
+    v.field("max_cells", max_cells, config::between(1, 10000000));
+    v.field("min_offset_m", min_offset_m, config::between(0.0, 100.0));
+    v.field("leader_max_speed_mps", leader_max_speed_mps, config::between(0.0, 100.0));
+    v.convert("leader_max_angle_deg", leader_max_angle_rad, config::degrees_as_radians(config::between(0.0, 90.0)));
+    v.field("leader_sweep_s", leader_sweep_s, config::between(0.0, 60.0));
+    v.convert("oncoming_max_angle_deg", oncoming_max_angle_rad, config::degrees_as_radians(config::between(0.0, 90.0)));
+    v.field("oncoming_sweep_s", oncoming_sweep_s, config::between(0.0, 60.0));
+    v.field("oncoming_max_sigma_m", oncoming_max_sigma_m, config::between(0.0, 100.0));
+    v.field("min_mover_age_s", min_mover_age_s, config::between(0.0, 3600.0));
+    v.field("memory_s", memory_s, config::between(0.0, 3600.0));
+  }
 };
 
 // A settled obstacle's current ellipse (inflated, as published at k = 0).

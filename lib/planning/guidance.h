@@ -38,12 +38,14 @@
 #include <utility>
 #include <vector>
 
+#include "config/fields.h"
 #include "planning/problem.h"
 
 namespace evade::planning {
 
+// `planner.guidance`; the defaults are config/robot.yaml's.
 struct GuidanceParams {
-  bool enabled = true;
+  bool enabled = false;               // off until it wins the benchmark (config/robot.yaml)
   int max_classes = 4;                // guidance classes solved per cycle (besides the previous plan)
   int threads = 2;                    // local solves run on this many threads
   int layer_steps = 5;                // MPC steps per lattice layer
@@ -56,6 +58,21 @@ struct GuidanceParams {
   // relaxed problem, escape turn, most clearance; planner_core.h recover).
   enum class Fallback { kLeastViolating, kRecovery };
   Fallback fallback = Fallback::kRecovery;
+
+  template <class V>
+  void fields(V& v) {
+    v.field("enabled", enabled);
+    v.field("max_classes", max_classes, config::between(0, 16));
+    v.field("threads", threads, config::between(1, 64));
+    v.field("layer_steps", layer_steps, config::between(1, 64));
+    v.field("lateral_step_m", lateral_step_m, config::between(0.05, 2.0));
+    v.field("lateral_max_m", lateral_max_m, config::between(0.0, 10.0));
+    v.field("longitudinal_step_m", longitudinal_step_m, config::between(0.05, 2.0));
+    v.field("switch_cost_factor", switch_cost_factor, config::between(1.0, 100.0));
+    v.choice(
+        "fallback", fallback,
+        config::Choices<Fallback>{{"least_violating", Fallback::kLeastViolating}, {"recovery", Fallback::kRecovery}});
+  }
 };
 
 // Labels by obstacle id (sorted by id), see the header comment.

@@ -36,30 +36,4 @@ config::Choices<Mode> PlannerParams::mode_choices() {
   return out;
 }
 
-Weights PlannerParams::default_weights() {
-  Weights w;
-  w.q_xy = 10.0;
-  w.q_yaw = 1.0;
-  w.p_xy = 20.0;
-  w.p_yaw = 2.0;
-  w.r_v = 0.1;
-  w.r_omega = 0.1;
-  w.s_v = 1.0;
-  w.s_omega = 1.0;
-  return w;
-}
-
-DetourParams PlannerParams::default_detour() {
-  DetourParams d;
-  d.leader_max_angle_rad = 30.0 * M_PI / 180.0;
-  d.oncoming_max_angle_rad = 30.0 * M_PI / 180.0;
-  return d;
-}
-
-GuidanceParams PlannerParams::default_guidance() {
-  GuidanceParams g;
-  g.enabled = false;  // off until it wins the benchmark (robot.yaml)
-  return g;
-}
-
 }  // namespace evade::planning

@@ -51,9 +51,10 @@ PlannerCore::PlannerCore(PlannerParams params)
       mode_(mode_spec(params.mode)),
       detour_(params.detour, params.d_safe_m + params.footprint.radius),
       settled_(params.detour.memory_s),
-      history_(params.curvefit_degree, params.curvefit_window_s),
-      topology_(params.guidance, params.solver,
-                local_solves_budget(params.guidance, params.solver.max_total_iterations, params.max_cycle_iterations)),
+      history_(params.curvefit.degree, params.curvefit.window_s),
+      topology_(
+          params.guidance, params.solver,
+          local_solves_budget(params.guidance, params.solver.max_total_iterations, params.solver.max_cycle_iterations)),
       period_us_(std::llround(1e6 / params.rate_hz)) {
   subscribe<evade::odometry_t>("ODOMETRY", [this](const evade::odometry_t& m) { on_odometry(m); });
   subscribe<evade::path_t>("ROUTE", [this](const evade::path_t& m) {
@@ -107,11 +108,11 @@ std::vector<double> PlannerCore::braking_controls(double v, double omega) const 
 }
 
 bool PlannerCore::escape_turn(const Problem& pb, double v0, double omega0, std::vector<double>* u) const {
-  if (!p_.escape_enabled || pb.obstacles.empty()) return false;
+  if (!p_.escape.enabled || pb.obstacles.empty()) return false;
   const int N = p_.horizon_steps;
   std::vector<double> states(3 * (N + 1));
   rollout(pb, u->data(), states.data());
-  if (std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape_min_progress_m) return false;
+  if (std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m) return false;
   // the obstacle nearest (in h) of those holding the robot: inside d_safe,
   // or at its edge, where the D-CBF lets h fall by only gamma h per step
   const BarrierValue* deepest = nullptr;
@@ -119,14 +120,14 @@ bool PlannerCore::escape_turn(const Problem& pb, double v0, double omega0, std::
   const double start[3] = {pb.x0, pb.y0, pb.yaw0};
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     h0[i] = barrier_at(pb, pb.obstacles[i], 0, start);
-    if (h0[i].h < p_.escape_near_m && (!deepest || h0[i].h < deepest->h)) deepest = &h0[i];
+    if (h0[i].h < p_.escape.near_m && (!deepest || h0[i].h < deepest->h)) deepest = &h0[i];
   }
   if (!deepest) return false;
   // The heading that raises h fastest is along grad h; any within 90 deg of
   // it raises h. Of those within the cone, the one nearest the route's.
   const double out = std::atan2(deepest->gy, deepest->gx);
   const double off = wrap_angle(pb.ref_yaw[1] - out);
-  const double target = out + std::clamp(off, -p_.escape_cone_half_angle_rad, p_.escape_cone_half_angle_rad);
+  const double target = out + std::clamp(off, -p_.escape.cone_half_angle_rad, p_.escape.cone_half_angle_rad);
   const double err = wrap_angle(target - pb.yaw0);
   // facing the way out (within half a step's turn): the solver's plan stands
   if (std::fabs(err) < 0.5 * p_.limits.omega_max * p_.dt_s) return false;
@@ -322,7 +323,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   // Controls only: with the previous multipliers (and their penalty) the
   // solves measured slower and costlier in bench_planner, so they start at 0.
   const std::optional<CeresMpcSolver> solver = budgeted_solver(0);
-  SolveResult res = solver->solve(pb, warm_u, p_.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_);
+  SolveResult res = solver->solve(pb, warm_u, p_.solver.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_);
   int iterations = res.iterations;
   int8_t status = evade::plan_t::STATUS_OK;
   std::vector<double> u = res.u;
@@ -469,8 +470,8 @@ bool PlannerCore::blocked(const evade::odometry_t& odom, bool restart) {
 std::optional<CeresMpcSolver> PlannerCore::budgeted_solver(int spent, int reserve) {
   // Each solve gets what is left of the cycle's iteration budget (at most
   // its own), less `reserve` kept for a later one:
-  // PlannerParams::max_cycle_iterations.
-  const int left = p_.max_cycle_iterations - spent - reserve;
+  // PlannerSolverParams::max_cycle_iterations.
+  const int left = p_.solver.max_cycle_iterations - spent - reserve;
   if (left <= 0) {
     count("cycle_budget_spent");
     return std::nullopt;

@@ -12,7 +12,7 @@ void PlannerCore::plan_with_guidance(const Problem& pb, const std::vector<double
                                      const std::vector<double>& warm_lambda, const evade::odometry_t& odom, double v0,
                                      double w0) {
   const auto t0 = std::chrono::steady_clock::now();
-  SolveStart previous{warm_u, p_.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_};
+  SolveStart previous{warm_u, p_.solver.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_};
   const TopologyOutcome o = topology_.plan(pb, previous, braking_controls(v0, w0));
   count("guidance_classes", o.classes);
   if (o.switched) count("guidance_switch");

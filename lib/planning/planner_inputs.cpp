@@ -52,7 +52,7 @@ void PlannerCore::start_new_epoch(const evade::odometry_t& odom) {
   maps_.clear();
   static_field_.reset();
   first_seen_.clear();
-  history_ = CurveFitHistory(p_.curvefit_degree, p_.curvefit_window_s);
+  history_ = CurveFitHistory(p_.curvefit.degree, p_.curvefit.window_s);
   settled_ = SettledMemory(p_.detour.memory_s);
   prev_u_.clear();
   prev_utime_ = -1;

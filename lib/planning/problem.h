@@ -24,13 +24,30 @@
 #include <memory>
 #include <vector>
 
+#include "config/fields.h"
+
 namespace evade::planning {
 
+// `planner.weights`: the diagonal Q, P, R, S of the cost; the defaults are
+// config/robot.yaml's.
 struct Weights {
-  double q_xy = 0, q_yaw = 0;   // stage state weights (Q diagonal)
-  double p_xy = 0, p_yaw = 0;   // terminal state weights (P diagonal)
-  double r_v = 0, r_omega = 0;  // control weights (R diagonal)
-  double s_v = 0, s_omega = 0;  // control-rate weights (S diagonal)
+  double q_xy = 10.0, q_yaw = 1.0;  // stage state weights (Q diagonal)
+  double p_xy = 20.0, p_yaw = 2.0;  // terminal state weights (P diagonal)
+  double r_v = 0.1, r_omega = 0.1;  // control weights (R diagonal)
+  double s_v = 1.0, s_omega = 1.0;  // control-rate weights (S diagonal)
+
+  template <class V>
+  void fields(V& v) {
+    const config::Range r = config::between(0, 1e6);
+    v.field("q_xy", q_xy, r);
+    v.field("q_yaw", q_yaw, r);
+    v.field("p_xy", p_xy, r);
+    v.field("p_yaw", p_yaw, r);
+    v.field("r_v", r_v, r);
+    v.field("r_omega", r_omega, r);
+    v.field("s_v", s_v, r);
+    v.field("s_omega", s_omega, r);
+  }
 };
 
 struct Limits {

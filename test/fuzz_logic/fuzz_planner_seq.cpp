@@ -13,7 +13,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const planning::PlannerParams params = [] {
     planning::PlannerParams p = planning::PlannerParams::from_config(
         config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
-    p.max_cycle_iterations = std::min(p.max_cycle_iterations, 200);  // bounded time per cycle under the sanitizers
+    p.solver.max_cycle_iterations =
+        std::min(p.solver.max_cycle_iterations, 200);  // bounded time per cycle under the sanitizers
     return p;
   }();
   fuzz::Bytes in(data, size);

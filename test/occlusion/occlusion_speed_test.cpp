@@ -7,16 +7,13 @@
 
 #include <cmath>
 
-#include "bus/memory_bus.h"
+#include "../planning/drive_harness.h"
 #include "config/config.h"
-#include "evade/cmd_vel_t.hpp"
 #include "evade/hidden_region_list_t.hpp"
-#include "evade/odometry_t.hpp"
 #include "evade/path_t.hpp"
 #include "evade/plan_t.hpp"
 #include "evade/prediction_list_t.hpp"
 #include "planning/params.h"
-#include "planning/planner_core.h"
 
 namespace evade::planning {
 namespace {
@@ -57,55 +54,37 @@ struct Sample {
   double bound;         // the stopping-safe speed there (at least min_speed_mps)
 };
 
-// The robot drives a 12 m route past the van for 30 s, following CMD_VEL exactly;
-// one sample per plan.
+// The robot drives a 12 m route past the van for 30 s, following CMD_VEL
+// exactly (DriveHarness); one sample per plan.
 std::vector<Sample> drive_past_van(const PlannerParams& p, bool with_region) {
-  bus::MemoryBus bus;
-  PlannerCore core(p);
-  bus.add(core);
+  testing::DriveHarness loop(p);
+  const testing::RobotState& robot = loop.robot();
   evade::path_t route{};
   route.n = 2;
   route.x = {0.0, 12.0};
   route.y = {0.0, 0.0};
-  const int64_t t0 = 1'000'000;
-  bus.inject("ROUTE", route, t0);
-  double x = 0, y = 0, yaw = 0, v = 0, w = 0;
+  loop.bus().inject("ROUTE", route, testing::DriveHarness::kStartUs);
   double reach = 0;
   for (double o : p.footprint.offsets) reach = std::max(reach, std::fabs(o));
   reach += p.footprint.radius;
   std::vector<Sample> out;
-  for (int i = 0; i * 0.02 < 30.0; ++i) {
-    const int64_t now = t0 + int64_t(std::llround(i * 0.02 * 1e6));
-    if (i % 5 == 0) {
-      evade::prediction_list_t none{};
-      none.utime = now;
-      none.dt = 0.1;
-      none.horizon = 26;
-      if (with_region) bus.inject("OCCLUSIONS", van_shadow(x, now), now);
-      bus.inject("OBSTACLE_PREDICTIONS", none, now);
-    }
-    evade::odometry_t o{};
-    o.utime = now;
-    o.x = x, o.y = y, o.yaw = yaw, o.v = v, o.omega = w;
-    bus.inject("ODOMETRY", o, now);
-    for (const auto& e : bus.take_published()) {
-      if (e.channel == "CMD_VEL") {
-        evade::cmd_vel_t c{};
-        bus::decode(e.data.data(), e.data.size(), &c);
-        v = c.v, w = c.omega;
-      } else if (e.channel == "PLAN") {
-        evade::plan_t pl{};
-        bus::decode(e.data.data(), e.data.size(), &pl);
-        if (pl.horizon < 1 || pl.v.empty()) continue;
-        const double d = distance_to_exit_ahead(van_shadow(x, now).regions[0], pl.x[0], pl.y[0], pl.yaw[0]);
+  loop.run(
+      30.0,
+      [&](const testing::DriveHarness::Step& s) {
+        if (s.i % 5 != 0) return;
+        evade::prediction_list_t none{};
+        none.utime = s.now;
+        none.dt = 0.1;
+        none.horizon = 26;
+        if (with_region) loop.bus().inject("OCCLUSIONS", van_shadow(robot.x, s.now), s.now);
+        loop.bus().inject("OBSTACLE_PREDICTIONS", none, s.now);
+      },
+      [&](const evade::plan_t& pl, const testing::DriveHarness::Step& s) {
+        if (pl.horizon < 1 || pl.v.empty()) return;
+        const double d = distance_to_exit_ahead(van_shadow(robot.x, s.now).regions[0], pl.x[0], pl.y[0], pl.yaw[0]);
         const double bound = std::isfinite(d) ? stopping_safe_speed(p.occlusion, p.limits.decel, d - reach) : 1e9;
         out.push_back({pl.x[0], pl.y[0], pl.yaw[0], pl.v[0], std::max(bound, p.occlusion.min_speed_mps)});
-      }
-    }
-    x += v * std::cos(yaw) * 0.02;
-    y += v * std::sin(yaw) * 0.02;
-    yaw += w * 0.02;
-  }
+      });
   return out;
 }
 

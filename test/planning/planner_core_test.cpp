@@ -13,6 +13,7 @@
 #include "bus/log_replay.h"
 #include "bus/memory_bus.h"
 #include "config/config.h"
+#include "drive_harness.h"
 #include "evade/cmd_vel_t.hpp"
 #include "evade/obstacle_list_t.hpp"
 #include "evade/odometry_t.hpp"
@@ -98,7 +99,6 @@ double footprint_h(const PlannerParams& p, double x, double y, double yaw, doubl
 struct RunResult {
   double min_h = 1e9;  // true clearance of the footprint's discs beyond d_safe over the run
   double final_x = 0, final_y = 0;
-  double max_abs_y = 0;
   int plans = 0, ok = 0, nan = 0;
   int64_t restarts_skipped = 0;  // HEALTH counter restart_skipped at the end
   int64_t detour_movers = 0;     // HEALTH counter detour_movers at the end
@@ -107,63 +107,42 @@ struct RunResult {
   std::vector<double> robot_y;  // per plan
 };
 
-// Closed loop: odometry at 50 Hz, OBSTACLES and their predictions at 10 Hz,
-// the robot follows CMD_VEL exactly (unicycle).
+// Closed loop (DriveHarness): odometry at 50 Hz, OBSTACLES and their
+// predictions at 10 Hz, the robot follows CMD_VEL exactly (unicycle).
 RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double duration_s, double route_end = 12.0,
               double x0 = 0.0, double y0 = 0.0) {
-  bus::MemoryBus bus;
-  PlannerCore core(p);
-  bus.add(core);
+  testing::RobotState start;
+  start.x = x0;
+  start.y = y0;
+  testing::DriveHarness loop(p, start);
+  const testing::RobotState& robot = loop.robot();
   RunResult out;
-  double x = x0, y = y0, yaw = 0, v = 0, w = 0;
-  const int64_t t0 = 1'000'000;
-  bus.inject("ROUTE", straight_route(0.0, route_end), t0);
-  for (int i = 0; i * 0.02 < duration_s; ++i) {
-    const double t = i * 0.02;
-    const int64_t now = t0 + static_cast<int64_t>(std::llround(t * 1e6));
-    if (i % 5 == 0) {
-      bus.inject("OBSTACLES", observed(obs, now, t), now);
-      bus.inject("OBSTACLE_PREDICTIONS", predictions(obs, now, t), now);
-    }
-    evade::odometry_t o{};
-    o.utime = now;
-    o.x = x;
-    o.y = y;
-    o.yaw = yaw;
-    o.v = v;
-    o.omega = w;
-    bus.inject("ODOMETRY", o, now);
-    for (const auto& e : bus.take_published()) {
-      if (e.channel == "CMD_VEL") {
-        evade::cmd_vel_t c{};
-        bus::decode(e.data.data(), e.data.size(), &c);
-        if (!std::isfinite(c.v) || !std::isfinite(c.omega)) ++out.nan;
-        v = c.v;
-        w = c.omega;
-      } else if (e.channel == "PLAN") {
-        evade::plan_t pl{};
-        bus::decode(e.data.data(), e.data.size(), &pl);
+  loop.bus().inject("ROUTE", straight_route(0.0, route_end), testing::DriveHarness::kStartUs);
+  loop.run(
+      duration_s,
+      [&](const testing::DriveHarness::Step& s) {
+        if (s.i % 5 != 0) return;
+        loop.bus().inject("OBSTACLES", observed(obs, s.now, s.t), s.now);
+        loop.bus().inject("OBSTACLE_PREDICTIONS", predictions(obs, s.now, s.t), s.now);
+      },
+      [&](const evade::plan_t& pl, const testing::DriveHarness::Step&) {
         ++out.plans;
         if (pl.status == evade::plan_t::STATUS_OK) ++out.ok;
         out.plan_log.push_back(pl);
-        out.robot_y.push_back(y);
-      }
-    }
-    // true clearance beyond d_safe
-    for (const auto& ob : obs) {
-      const double ox = ob.x + ob.vx * t, oy = ob.y + ob.vy * t;
-      out.min_h = std::min(out.min_h, footprint_h(p, x, y, yaw, ox, oy, ob.radius));
-    }
-    x += v * std::cos(yaw) * 0.02;
-    y += v * std::sin(yaw) * 0.02;
-    yaw += w * 0.02;
-    out.max_abs_y = std::max(out.max_abs_y, std::fabs(y));
-  }
-  out.final_x = x;
-  out.final_y = y;
-  out.restarts_skipped = core.counter("restart_skipped");
-  out.detour_movers = core.counter("detour_movers");
-  out.detour = core.counter("detour");
+        out.robot_y.push_back(robot.y);
+      },
+      [&](const testing::DriveHarness::Step& s) {  // true clearance beyond d_safe
+        for (const auto& ob : obs) {
+          const double ox = ob.x + ob.vx * s.t, oy = ob.y + ob.vy * s.t;
+          out.min_h = std::min(out.min_h, footprint_h(p, robot.x, robot.y, robot.yaw, ox, oy, ob.radius));
+        }
+      });
+  out.nan = loop.nonfinite_commands();
+  out.final_x = robot.x;
+  out.final_y = robot.y;
+  out.restarts_skipped = loop.core().counter("restart_skipped");
+  out.detour_movers = loop.core().counter("detour_movers");
+  out.detour = loop.core().counter("detour");
   return out;
 }
 
@@ -483,14 +462,14 @@ TEST(PlannerCore, NoCycleSpendsMoreCeresIterationsThanItsBudget) {
   }
   obs.push_back({1.0, 0.6, 0.0, 0.0, 0.2, 0.1});  // a start inside d_safe: the relaxed solve runs too
   PlannerParams unbounded = default_params();
-  unbounded.max_cycle_iterations = 1'000'000;
+  unbounded.solver.max_cycle_iterations = 1'000'000;
   int most = 0;
   for (const auto& pl : run(unbounded, obs, 2.0).plan_log) most = std::max(most, static_cast<int>(pl.iterations));
   const int budget = default_params().solver.max_total_iterations + 10;
   ASSERT_GT(most, budget) << "the premise: a cycle that runs more than one solve";
   for (int b : {budget, 5, 1}) {
     PlannerParams p = default_params();
-    p.max_cycle_iterations = b;
+    p.solver.max_cycle_iterations = b;
     RunResult r = run(p, obs, 2.0);
     ASSERT_FALSE(r.plan_log.empty());
     EXPECT_EQ(r.nan, 0);
@@ -661,7 +640,7 @@ TEST(Modes, EachModeBuildsItsConstraintFromItsOwnInput) {
   const int N = p.horizon_steps;
   const auto pred = predictions({{2.5, 1.0, -1.0, 0.0, 0.4, 0.1}}, 1'000'000, 0.0);
   const auto obs = observed({{2.0, 0.0, 0.0, 0.0, 0.3}}, 1'000'000, 0.0);
-  CurveFitHistory hist(p.curvefit_degree, p.curvefit_window_s);
+  CurveFitHistory hist(p.curvefit.degree, p.curvefit.window_s);
   hist.add(obs);
   const int64_t t_plan = 1'050'000;  // 0.05 s after both
   auto build = [&](Mode m) {

@@ -177,7 +177,7 @@ TEST(CeresSolver, FromRestThePlanAcceleratesAtTheLimit) {
   for (LineSearchInterpolation ls :
        {LineSearchInterpolation::kBisection, LineSearchInterpolation::kQuadratic, LineSearchInterpolation::kCubic}) {
     SolverOptions o = opts();
-    o.line_search = ls;
+    o.line_search_interpolation = ls;
     const SolveResult r = CeresMpcSolver(o).solve(pb, std::vector<double>(2 * pb.N, 0.0));
     ASSERT_TRUE(r.feasible) << static_cast<int>(ls);
     for (int k = 0; k < 7; ++k)
@@ -262,7 +262,7 @@ TEST(CeresSolver, RelaxationExcusesNothingOfAMoverOutsideDSafe) {
   // counted as static (threshold above its 1 m/s): its swelling, which
   // takes h from 0.4 to -0.2 at the robot's place, is excused...
   SolverOptions slow = opts();
-  slow.relax_max_obstacle_speed = 2.0;
+  slow.relax_max_obstacle_speed_mps = 2.0;
   const std::vector<double> held = barrier_relaxation(pb, slow);
   EXPECT_GT(*std::max_element(held.begin(), held.end()), 0.0);
   // ...but not while the track is new: its velocity is not known yet

@@ -13,6 +13,7 @@
 #include "bus/log.h"
 #include "bus/memory_bus.h"
 #include "config/config.h"
+#include "drive_harness.h"
 #include "evade/cmd_vel_t.hpp"
 #include "evade/grid_map_t.hpp"
 #include "evade/obstacle_list_t.hpp"
@@ -151,7 +152,7 @@ struct DoorRun {
   int64_t stale = 0, fields = 0;
 };
 
-// Closed loop as planner_core_test: odometry at 50 Hz, the map, OBSTACLES
+// Closed loop (DriveHarness): odometry at 50 Hz, the map, OBSTACLES
 // and predictions at 10 Hz (maps only before `maps_until_s`), the robot
 // follows CMD_VEL exactly.
 // `cart`: a 1.2 x 0.4 m box at (1.5, 2.0) that rolls at 0.5 m/s along x
@@ -161,63 +162,41 @@ DoorRun run_door(const PlannerParams& p, double gap, double duration_s, double m
   std::vector<Box> boxes = doorway(gap);
   std::vector<Ellipse> es = tiles(boxes);
   const size_t walls = boxes.size(), tiles_n = es.size();
-  bus::MemoryBus bus;
-  PlannerCore core(p);
-  bus.add(core);
+  testing::DriveHarness loop(p);
+  const testing::RobotState& robot = loop.robot();
   DoorRun out;
-  double x = 0, y = 0, yaw = 0, v = 0, w = 0;
-  const int64_t t0 = 1'000'000;
+  const int64_t t0 = testing::DriveHarness::kStartUs;
   evade::path_t route;
   route.n = 2;
   route.x = {0.0, 7.0};
   route.y = {0.0, 0.0};
-  bus.inject("ROUTE", route, t0);
+  loop.bus().inject("ROUTE", route, t0);
   const evade::grid_map_t truth = map_of(boxes, t0);
-  for (int i = 0; i * 0.02 < duration_s; ++i) {
-    const double t = i * 0.02;
-    const int64_t now = t0 + std::llround(t * 1e6);
-    if (i % 5 == 0) {
-      boxes.resize(walls);
-      es.resize(tiles_n);
-      double cart_v = 0.0;
-      if (cart_stops_s >= 0) {
-        cart_v = t < cart_stops_s ? 0.5 : 0.0;
-        const double cx = 1.5 + 0.5 * std::min(t, cart_stops_s);
-        boxes.push_back({cx - 0.6, cx + 0.6, 1.8, 2.2});
-        es.push_back({cx, 2.0, 0.85, 0.28, 0.0});
-      }
-      if (t < maps_until_s) bus.inject("ELEVATION_MAP", map_of(boxes, now), now);
-      bus.inject("OBSTACLES", observed_of(es, now), now);
-      evade::prediction_list_t pred = predictions_of(es, now);
-      if (cart_stops_s >= 0) pred.tracks.back().vx = cart_v;
-      bus.inject("OBSTACLE_PREDICTIONS", pred, now);
-    }
-    evade::odometry_t o{};
-    o.utime = now;
-    o.x = x;
-    o.y = y;
-    o.yaw = yaw;
-    o.v = v;
-    o.omega = w;
-    bus.inject("ODOMETRY", o, now);
-    for (const auto& e : bus.take_published()) {
-      if (e.channel == "CMD_VEL") {
-        evade::cmd_vel_t c{};
-        bus::decode(e.data.data(), e.data.size(), &c);
-        v = c.v;
-        w = c.omega;
-      } else if (e.channel == "PLAN") {
-        evade::plan_t pl{};
-        bus::decode(e.data.data(), e.data.size(), &pl);
-        out.plans.push_back(pl);
-      }
-    }
-    if (std::fabs(x - 3.1) < 1.0)
-      out.min_body_clearance = std::min(out.min_body_clearance, disc_clearance(truth, p.footprint, x, y, yaw));
-    x += v * std::cos(yaw) * 0.02;
-    y += v * std::sin(yaw) * 0.02;
-    yaw += w * 0.02;
-  }
+  loop.run(
+      duration_s,
+      [&](const testing::DriveHarness::Step& s) {
+        if (s.i % 5 != 0) return;
+        boxes.resize(walls);
+        es.resize(tiles_n);
+        double cart_v = 0.0;
+        if (cart_stops_s >= 0) {
+          cart_v = s.t < cart_stops_s ? 0.5 : 0.0;
+          const double cx = 1.5 + 0.5 * std::min(s.t, cart_stops_s);
+          boxes.push_back({cx - 0.6, cx + 0.6, 1.8, 2.2});
+          es.push_back({cx, 2.0, 0.85, 0.28, 0.0});
+        }
+        if (s.t < maps_until_s) loop.bus().inject("ELEVATION_MAP", map_of(boxes, s.now), s.now);
+        loop.bus().inject("OBSTACLES", observed_of(es, s.now), s.now);
+        evade::prediction_list_t pred = predictions_of(es, s.now);
+        if (cart_stops_s >= 0) pred.tracks.back().vx = cart_v;
+        loop.bus().inject("OBSTACLE_PREDICTIONS", pred, s.now);
+      },
+      [&](const evade::plan_t& pl, const testing::DriveHarness::Step&) { out.plans.push_back(pl); },
+      [&](const testing::DriveHarness::Step&) {
+        if (std::fabs(robot.x - 3.1) < 1.0)
+          out.min_body_clearance =
+              std::min(out.min_body_clearance, disc_clearance(truth, p.footprint, robot.x, robot.y, robot.yaw));
+      });
   for (const auto& pl : out.plans) {
     if (pl.status != evade::plan_t::STATUS_OK) continue;
     for (size_t k = 1; k < pl.x.size(); ++k)
@@ -225,9 +204,9 @@ DoorRun run_door(const PlannerParams& p, double gap, double duration_s, double m
         out.min_plan_clearance =
             std::min(out.min_plan_clearance, disc_clearance(truth, p.footprint, pl.x[k], pl.y[k], pl.yaw[k]));
   }
-  out.final_x = x;
-  out.stale = core.counter("static_map_stale");
-  out.fields = core.counter("static_field");
+  out.final_x = robot.x;
+  out.stale = loop.core().counter("static_map_stale");
+  out.fields = loop.core().counter("static_field");
   return out;
 }
 

@@ -8,9 +8,6 @@
 
 namespace evade::planning::testing {
 
-// robot.yaml's weights (test_config_sections pins the C++ defaults to it).
-inline Weights default_weights() { return PlannerParams::default_weights(); }
-
 inline Limits default_limits() {
   Limits l;
   l.v_min = 0.0;
@@ -34,7 +31,7 @@ inline Problem straight_problem(double x0, double y0, double yaw0, double v0, do
   pb.yaw0 = yaw0;
   pb.v_prev = v0;
   pb.omega_prev = 0;
-  pb.w = default_weights();
+  pb.w = Weights{};  // robot.yaml's (test_config_sections pins the C++ defaults to it)
   pb.lim = default_limits();
   pb.d_safe = 0.3;
   for (int k = 0; k <= N; ++k) {
