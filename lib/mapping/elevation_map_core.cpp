@@ -24,7 +24,7 @@ ElevationMapCore::ElevationMapCore(const ElevationMapParams& params)
   subscribe<evade::pointcloud_t>("LIDAR_POINTS", [this](const evade::pointcloud_t& m) { on_cloud(m); });
 }
 
-std::unique_ptr<bus::Core> ElevationMapCore::from_config(const config::Node& root) {
+std::unique_ptr<ElevationMapCore> ElevationMapCore::from_config(const config::Node& root) {
   return std::make_unique<ElevationMapCore>(ElevationMapParams::from_config(root.section("elevation_map")));
 }
 

@@ -14,7 +14,7 @@ namespace evade::mapping {
 class ElevationMapCore : public bus::Core {
  public:
   explicit ElevationMapCore(const ElevationMapParams& params);
-  static std::unique_ptr<bus::Core> from_config(const config::Node& root);
+  static std::unique_ptr<ElevationMapCore> from_config(const config::Node& root);
 
  private:
   void on_odometry(const evade::odometry_t& m);

@@ -67,7 +67,7 @@ SimCore::SimCore(const Scenario& scenario, const SimParams& params)
     throw std::invalid_argument("sim.robot_body_height_m must be below the LiDAR (scenario lidar.height)");
   make_lidar_simulator(scenario_.lidar.model, lidar_params_, 0);  // refuses what it cannot simulate, now
 
-  every(params_.lidar_period_us, [this] {
+  every(params_.lidar_send_period_us, [this] {
     start(now());
     send_due_packets();
   });

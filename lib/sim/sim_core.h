@@ -7,7 +7,7 @@
 // the Scout status bytes (written to the pty). Tests run it on a MemoryBus.
 //
 // Timers: LiDAR packets (each with the port it goes to) are produced as soon as their last firing is past
-// (checked every lidar_period_us); Scout system + motion status every
+// (checked every lidar_send_period_us); Scout system + motion status every
 // status_period_us; SIM_TRUTH every truth_period_us; HEALTH every second.
 #pragma once
 
@@ -43,7 +43,7 @@ struct SimParams {
 
   int64_t truth_period_us = 20'000;
   int64_t status_period_us = 20'000;
-  int64_t lidar_period_us = 1'000;
+  int64_t lidar_send_period_us = 1'000;
   // A LiDAR more than this behind (a stalled process) drops the packets it
   // missed instead of sending them in a burst.
   int64_t lidar_max_lag_us = 100'000;
@@ -78,7 +78,7 @@ struct SimParams {
     v.field("robot_body_height_m", robot_body_height_m, config::between(0.0, 10.0));
     v.convert("truth_rate_hz", truth_period_us, config::hz_as_period_us(config::between(1.0, 10000.0)));
     v.convert("status_rate_hz", status_period_us, config::hz_as_period_us(config::between(1.0, 10000.0)));
-    v.convert("lidar_send_period_s", lidar_period_us, config::seconds_as_us_rounded(config::between(1e-4, 0.01)));
+    v.convert("lidar_send_period_s", lidar_send_period_us, config::seconds_as_us_rounded(config::between(1e-4, 0.01)));
     v.convert("lidar_max_lag_s", lidar_max_lag_us, config::seconds_as_us_rounded(config::between(0.01, 1.0)));
     v.convert("physics_step_s", physics_step_us, config::seconds_as_us_rounded(config::between(1e-5, 0.01)));
     v.convert("command_timeout_s", command_timeout_us, config::seconds_as_us_rounded(config::positive()));

@@ -19,6 +19,10 @@ TeleopCore::TeleopCore(const TeleopParams& params) : bus::Core("teleop"), params
   every(period_us(params.rate_hz), [this] { tick(); });
 }
 
+std::unique_ptr<TeleopCore> TeleopCore::from_config(const config::Node& root) {
+  return std::make_unique<TeleopCore>(TeleopParams::from_config(root));
+}
+
 bool TeleopCore::on_key(char key) {
   switch (key) {
     case 'w':
@@ -64,6 +68,11 @@ void TeleopCore::send() {
   m.v = v_;
   m.omega = omega_;
   publish("CMD_VEL", m);
+}
+
+std::unique_ptr<EstopCore> EstopCore::from_config(const config::Node& root, bool engaged, std::string reason,
+                                                  bool hold) {
+  return std::make_unique<EstopCore>(TeleopParams::from_config(root), engaged, std::move(reason), hold);
 }
 
 EstopCore::EstopCore(const TeleopParams& params, bool engaged, std::string reason, bool hold)

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "bus/core.h"
@@ -47,6 +48,8 @@ struct TeleopParams {
 class TeleopCore : public bus::Core {
  public:
   explicit TeleopCore(const TeleopParams& params);
+  // The core from the whole configuration (reads `teleop:`).
+  static std::unique_ptr<TeleopCore> from_config(const config::Node& root);
   // Inside Core::input: one key press. False for a key it does not know.
   bool on_key(char key);
   void stop();
@@ -66,6 +69,8 @@ class TeleopCore : public bus::Core {
 class EstopCore : public bus::Core {
  public:
   EstopCore(const TeleopParams& params, bool engaged, std::string reason, bool hold);
+  // The core from the whole configuration (reads `teleop:`) and the command line's choices.
+  static std::unique_ptr<EstopCore> from_config(const config::Node& root, bool engaged, std::string reason, bool hold);
   bool done() const { return !hold_ && sent_ >= params_.estop_repeats; }
   int sent() const { return sent_; }
 

@@ -8,7 +8,7 @@ TrackerCore::TrackerCore(const TrackerParams& params) : bus::Core("tracker"), tr
   subscribe<evade::grid_map_t>("ELEVATION_MAP", [this](const evade::grid_map_t& m) { on_map(m); });
 }
 
-std::unique_ptr<bus::Core> TrackerCore::from_config(const config::Node& root) {
+std::unique_ptr<TrackerCore> TrackerCore::from_config(const config::Node& root) {
   return std::make_unique<TrackerCore>(TrackerParams::from_config(root.section("tracker")));
 }
 

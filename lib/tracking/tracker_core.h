@@ -12,7 +12,7 @@ namespace evade::tracking {
 class TrackerCore : public bus::Core {
  public:
   explicit TrackerCore(const TrackerParams& params);
-  static std::unique_ptr<bus::Core> from_config(const config::Node& root);
+  static std::unique_ptr<TrackerCore> from_config(const config::Node& root);
   const Tracker& tracker() const { return tracker_; }
   static constexpr double kMaxEpsCells = 20.0;
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 
 #include "config/fields.h"
@@ -96,6 +97,25 @@ void leaf_lines(const YAML::Node& map, std::vector<int>* out) {
   }
 }
 
+// Each line past the file's header (its leading '#' lines) that holds only
+// a comment, as "path:line: text" lines: a key's comment is one line, on
+// the key's own line.
+std::string comment_lines_past_header(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> text;
+  for (std::string l; std::getline(in, l);) text.push_back(l);
+  if (text.empty()) return path + ": cannot read";
+  size_t header = 0;
+  while (header < text.size() && text[header].rfind("#", 0) == 0) ++header;
+  std::string out;
+  for (size_t i = header; i < text.size(); ++i) {
+    const size_t hash = text[i].find('#');
+    if (hash != std::string::npos && text[i].find_first_not_of(' ') == hash)
+      out += path + ":" + std::to_string(i + 1) + ": " + text[i] + "\n";
+  }
+  return out;
+}
+
 TEST(RobotYamlComments, EveryKeyHasOneCommentOnItsLine) {
   std::ifstream in(kRobotYaml);
   std::vector<std::string> text;
@@ -106,14 +126,16 @@ TEST(RobotYamlComments, EveryKeyHasOneCommentOnItsLine) {
   for (int line : leaves)
     EXPECT_NE(text[size_t(line)].find(" # "), std::string::npos)
         << "robot.yaml:" << line + 1 << ": no comment: " << text[size_t(line)];
-  // Past the file's header, no comment continues on a line of its own.
-  size_t header = 0;
-  while (header < text.size() && text[header].rfind("#", 0) == 0) ++header;
-  for (size_t i = header; i < text.size(); ++i) {
-    const size_t hash = text[i].find('#');
-    if (hash != std::string::npos)
-      EXPECT_NE(text[i].find_first_not_of(' '), hash) << "robot.yaml:" << i + 1 << ": " << text[i];
-  }
+  EXPECT_EQ(comment_lines_past_header(kRobotYaml), "");
+}
+
+TEST(RobotYamlComments, TheFamiliesFileHasNoCommentOnALineOfItsOwn) {
+  EXPECT_EQ(comment_lines_past_header(std::string(EVADE_SOURCE_DIR) + "/config/scenario_families.yaml"), "");
+  // the check sees a continued comment
+  const std::string path = ::testing::TempDir() + "/continued.yaml";
+  std::ofstream(path) << "# header\n\na: 1  # one\n     # and more\nb: 2  # two\n";
+  EXPECT_EQ(comment_lines_past_header(path), path + ":4:      # and more\n");
+  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <type_traits>
 
 #include "bus/memory_bus.h"
 #include "mapping/elevation_map.h"
@@ -37,6 +38,16 @@ TEST(Config, RobotYamlSectionLoadsAndMatchesTestDefaults) {
   EXPECT_DOUBLE_EQ(p.sobel_max, d.sobel_max);
   EXPECT_DOUBLE_EQ(p.laplace_max_per_m, d.laplace_max_per_m);
   EXPECT_DOUBLE_EQ(p.step_max_m, d.step_max_m);
+}
+
+// The core's factory takes the whole configuration and returns the core's
+// own class, as every core's does (CONTRIBUTING.md, "Add a process").
+TEST(Config, TheFactoryBuildsTheCoreFromTheWholeConfig) {
+  const auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  static_assert(std::is_same_v<decltype(ElevationMapCore::from_config(root)), std::unique_ptr<ElevationMapCore>>);
+  const std::unique_ptr<ElevationMapCore> core = ElevationMapCore::from_config(root);
+  ASSERT_NE(core, nullptr);
+  EXPECT_EQ(core->name(), "elevation_map");
 }
 
 TEST(Config, UnknownKeyIsAnError) {

@@ -124,6 +124,26 @@ TEST(Estop, SignedItStopsABaseThatTeleopIsDriving) {
   EXPECT_GT(base.counter("cmd_vel_during_estop"), 10);
 }
 
+// Both cores come from the whole configuration, as every core does
+// (CONTRIBUTING.md, "Add a process"), with its `teleop:` section's values.
+TEST(TeleopConfig, TheFactoriesBuildTheCoresFromTheWholeConfig) {
+  const auto root = config::load_string(
+      "teleop: {rate_hz: 20, linear_step_mps: 0.1, angular_step_radps: 0.2, max_v_mps: 0.5, "
+      "max_omega_radps: 1, hold_s: 0.6, estop_rate_hz: 20, estop_repeats: 3}\n",
+      "t.yaml");
+  const std::unique_ptr<TeleopCore> teleop = TeleopCore::from_config(root);
+  EXPECT_EQ(teleop->name(), "teleop");
+  const std::unique_ptr<EstopCore> estop = EstopCore::from_config(root, true, "test", false);
+  EXPECT_EQ(estop->name(), "estop");
+  bus::MemoryBus bus;
+  bus.add(*estop);
+  run_to(bus, 0, 1'000'000);
+  const auto stops = bus.decoded<evade::estop_t>("ESTOP");
+  ASSERT_EQ(stops.size(), 3u);                         // estop_repeats
+  EXPECT_EQ(stops[1].utime - stops[0].utime, 50'000);  // estop_rate_hz
+  EXPECT_TRUE(estop->done());
+}
+
 TEST(TeleopConfig, RobotYamlLoadsAndTheSectionIsStrict) {
   const auto root = config::load_robot_config(config::default_config_path());
   const TeleopParams p = TeleopParams::from_config(root);

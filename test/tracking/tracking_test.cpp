@@ -11,6 +11,7 @@
 #include <numeric>
 #include <random>
 #include <set>
+#include <type_traits>
 
 #include "bus/memory_bus.h"
 #include "tracking/tracker.h"
@@ -295,6 +296,16 @@ TEST(Config, RobotYamlTrackerSectionLoads) {
   EXPECT_EQ(p.max_missed_frames, d.max_missed_frames);
   EXPECT_EQ(p.shape_history_frames, d.shape_history_frames);
   EXPECT_EQ(p.large_cluster, d.large_cluster);
+}
+
+// The core's factory takes the whole configuration and returns the core's
+// own class, as every core's does (CONTRIBUTING.md, "Add a process").
+TEST(Config, TheFactoryBuildsTheCoreFromTheWholeConfig) {
+  const auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
+  static_assert(std::is_same_v<decltype(TrackerCore::from_config(root)), std::unique_ptr<TrackerCore>>);
+  const std::unique_ptr<TrackerCore> core = TrackerCore::from_config(root);
+  ASSERT_NE(core, nullptr);
+  EXPECT_EQ(core->name(), "tracker");
 }
 
 // A 10 x 10 m grid at 0.1 m with discs painted in (their full footprint).

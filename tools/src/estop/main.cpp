@@ -10,6 +10,7 @@
 // when the stop must outlive one.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
 
 #include "bus/live_bus.h"
 #include "bus/process_main.h"
@@ -29,14 +30,14 @@ int main(int argc, char** argv) {
   app.add_option("--reason", reason, "free text, recorded in the message");
   CLI11_PARSE(app, argc, argv);
   const evade::config::Node root = bus::load_config_or_exit(kName, opts);
-  evade::teleop::TeleopParams params;
+  std::unique_ptr<evade::teleop::EstopCore> made;
   try {
-    params = evade::teleop::TeleopParams::from_config(root);
+    made = evade::teleop::EstopCore::from_config(root, !release, reason, hold);
   } catch (const evade::config::ConfigError& e) {
     std::fprintf(stderr, "%s: %s\n", kName, e.what());
     return 2;
   }
-  evade::teleop::EstopCore core(params, !release, reason, hold);
+  evade::teleop::EstopCore& core = *made;
   const auto auth = bus::authenticate_or_exit(kName, root, core, /*publishes_signed=*/true);
   try {
     bus::LiveBus live(opts.lcm_url.empty() ? bus::default_lcm_url() : opts.lcm_url);

@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
 
 #include "bus/live_bus.h"
 #include "bus/process_main.h"
@@ -51,14 +52,14 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", opts.lcm_url, "LCM URL (default $LCM_DEFAULT_URL, else host-local udpm)");
   CLI11_PARSE(app, argc, argv);
   const evade::config::Node root = bus::load_config_or_exit(kName, opts);
-  evade::teleop::TeleopParams params;
+  std::unique_ptr<evade::teleop::TeleopCore> made;
   try {
-    params = evade::teleop::TeleopParams::from_config(root);
+    made = evade::teleop::TeleopCore::from_config(root);
   } catch (const evade::config::ConfigError& e) {
     std::fprintf(stderr, "%s: %s\n", kName, e.what());
     return 2;
   }
-  evade::teleop::TeleopCore core(params);
+  evade::teleop::TeleopCore& core = *made;
   const auto auth = bus::authenticate_or_exit(kName, root, core, /*publishes_signed=*/true);
   RawTerminal term;
   if (!term.ok()) {
