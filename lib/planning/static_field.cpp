@@ -147,7 +147,13 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
                                                       const std::vector<Ellipse>& keep, const StaticFieldParams& p) {
   if (!well_formed(map)) return nullptr;
   const int W = map.width, H = map.height;
-  const std::vector<char> site = static_sites(map, movers, keep, p.mover_margin_m);
+  std::vector<char> site = static_sites(map, movers, keep, p.mover_margin_m);
+  // structure only: a patch shorter than min_structure_m is left out
+  std::vector<float> extent = patch_extents(site, W, H);
+  for (size_t i = 0; i < site.size(); ++i) {
+    extent[i] *= static_cast<float>(map.resolution);
+    if (site[i] && extent[i] < p.min_structure_m - 1e-6) site[i] = 0, extent[i] = 0.0f;
+  }
   std::vector<char> free_site(site.size());
   int n = 0;
   for (size_t i = 0; i < site.size(); ++i) {
@@ -164,8 +170,7 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
   }
   auto out = std::make_shared<StaticField>();
   auto impl = std::make_shared<Impl>(map.origin[0], map.origin[1], res, std::move(signed_d), W, H);
-  impl->extent = patch_extents(site, W, H);
-  for (float& e : impl->extent) e *= static_cast<float>(res);
+  impl->extent = std::move(extent);
   out->impl_ = std::move(impl);
   out->static_cells_ = n;
   out->d_safe_ = p.d_safe_m;
