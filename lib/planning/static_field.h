@@ -8,8 +8,9 @@
 // ELEVATION_MAP and builds, each cycle, the Euclidean distance transform
 // of the obstacle cells, less the cells of the moving tracks: a cell
 // inside a moving track's current ellipse grown by `mover_margin_m` is not
-// static (unless it lies inside a static track's ellipse too: what is both
-// stays static), nor is a cell of an 8-connected patch shorter than
+// static (unless it lies inside the ellipse of a static track that holds
+// structure without the movers' cells: a wall a walker passes keeps its
+// cells), nor is a cell of an 8-connected patch shorter than
 // `min_structure_m` (a person, a bin, a mover's stray cells: structure is
 // walls, door frames, parked cars). A track is static when it is slower
 // than `max_speed_mps` and tracked at least `min_track_age_s`; static
@@ -71,8 +72,9 @@ struct Ellipse {
 class StaticField {
  public:
   // The field of `map`'s obstacle cells outside every `movers` ellipse
-  // grown by mover_margin_m (except those inside a `keep` ellipse) that lie
-  // in an 8-connected patch at least min_structure_m long. Null
+  // grown by mover_margin_m that lie in an 8-connected patch at least
+  // min_structure_m long; a mover's cells inside a `keep` ellipse that
+  // holds such a patch without them stay in. Null
   // when the map is malformed (sizes, resolution, non-finite origin).
   static std::shared_ptr<const StaticField> build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
                                                   const std::vector<Ellipse>& keep, const StaticFieldParams& p);

@@ -264,12 +264,11 @@ TEST(StaticField, SignedDistanceIsZeroOnTheCellsEdgeAndAMoversCellsAreLeftOut) {
   EXPECT_NEAR(f->distance(3.0, 0.05, &gx, &gy), 0.0, 0.02);
   EXPECT_LT(f->distance(3.1, 0.05, &gx, &gy), -0.04);  // inside: negative
   EXPECT_GT(f->distance(1.1, 0.05, &gx, &gy), 1.5);    // the mover's cells are not static
-  // the same box kept (inside a static track's ellipse) stays static
-  // (with no least structure: the box is 0.2 m)
-  StaticFieldParams any = sp;
-  any.min_structure_m = 0.0;
-  const auto g = StaticField::build(m, {mover}, {mover}, any);
-  EXPECT_LT(g->distance(1.1, 0.05, &gx, &gy), 0.0);
+  // a mover at the wall: the wall's cells inside a static track's ellipse
+  // that holds structure stay static
+  const Ellipse at_wall{3.1, 0.0, 0.15, 0.15, 0.0}, wall{3.1, 0.0, 6.0, 0.2, M_PI / 2};
+  EXPECT_GT(StaticField::build(m, {at_wall}, {}, sp)->distance(3.1, 0.05, &gx, &gy), 0.0);
+  EXPECT_LT(StaticField::build(m, {at_wall}, {wall}, sp)->distance(3.1, 0.05, &gx, &gy), 0.0);
 }
 
 TEST(StaticField, AJackalGoesThroughAGapOfItsWidthPlus30cmWhoseEdgesEllipsesCloseIt) {

@@ -149,6 +149,26 @@ TEST(StaticStructure, AMoversStrayCellsAndABinStandingAloneAreNoStructure) {
   EXPECT_EQ(s.field()->static_cells(), 2 * 120);
 }
 
+TEST(StaticStructure, AWalkerStandingBesideAnotherIsNoStructureButAWallAWalkerPassesIs) {
+  StaticStructure s{StaticFieldParams{}};
+  // two walkers side by side, 1.1 m of cells together: one standing (a
+  // wide ellipse, as a new track's, over most of the other), one walking
+  // off; and a third walking along the wall, touching it
+  const Box standing{-0.2, 0.3, 2.8, 3.2}, walking{0.3, 0.9, 2.8, 3.2}, by_wall{2.6, 3.0, -3.2, -2.8};
+  s.keep_map(map_of({kWall, standing, walking, by_wall}, kT0));
+  Scene sc;
+  sc.predictions.utime = kT0;
+  sc.add(1, kWallTile, 0.0);
+  sc.add(2, {0.05, 3.0, 0.8, 0.8, 0.0}, 0.0);
+  sc.add(3, {0.6, 3.0, 0.3, 0.3, 0.0}, 0.3);
+  sc.add(4, {2.8, -3.0, 0.25, 0.25, 0.0}, 0.5);
+  ASSERT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
+  EXPECT_FALSE(s.stands_for(2));  // the standing walker keeps its ellipse
+  EXPECT_GT(distance_at(s, 0.05, 3.0), 1.5);
+  EXPECT_TRUE(s.stands_for(1));
+  EXPECT_LT(distance_at(s, 3.05, -3.0), 0.0);  // the wall beside the walker is still wall
+}
+
 TEST(StaticStructure, AStaticTrackNotObservedNowKeepsItsEllipse) {
   StaticStructure s{StaticFieldParams{}};
   s.keep_map(map_of({kWall}, kT0));
