@@ -47,6 +47,7 @@ std::vector<double> shifted(const std::vector<double>& u, int steps) {
 
 PlannerCore::PlannerCore(PlannerParams params)
     : Core("planner"),
+      static_(params.static_field),
       p_(params),
       mode_(mode_spec(params.mode)),
       detour_(params.detour, params.d_safe_m + params.footprint.radius),
@@ -281,7 +282,7 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
         if (age_s >= p_.detour.min_mover_age_s && swept_in_grid(t, odom, &swept)) swept_movers.push_back(swept);
         continue;
       }
-      if (std::find(static_ids_.begin(), static_ids_.end(), t.id) != static_ids_.end())
+      if (static_.stands_for(t.id))
         moving.push_back(t.id);  // its cells are in the grid's static field: its ellipse is forgotten
       else if (established)
         settled.push_back({t.id, {t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]}});
@@ -390,7 +391,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   for (auto& o : pb.obstacles) {
     o.age_s = track_age_s(o.id, odom.utime);
   }
-  apply_static_field(odom, &pb);
+  static_.apply(odom.x, odom.y, p_.constraint_decay(), &pb);
   return pb;
 }
 

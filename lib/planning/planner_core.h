@@ -32,6 +32,7 @@
 #include "planning/obstacles.h"
 #include "planning/params.h"
 #include "planning/reference.h"
+#include "planning/static_structure.h"
 #include "planning/topology_planner.h"
 
 namespace evade::planning {
@@ -138,27 +139,15 @@ class PlannerCore : public bus::Core {
   void publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb, const std::vector<double>& u,
                     double solve_us, int iterations, int num_obstacles);
 
-  // ---- static structure (planner_static.cpp, static_field.h) ----
+  // ---- static structure (planner_static.cpp, static_structure.h) ----
   // Mode evade with static_field.enabled: ELEVATION_MAP is kept (the last
   // few, gated like the predictions).
   void subscribe_static_map();
-  // The field of this cycle from the map nearest the predictions' time,
-  // or null (counted: static_map_stale) when none is within map_max_age_s
-  // of the odometry; sets static_field_ and the detour grid's field.
+  // This cycle's field (static_.update), counted (static_field, or
+  // static_map_stale / static_map_invalid: every track by its ellipse);
+  // sets the detour grid's field.
   void update_static_field(const evade::odometry_t& odom);
-  // The static tracks leave pb's ellipse constraints and the field enters
-  // them (one obstacle, the mode's decay); nothing without a field.
-  void apply_static_field(const evade::odometry_t& odom, Problem* pb);
-  // Static now: is_static_track, and in the last OBSTACLES (a coasting
-  // track's cells may be hidden: its ellipse stays).
-  bool static_now(const evade::track_prediction_t& t, int64_t utime) const;
-  std::deque<evade::grid_map_t> maps_;
-  std::shared_ptr<const StaticField> static_field_;
-  std::vector<int64_t> static_ids_;  // the tracks static_field_ stands for
-  // Track ids ever seen faster than static_field.max_speed_mps (of those
-  // in the last predictions): never static.
-  void remember_movers();
-  std::set<int64_t> moved_ids_;
+  StaticStructure static_;
 
   PlannerParams p_;
   const ModeSpec& mode_;

@@ -49,8 +49,7 @@ void PlannerCore::start_new_epoch(const evade::odometry_t& odom) {
   predictions_rx_ = -1;
   observed_.reset();
   observed_rx_ = -1;
-  maps_.clear();
-  static_field_.reset();
+  static_.clear();
   first_seen_.clear();
   history_ = CurveFitHistory(p_.curvefit.degree, p_.curvefit.window_s);
   settled_ = SettledMemory(p_.detour.memory_s);

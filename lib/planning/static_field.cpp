@@ -141,13 +141,53 @@ std::vector<float> patch_extents(const std::vector<char>& site, int W, int H) {
   return out;
 }
 
+// The largest patch extent (m) of `extent` (per cell, row-major W x H,
+// origin ox, oy, cell res) at a cell whose centre is inside e.
+double largest_in(const std::vector<float>& extent, int W, int H, double ox, double oy, double res, const Ellipse& e) {
+  const double reach = std::max(e.a, e.b);
+  const int c0 = std::max(0, static_cast<int>(std::floor((e.x - reach - ox) / res)));
+  const int c1 = std::min(W - 1, static_cast<int>(std::floor((e.x + reach - ox) / res)));
+  const int r0 = std::max(0, static_cast<int>(std::floor((e.y - reach - oy) / res)));
+  const int r1 = std::min(H - 1, static_cast<int>(std::floor((e.y + reach - oy) / res)));
+  double best = 0;
+  for (int r = r0; r <= r1; ++r)
+    for (int c = c0; c <= c1; ++c) {
+      const double x = extent[static_cast<size_t>(r) * W + c];
+      if (x > best && e.contains(ox + (c + 0.5) * res, oy + (r + 0.5) * res, 0.0)) best = x;
+    }
+  return best;
+}
+
+// The static cells that are structure (in a patch at least
+// min_structure_m long) and, in *extent, each one's patch extent (m).
+std::vector<char> structure_sites(const evade::grid_map_t& m, const std::vector<Ellipse>& movers,
+                                  const std::vector<Ellipse>& keep, const StaticFieldParams& p,
+                                  std::vector<float>* extent) {
+  std::vector<char> site = static_sites(m, movers, keep, p.mover_margin_m);
+  *extent = patch_extents(site, m.width, m.height);
+  for (size_t i = 0; i < site.size(); ++i) {
+    (*extent)[i] *= static_cast<float>(m.resolution);
+    if (site[i] && (*extent)[i] < p.min_structure_m - 1e-6) site[i] = 0, (*extent)[i] = 0.0f;
+  }
+  return site;
+}
+
 }  // namespace
 
 std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
                                                       const std::vector<Ellipse>& keep, const StaticFieldParams& p) {
   if (!well_formed(map)) return nullptr;
   const int W = map.width, H = map.height;
-  const std::vector<char> site = static_sites(map, movers, keep, p.mover_margin_m);
+  // Structure without the movers' cells first; then the movers' cells
+  // inside a kept ellipse that holds structure on its own stay static too
+  // (a wall a walker passes keeps its cells), not those of a kept ellipse
+  // without any (two walkers side by side, one standing, are no wall).
+  std::vector<float> extent;
+  std::vector<char> site = structure_sites(map, movers, {}, p, &extent);
+  std::vector<Ellipse> anchored;
+  for (const Ellipse& e : keep)
+    if (largest_in(extent, W, H, map.origin[0], map.origin[1], map.resolution, e) > 0.0) anchored.push_back(e);
+  if (!anchored.empty() && !movers.empty()) site = structure_sites(map, movers, anchored, p, &extent);
   std::vector<char> free_site(site.size());
   int n = 0;
   for (size_t i = 0; i < site.size(); ++i) {
@@ -164,8 +204,7 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
   }
   auto out = std::make_shared<StaticField>();
   auto impl = std::make_shared<Impl>(map.origin[0], map.origin[1], res, std::move(signed_d), W, H);
-  impl->extent = patch_extents(site, W, H);
-  for (float& e : impl->extent) e *= static_cast<float>(res);
+  impl->extent = std::move(extent);
   out->impl_ = std::move(impl);
   out->static_cells_ = n;
   out->d_safe_ = p.d_safe_m;
@@ -184,18 +223,7 @@ double StaticField::distance(double x, double y, double* gx, double* gy) const {
 
 double StaticField::structure_extent(const Ellipse& e) const {
   const Impl& m = *impl_;
-  const double reach = std::max(e.a, e.b);
-  const int c0 = std::max(0, static_cast<int>(std::floor((e.x - reach - m.ox) / m.res)));
-  const int c1 = std::min(m.width - 1, static_cast<int>(std::floor((e.x + reach - m.ox) / m.res)));
-  const int r0 = std::max(0, static_cast<int>(std::floor((e.y - reach - m.oy) / m.res)));
-  const int r1 = std::min(m.height - 1, static_cast<int>(std::floor((e.y + reach - m.oy) / m.res)));
-  double best = 0;
-  for (int r = r0; r <= r1; ++r)
-    for (int c = c0; c <= c1; ++c) {
-      const double x = m.extent[static_cast<size_t>(r) * m.width + c];
-      if (x > best && e.contains(m.ox + (c + 0.5) * m.res, m.oy + (r + 0.5) * m.res, 0.0)) best = x;
-    }
-  return best;
+  return largest_in(m.extent, m.width, m.height, m.ox, m.oy, m.res, e);
 }
 
 BarrierValue StaticField::footprint_barrier(double px, double py, double yaw, const Footprint& fp) const {

@@ -8,11 +8,15 @@
 // ELEVATION_MAP and builds, each cycle, the Euclidean distance transform
 // of the obstacle cells, less the cells of the moving tracks: a cell
 // inside a moving track's current ellipse grown by `mover_margin_m` is not
-// static (unless it lies inside a static track's ellipse too: what is both
-// stays static). A track is static when it is slower than
-// `max_speed_mps` and tracked at least `min_track_age_s`; static tracks
-// leave the ellipse constraints (their cells are in the field), the others
-// keep their predicted ellipses. The field enters the MPC as one more
+// static (unless it lies inside the ellipse of a static track that holds
+// structure without the movers' cells: a wall a walker passes keeps its
+// cells), nor is a cell of an 8-connected patch shorter than
+// `min_structure_m` (a person, a bin, a mover's stray cells: structure is
+// walls, door frames, parked cars). A track is static when it is slower
+// than `max_speed_mps` and tracked at least `min_track_age_s`; static
+// tracks whose ellipse holds structure leave the ellipse constraints
+// (their cells are in the field), the others keep their predicted
+// ellipses (static_structure.h). The field enters the MPC as one more
 // obstacle (ObstacleTrack::field) with the mode's CBF decay: h is the
 // smallest over the footprint's discs of the field at the disc's centre
 // less the disc's radius and `d_safe_m`.
@@ -45,7 +49,7 @@ struct StaticFieldParams {
   double mover_margin_m = 0.2;   // cells within a moving track's current ellipse grown by this are not static
   double map_max_age_s = 0.3;    // a map older than this before the cycle's odometry is not used
   double max_distance_m = 3.0;   // the field is cut at this distance (beyond it the constraint is inactive)
-  double min_structure_m = 1.0;  // a static track's cells count as structure in a connected patch at least this long
+  double min_structure_m = 1.0;  // static cells count only in a connected patch at least this long (structure)
   template <class V>
   void fields(V& v) {
     v.field("enabled", enabled);
@@ -68,7 +72,9 @@ struct Ellipse {
 class StaticField {
  public:
   // The field of `map`'s obstacle cells outside every `movers` ellipse
-  // grown by mover_margin_m, except those inside a `keep` ellipse. Null
+  // grown by mover_margin_m that lie in an 8-connected patch at least
+  // min_structure_m long; a mover's cells inside a `keep` ellipse that
+  // holds such a patch without them stay in. Null
   // when the map is malformed (sizes, resolution, non-finite origin).
   static std::shared_ptr<const StaticField> build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
                                                   const std::vector<Ellipse>& keep, const StaticFieldParams& p);
@@ -81,7 +87,8 @@ class StaticField {
   // (second derivatives 0).
   BarrierValue footprint_barrier(double px, double py, double yaw, const Footprint& fp) const;
   // The longest side (m) of the bounding box of the largest 8-connected
-  // patch of static cells that has a cell inside e (0 when none has).
+  // patch of static cells that has a cell inside e (0 when none has: every
+  // patch in the field is at least min_structure_m).
   double structure_extent(const Ellipse& e) const;
   int static_cells() const { return static_cells_; }
   double d_safe() const { return d_safe_; }
@@ -103,8 +110,8 @@ void squared_distance_1d(const std::vector<double>& f, std::vector<double>* out)
 std::vector<double> squared_distance_2d(const std::vector<char>& site, int width, int height);
 
 // A track may be static: slower than max_speed_mps and tracked
-// min_track_age_s (the planner adds: never seen faster, observed, and its
-// cells in a patch of structure at least min_structure_m long).
+// min_track_age_s (StaticStructure adds: observed now, and structure in
+// its ellipse).
 bool is_static_track(const evade::track_prediction_t& t, double age_s, const StaticFieldParams& p);
 
 // The obstacle track that carries the field into the problem (id

@@ -1,0 +1,86 @@
+// The planner's static structure state (mode evade with
+// static_field.enabled): the elevation maps kept, the distance field of
+// this cycle (static_field.h) and the static tracks it stands for.
+//
+// Each cycle `update` builds the field from the kept map nearest in time to
+// the predictions: its static cells are the map's obstacle cells outside
+// every moving track's ellipse (grown by mover_margin_m) that lie in an
+// 8-connected patch of static cells at least min_structure_m long (walls,
+// door frames, parked cars; StaticFieldParams). A smaller patch (a person,
+// a bin, a post, a mover's cells outside its ellipse, a walker not yet
+// tracked) is no structure: whatever of it is tracked stays its ellipse.
+// A
+// track is static when it is slow and tracked long enough
+// (is_static_track) and in the last OBSTACLES (a coasting track's cells may
+// be hidden); a static track whose ellipse holds cells of a structure patch
+// `stands_for` by them: it leaves the ellipse constraints (`apply`) and the
+// detour grid, which read the field instead.
+//
+// No clock and no bus: the planner core gates the maps' arrival and counts
+// what `update` returns.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "evade/grid_map_t.hpp"
+#include "evade/obstacle_list_t.hpp"
+#include "evade/prediction_list_t.hpp"
+#include "planning/problem.h"
+#include "planning/static_field.h"
+
+namespace evade::planning {
+
+class StaticStructure {
+ public:
+  explicit StaticStructure(StaticFieldParams p) : p_(p) {}
+
+  // Keeps `m` (the last kMapsKept: a map and the predictions made from its
+  // scan arrive about 1 ms apart).
+  void keep_map(const evade::grid_map_t& m);
+  // Forgets the maps and the field (a new odometry epoch).
+  void clear();
+
+  // What one cycle's update found.
+  enum class Update {
+    kBuilt,    // a field from a map within map_max_age_s of the odometry
+    kStale,    // no such map: no field, every track by its ellipse
+    kInvalid,  // the map is malformed: no field
+  };
+  struct Inputs {
+    int64_t odometry_utime = 0;
+    const evade::prediction_list_t* predictions = nullptr;  // null: none yet
+    const evade::obstacle_list_t* observed = nullptr;       // the last OBSTACLES (null: none)
+    std::function<double(int64_t id)> track_age_s;          // how long a track id has been listed
+  };
+  Update update(const Inputs& in);
+
+  // This cycle's field (null without one).
+  const std::shared_ptr<const StaticField>& field() const { return field_; }
+  // True when the track `id` is static structure this cycle: its cells
+  // stand for it, not its ellipse.
+  bool stands_for(int64_t id) const;
+  // The static tracks leave pb's ellipse constraints and the field enters
+  // them (one obstacle with `decay`, at the robot's (x0, y0)); nothing
+  // without a field. With no static cell within max_distance_m of (x0, y0)
+  // the field is flat where the robot can reach and stays out: a
+  // constraint that cannot be active changes nothing but the solver's
+  // rounding, and a street of walkers keeps the problem it has without it.
+  void apply(double x0, double y0, double decay, Problem* pb) const;
+
+  static constexpr size_t kMapsKept = 3;
+
+ private:
+  const evade::grid_map_t* nearest_map(int64_t utime) const;
+  bool static_now(const evade::track_prediction_t& t, const Inputs& in) const;
+
+  StaticFieldParams p_;
+  std::deque<evade::grid_map_t> maps_;
+  std::shared_ptr<const StaticField> field_;
+  std::vector<int64_t> static_ids_;  // sorted
+};
+
+}  // namespace evade::planning

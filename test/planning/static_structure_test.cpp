@@ -1,0 +1,235 @@
+// The planner's static structure state (static_structure.h): which cells
+// make the field (structure patches only, movers' cells left out), which
+// tracks it stands for, the map it is built from, and what it does to a
+// problem's obstacles.
+#include "planning/static_structure.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace evade::planning {
+namespace {
+
+constexpr double kRes = 0.1, kOriginX = -2.0, kOriginY = -6.0;
+constexpr int kW = 120, kH = 120;
+constexpr int64_t kT0 = 10'000'000;
+
+struct Box {
+  double x0, x1, y0, y1;
+};
+
+// Every cell a box overlaps is an obstacle cell.
+evade::grid_map_t map_of(const std::vector<Box>& boxes, int64_t utime) {
+  evade::grid_map_t m{};
+  m.utime = utime;
+  m.origin[0] = kOriginX;
+  m.origin[1] = kOriginY;
+  m.resolution = kRes;
+  m.width = kW;
+  m.height = kH;
+  m.elevation.assign(kH, std::vector<float>(kW, 0.0f));
+  m.obstacle.assign(kH, std::vector<int8_t>(kW, 0));
+  for (int r = 0; r < kH; ++r)
+    for (int c = 0; c < kW; ++c) {
+      const double x0 = kOriginX + c * kRes, y0 = kOriginY + r * kRes;
+      for (const Box& b : boxes)
+        if (x0 < b.x1 - 1e-9 && x0 + kRes > b.x0 + 1e-9 && y0 < b.y1 - 1e-9 && y0 + kRes > b.y0 + 1e-9)
+          m.obstacle[r][c] = 1;
+    }
+  return m;
+}
+
+evade::track_prediction_t track(int64_t id, const Ellipse& e, double vx) {
+  evade::track_prediction_t t;
+  t.id = id;
+  t.vx = vx;
+  t.vy = t.ax = t.ay = 0;
+  t.horizon = 3;
+  for (int k = 0; k < t.horizon; ++k) {
+    t.x.push_back(e.x + vx * 0.1 * k);
+    t.y.push_back(e.y);
+    t.a.push_back(e.a);
+    t.b.push_back(e.b);
+    t.theta.push_back(e.theta);
+    t.sigma.push_back(0.0);
+  }
+  return t;
+}
+
+// A scene of tracks, all listed for 5 s, `seen` of them in OBSTACLES.
+struct Scene {
+  evade::prediction_list_t predictions;
+  evade::obstacle_list_t observed;
+  void add(int64_t id, const Ellipse& e, double vx, bool seen = true) {
+    predictions.tracks.push_back(track(id, e, vx));
+    predictions.num_tracks = static_cast<int32_t>(predictions.tracks.size());
+    if (!seen) return;
+    evade::obstacle_t o{};
+    o.id = id;
+    o.x = e.x;
+    o.y = e.y;
+    o.a = e.a;
+    o.b = e.b;
+    o.theta = e.theta;
+    observed.obstacles.push_back(o);
+    observed.num_obstacles = static_cast<int32_t>(observed.obstacles.size());
+  }
+  StaticStructure::Inputs inputs(int64_t odometry_utime) const {
+    StaticStructure::Inputs in;
+    in.odometry_utime = odometry_utime;
+    in.predictions = &predictions;
+    in.observed = &observed;
+    in.track_age_s = [](int64_t) { return 5.0; };
+    return in;
+  }
+};
+
+// A wall along x = 3.0..3.2 from y = -6 to 6, its tile (id 1) static.
+const Box kWall{3.0, 3.2, -6.0, 6.0};
+const Ellipse kWallTile{3.1, 0.0, 6.0, 0.2, M_PI / 2};
+
+ObstacleTrack problem_obstacle(int64_t id) {
+  ObstacleTrack o;
+  o.id = id;
+  o.x = o.y = o.a = o.b = o.theta = std::vector<double>(4, 0.0);
+  return o;
+}
+
+double distance_at(const StaticStructure& s, double x, double y) {
+  double gx, gy;
+  return s.field()->distance(x, y, &gx, &gy);
+}
+
+TEST(StaticStructure, AStaticWallTileIsItsCellsAndLeavesTheEllipseConstraints) {
+  StaticStructure s{StaticFieldParams{}};
+  s.keep_map(map_of({kWall}, kT0));
+  Scene sc;
+  sc.predictions.utime = kT0;
+  sc.add(1, kWallTile, 0.0);
+  sc.add(2, {1.0, 2.0, 0.25, 0.25, 0.0}, 1.0);  // a walker, moving
+  ASSERT_EQ(s.update(sc.inputs(kT0 + 20'000)), StaticStructure::Update::kBuilt);
+  EXPECT_TRUE(s.stands_for(1));
+  EXPECT_FALSE(s.stands_for(2));
+  EXPECT_NEAR(distance_at(s, 2.5, 0.05), 0.5, 0.02);
+  Problem pb;
+  pb.N = 3;
+  pb.obstacles = {problem_obstacle(1), problem_obstacle(2)};
+  s.apply(1.0, 0.0, 0.9, &pb);
+  ASSERT_EQ(pb.obstacles.size(), 2u);
+  EXPECT_EQ(pb.obstacles[0].id, kStaticFieldId);
+  EXPECT_TRUE(pb.obstacles[0].field);
+  EXPECT_DOUBLE_EQ(pb.obstacles[0].decay, 0.9);
+  EXPECT_EQ(pb.obstacles[1].id, 2);
+  // max_distance_m (3 m) or more from every static cell the field is flat
+  // where the robot can reach: it stays out of the problem
+  pb.obstacles = {problem_obstacle(1), problem_obstacle(2)};
+  s.apply(-0.1, 0.0, 0.9, &pb);
+  ASSERT_EQ(pb.obstacles.size(), 1u);
+  EXPECT_EQ(pb.obstacles[0].id, 2);
+}
+
+TEST(StaticStructure, AMoversStrayCellsAndABinStandingAloneAreNoStructure) {
+  StaticStructure s{StaticFieldParams{}};
+  // a walker's cells 0.5 m behind its ellipse (the scan before its track
+  // caught up), and a 0.4 m bin standing still
+  const Box stray{0.9, 1.2, 1.9, 2.1}, bin{0.8, 1.2, -2.2, -1.8};
+  s.keep_map(map_of({kWall, stray, bin}, kT0));
+  Scene sc;
+  sc.predictions.utime = kT0;
+  sc.add(1, kWallTile, 0.0);
+  sc.add(2, {1.6, 2.0, 0.25, 0.25, 0.0}, 1.0);
+  sc.add(3, {1.0, -2.0, 0.3, 0.3, 0.0}, 0.0);
+  ASSERT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
+  EXPECT_GT(distance_at(s, 1.05, 2.0), 1.5);    // the stray cells are not in the field
+  EXPECT_GT(distance_at(s, 1.0, -2.0), 1.5);    // nor the bin's
+  EXPECT_LT(distance_at(s, 3.1, -2.0), -0.04);  // the wall is
+  EXPECT_TRUE(s.stands_for(1));
+  EXPECT_FALSE(s.stands_for(3));  // the bin keeps its ellipse
+  EXPECT_EQ(s.field()->static_cells(), 2 * 120);
+}
+
+TEST(StaticStructure, AWalkerStandingBesideAnotherIsNoStructureButAWallAWalkerPassesIs) {
+  StaticStructure s{StaticFieldParams{}};
+  // two walkers side by side, 1.1 m of cells together: one standing (a
+  // wide ellipse, as a new track's, over most of the other), one walking
+  // off; and a third walking along the wall, touching it
+  const Box standing{-0.2, 0.3, 2.8, 3.2}, walking{0.3, 0.9, 2.8, 3.2}, by_wall{2.6, 3.0, -3.2, -2.8};
+  s.keep_map(map_of({kWall, standing, walking, by_wall}, kT0));
+  Scene sc;
+  sc.predictions.utime = kT0;
+  sc.add(1, kWallTile, 0.0);
+  sc.add(2, {0.05, 3.0, 0.8, 0.8, 0.0}, 0.0);
+  sc.add(3, {0.6, 3.0, 0.3, 0.3, 0.0}, 0.3);
+  sc.add(4, {2.8, -3.0, 0.25, 0.25, 0.0}, 0.5);
+  ASSERT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
+  EXPECT_FALSE(s.stands_for(2));  // the standing walker keeps its ellipse
+  EXPECT_GT(distance_at(s, 0.05, 3.0), 1.5);
+  EXPECT_TRUE(s.stands_for(1));
+  EXPECT_LT(distance_at(s, 3.05, -3.0), 0.0);  // the wall beside the walker is still wall
+}
+
+TEST(StaticStructure, AStaticTrackNotObservedNowKeepsItsEllipse) {
+  StaticStructure s{StaticFieldParams{}};
+  s.keep_map(map_of({kWall}, kT0));
+  Scene sc;
+  sc.predictions.utime = kT0;
+  sc.add(1, kWallTile, 0.0, /*seen=*/false);  // coasting: its cells may be hidden
+  ASSERT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
+  EXPECT_FALSE(s.stands_for(1));
+  // slow but listed for less than min_track_age_s: not static either
+  Scene young;
+  young.predictions.utime = kT0;
+  young.add(1, kWallTile, 0.0);
+  StaticStructure::Inputs in = young.inputs(kT0);
+  in.track_age_s = [](int64_t) { return 0.5; };
+  ASSERT_EQ(s.update(in), StaticStructure::Update::kBuilt);
+  EXPECT_FALSE(s.stands_for(1));
+}
+
+TEST(StaticStructure, AStaleMapGivesNoFieldAndLeavesTheProblemAlone) {
+  const StaticFieldParams p;
+  StaticStructure s{p};
+  Scene sc;
+  sc.predictions.utime = kT0;
+  sc.add(1, kWallTile, 0.0);
+  EXPECT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kStale);  // no map yet
+  s.keep_map(map_of({kWall}, kT0));
+  const int64_t late = kT0 + std::llround(p.map_max_age_s * 1e6) + 1;
+  EXPECT_EQ(s.update(sc.inputs(late)), StaticStructure::Update::kStale);
+  EXPECT_FALSE(s.field());
+  EXPECT_FALSE(s.stands_for(1));
+  Problem pb;
+  pb.N = 3;
+  pb.obstacles = {problem_obstacle(1)};
+  s.apply(0.0, 0.0, 0.9, &pb);
+  ASSERT_EQ(pb.obstacles.size(), 1u);
+  EXPECT_EQ(pb.obstacles[0].id, 1);
+  // a malformed map: no field
+  evade::grid_map_t bad = map_of({kWall}, kT0);
+  bad.obstacle.pop_back();
+  s.clear();
+  s.keep_map(bad);
+  EXPECT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kInvalid);
+  EXPECT_FALSE(s.field());
+}
+
+TEST(StaticStructure, TheFieldIsFromTheKeptMapNearestThePredictions) {
+  StaticStructure s{StaticFieldParams{}};
+  // four maps 0.1 s apart, the wall 1 m further each time; the first is
+  // dropped (three kept)
+  for (int i = 0; i < 4; ++i) s.keep_map(map_of({{3.0 + i, 3.2 + i, -6.0, 6.0}}, kT0 + i * 100'000));
+  Scene sc;
+  sc.predictions.utime = kT0 + 100'000 + 2'000;  // made from the second map's scan
+  ASSERT_EQ(s.update(sc.inputs(kT0 + 300'000)), StaticStructure::Update::kBuilt);
+  EXPECT_NEAR(distance_at(s, 3.5, 0.05), 0.5, 0.02);
+  sc.predictions.utime = kT0;  // the first map is gone: the nearest kept is the second
+  ASSERT_EQ(s.update(sc.inputs(kT0 + 300'000)), StaticStructure::Update::kBuilt);
+  EXPECT_NEAR(distance_at(s, 3.5, 0.05), 0.5, 0.02);
+  sc.predictions.utime = kT0 + 300'000;
+  ASSERT_EQ(s.update(sc.inputs(kT0 + 300'000)), StaticStructure::Update::kBuilt);
+  EXPECT_NEAR(distance_at(s, 5.5, 0.05), 0.5, 0.02);
+}
+
+}  // namespace
+}  // namespace evade::planning
