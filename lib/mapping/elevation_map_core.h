@@ -30,7 +30,7 @@ class ElevationMapCore : public bus::Core {
   ElevationLayers layers_;
   evade::grid_map_t msg_;
   evade::hidden_region_list_t hidden_;
-  SettledCells settled_;             // the cells occluders are built from (settled_cells.h)
+  SettledCells settled_;  // the cells occluders are built from (settled_cells.h)
   std::vector<uint8_t> settled_mask_;
 };
 

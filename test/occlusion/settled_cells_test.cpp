@@ -37,8 +37,8 @@ void box(ElevationLayers* l, double x0, double x1, double y0, double y1, bool ev
 }
 
 struct Frame {
-  size_t settled = 0;  // settled cells
-  size_t regions = 0;  // regions from the settled cells
+  size_t settled = 0;      // settled cells
+  size_t regions = 0;      // regions from the settled cells
   size_t regions_any = 0;  // regions from every obstacle cell
 };
 
