@@ -40,8 +40,10 @@ void ElevationMapCore::on_odometry(const evade::odometry_t& m) {
   }
   if (have_epoch_ && m.epoch != epoch_) {
     // A new odometry frame (base_driver restarted, pose reset): poses of
-    // the old one would place the next clouds in the wrong frame.
+    // the old one would place the next clouds in the wrong frame, and the
+    // cells settled in it are elsewhere in the new one.
     poses_ = PoseBuffer(builder_.params().odometry_history_us);
+    settled_.clear();
     count("odometry_epoch_changed");
   }
   epoch_ = m.epoch;
@@ -124,8 +126,9 @@ void ElevationMapCore::publish_hidden_regions(const evade::pointcloud_t& m, cons
   hidden_.sensor_x = robot.x + c * m.mount.x - s * m.mount.y;
   hidden_.sensor_y = robot.y + s * m.mount.x + c * m.mount.y;
   hidden_.regions.clear();
-  for (const HiddenRegion& h :
-       hidden_regions(builder_.params().hidden_regions, layers_, hidden_.sensor_x, hidden_.sensor_y)) {
+  const HiddenRegionParams& p = builder_.params().hidden_regions;
+  settled_.update(layers_, m.utime, p.settle_s, p.gap_s, &settled_mask_);
+  for (const HiddenRegion& h : hidden_regions(p, layers_, hidden_.sensor_x, hidden_.sensor_y, &settled_mask_)) {
     evade::hidden_region_t r{};
     for (int i = 0; i < 2; ++i) {
       r.near_x[i] = h.near_x[i];

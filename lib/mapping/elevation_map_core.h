@@ -8,6 +8,7 @@
 #include "evade/odometry_t.hpp"
 #include "evade/pointcloud_t.hpp"
 #include "mapping/elevation_map.h"
+#include "mapping/settled_cells.h"
 
 namespace evade::mapping {
 
@@ -29,6 +30,8 @@ class ElevationMapCore : public bus::Core {
   ElevationLayers layers_;
   evade::grid_map_t msg_;
   evade::hidden_region_list_t hidden_;
+  SettledCells settled_;  // the cells occluders are built from (settled_cells.h)
+  std::vector<uint8_t> settled_mask_;
 };
 
 }  // namespace evade::mapping

@@ -17,9 +17,12 @@ struct Silhouette {
 
 struct View {
   const ElevationLayers& l;
+  const std::vector<uint8_t>* cells;  // the cells an occluder may use; null: every obstacle cell
   double sx, sy;
   double ref = 0;  // bearing of the occluder's first cell
 };
+
+bool usable(const View& v, size_t i) { return v.l.obstacle[i] == 1 && (!v.cells || (*v.cells)[i] == 1); }
 
 // Adds cell (r, c) to the silhouette: its four corners and its height.
 void add_cell(const View& v, int r, int c, Silhouette* s) {
@@ -60,7 +63,7 @@ Silhouette flood(View v, int r0, int c0, const std::vector<std::pair<int, int>>&
       const int rr = r + dr, cc = c + dc;
       if (rr < 0 || cc < 0 || rr >= l.height || cc >= l.width) continue;
       const size_t i = l.index(rr, cc);
-      if ((*seen)[i] || l.obstacle[i] != 1) continue;
+      if ((*seen)[i] || !usable(v, i)) continue;
       (*seen)[i] = 1;
       stack.emplace_back(rr, cc);
     }
@@ -99,16 +102,17 @@ bool region_of(const HiddenRegionParams& p, const Silhouette& s, double sx, doub
 }  // namespace
 
 std::vector<HiddenRegion> hidden_regions(const HiddenRegionParams& p, const ElevationLayers& layers, double sensor_x,
-                                         double sensor_y) {
+                                         double sensor_y, const std::vector<uint8_t>* occluder_cells) {
   std::vector<HiddenRegion> out;
   if (layers.width <= 0 || layers.height <= 0 || layers.obstacle.size() != layers.index(layers.height, 0)) return out;
+  if (occluder_cells && occluder_cells->size() != layers.obstacle.size()) return out;
   const auto offsets = link_offsets(p.link_radius_m, layers.resolution);
   std::vector<uint8_t> seen(layers.obstacle.size(), 0);
-  const View view{layers, sensor_x, sensor_y};
+  const View view{layers, occluder_cells, sensor_x, sensor_y};
   for (int r = 0; r < layers.height; ++r)
     for (int c = 0; c < layers.width; ++c) {
       const size_t i = layers.index(r, c);
-      if (seen[i] || layers.obstacle[i] != 1) continue;
+      if (seen[i] || !usable(view, i)) continue;
       const Silhouette s = flood(view, r, c, offsets, &seen);
       HiddenRegion h;
       if (region_of(p, s, sensor_x, sensor_y, &h)) out.push_back(h);

@@ -22,8 +22,11 @@ struct HiddenRegion {
 };
 
 // The hidden regions of one map seen from (sensor_x, sensor_y), in a fixed
-// order (by the occluder's first cell, row-major).
+// order (by the occluder's first cell, row-major). Occluders are built from
+// the obstacle cells marked 1 in `occluder_cells` (one per cell of the map:
+// the settled ones, settled_cells.h), or from every obstacle cell when it
+// is null.
 std::vector<HiddenRegion> hidden_regions(const HiddenRegionParams& p, const ElevationLayers& layers, double sensor_x,
-                                         double sensor_y);
+                                         double sensor_y, const std::vector<uint8_t>* occluder_cells = nullptr);
 
 }  // namespace evade::mapping

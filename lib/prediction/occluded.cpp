@@ -27,8 +27,8 @@ bool inside(const evade::hidden_region_t& r, double x, double y) {
 }
 
 bool keep_hidden(const OccludedParams& p, const evade::hidden_region_list_t& regions, double x, double y, double a,
-                 double unseen_s, double horizon_s) {
-  if (!p.enabled || unseen_s > p.max_s) return false;
+                 double speed_mps, double unseen_s, double horizon_s) {
+  if (!p.enabled || unseen_s > p.max_s || speed_mps < p.min_speed_mps) return false;
   const double to_sensor = std::hypot(x - regions.sensor_x, y - regions.sensor_y) - a;
   if (to_sensor > p.max_speed_mps * (unseen_s + horizon_s)) return false;
   for (const auto& r : regions.regions)

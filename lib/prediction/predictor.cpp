@@ -167,8 +167,9 @@ bool Predictor::hidden_at(int64_t id, int64_t utime) const {
   if (z == last_z_.end()) return false;
   const double unseen_s = 1e-6 * double(utime - last_seen_utime_.at(id));
   const double horizon_s = params_->prediction_steps * params_->prediction_dt_s;
-  return keep_hidden(p, *hidden_regions_, z->second.x, z->second.y, std::max(z->second.a, z->second.b), unseen_s,
-                     horizon_s);
+  const State& st = tracks_.at(id).state();
+  return keep_hidden(p, *hidden_regions_, z->second.x, z->second.y, std::max(z->second.a, z->second.b),
+                     std::hypot(st(kVx), st(kVy)), unseen_s, horizon_s);
 }
 
 void Predictor::inherit_fragments(FrameStats* st) {

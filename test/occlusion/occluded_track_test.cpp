@@ -60,8 +60,10 @@ const evade::track_prediction_t* find(const evade::prediction_list_t& out, int64
 }
 
 // Walker 1 walks behind the van (from (3, 3) along +x, in the shadow),
-// walker 2 walks in the open at y = -2; both vanish at t = 1 s and are not
-// seen again. Returns the prediction lists from then on, one per 0.1 s.
+// walker 2 walks in the open at y = -2, track 3 stands in the shadow at
+// (2.6, 2.3) (a piece of the van the tracker split off); all vanish at
+// t = 1 s and are not seen again. Returns the prediction lists from then
+// on, one per 0.1 s.
 std::vector<evade::prediction_list_t> vanish(const PredictorParams& p, bool with_regions) {
   Predictor pred(p);
   std::vector<evade::prediction_list_t> after;
@@ -71,7 +73,7 @@ std::vector<evade::prediction_list_t> vanish(const PredictorParams& p, bool with
     if (with_regions) pred.set_hidden_regions(van_shadow(utime));
     evade::prediction_list_t out;
     FrameStats st;
-    const auto list = i <= 10 ? walkers(utime, {{1, {x, 3.0}}, {2, {x, -2.0}}}) : walkers(utime, {});
+    const auto list = i <= 10 ? walkers(utime, {{1, {x, 3.0}}, {2, {x, -2.0}}, {3, {2.6, 2.3}}}) : walkers(utime, {});
     EXPECT_TRUE(pred.process(list, &out, &st));
     if (i > 10) after.push_back(out);
   }
@@ -88,6 +90,8 @@ TEST(OccludedTracks, HiddenTrackIsKeptAndGrowsAtTheHiddenSpeed) {
   const evade::track_prediction_t* hidden = find(late, 1);
   ASSERT_NE(hidden, nullptr) << "the track that vanished behind the van is dropped";
   EXPECT_EQ(find(late, 2), nullptr) << "the track that vanished in the open is kept";
+  EXPECT_EQ(find(late, 3), nullptr) << "the standing piece of the occluder is kept as hidden";
+  EXPECT_NE(find(after[2], 3), nullptr);  // it coasts for coast_max_s, as one vanishing in the open
   // Held where last seen (x 4.0 at t = 1 s), both axes grown by 1.6 m/s x 2.5 s at k = 0, more ahead.
   EXPECT_NEAR(hidden->x[0], 4.0, 1e-9);
   EXPECT_NEAR(hidden->y[0], 3.0, 1e-9);
@@ -113,6 +117,7 @@ TEST(OccludedTracks, QuadrilateralInside) {
   EXPECT_TRUE(inside(r, 4.0, 3.0));
   EXPECT_FALSE(inside(r, 3.0, 1.0));  // in front of the van
   EXPECT_FALSE(inside(r, 8.0, 1.0));  // beside the shadow
+  EXPECT_TRUE(inside(r, 2.6, 2.3));
 }
 
 }  // namespace
