@@ -38,6 +38,11 @@ namespace evade::planning {
 // the full step is accepted at once; bisection needs only cost values.
 enum class LineSearchInterpolation { kBisection, kQuadratic, kCubic };
 
+// Mode evade when no plan meets the cycle's constraints: the recovery chain
+// (relaxed problem, most clearance, escape turn) or the one fallback
+// (fallback.h).
+enum class Fallback { kChain, kOwnMotion };
+
 struct SolverOptions {
   int max_outer_iterations = 20;
   int max_inner_iterations = 50;            // an inner solve runs to convergence: multiplier updates
@@ -71,6 +76,9 @@ struct SolverOptions {
   double relax_min_obstacle_age = 1.0;           // s: ... and tracked for this long (a new track reads as
                                                  // static while its velocity is unknown); others only a start
                                                  // inside d_safe
+  Fallback fallback = Fallback::kOwnMotion;     // mode evade, nothing meets the constraints (fallback.h)
+  double fallback_gamma = 1.0;                   // the fallback's own-motion links: closing by this times h a step
+  double fallback_penetration_weight = 1e3;      // 1/m^2: the fallback's cost of depth within d_safe (per step)
   double recovery_switch_ratio = 0.8;            // solve_elastic keeps the plan grown from the previous one unless
                                                  // another start's costs less than this fraction of it
 };

@@ -237,6 +237,10 @@ void SolverKeys::fields(V& v) {
   v.field("estimate_multipliers", o.estimate_multipliers);
   v.field("relax_max_obstacle_speed_mps", o.relax_max_obstacle_speed, config::between(0.0, 100.0));
   v.field("relax_min_track_age_s", o.relax_min_obstacle_age, config::between(0.0, 3600.0));
+  v.choice("fallback", o.fallback,
+           config::Choices<Fallback>{{"chain", Fallback::kChain}, {"own_motion", Fallback::kOwnMotion}});
+  v.field("fallback_gamma", o.fallback_gamma, config::between(1e-6, 1.0));
+  v.field("fallback_penetration_weight", o.fallback_penetration_weight, config::between(0.0, 1e9));
   v.field("recovery_switch_ratio", o.recovery_switch_ratio, config::between(0.0, 1.0));
   v.field("estimate_margin_m", o.estimate_margin, config::between(0.0, 10.0));
 }
