@@ -303,9 +303,8 @@ class InnerCost : public ceres::CostFunction {
     const ObstacleTrack& o = pb_.obstacles[i];
     if (o.field) return barrier_of(i, k);
     const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k + 1;
-    return footprint_barrier_cs(xs[3 * k], xs[3 * k + 1], xs[3 * k + 2], o.x[k + 1], o.y[k + 1], o.a[k + 1],
-                                o.b[k + 1], orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint,
-                                pb_.d_safe);
+    return footprint_barrier_cs(xs[3 * k], xs[3 * k + 1], xs[3 * k + 2], o.x[k + 1], o.y[k + 1], o.a[k + 1], o.b[k + 1],
+                                orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint, pb_.d_safe);
   }
 
   // The second term of barrier link (i, k): decay h(X_k, O_k), or in the

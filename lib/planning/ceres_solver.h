@@ -76,9 +76,9 @@ struct SolverOptions {
   double relax_min_obstacle_age = 1.0;           // s: ... and tracked for this long (a new track reads as
                                                  // static while its velocity is unknown); others only a start
                                                  // inside d_safe
-  Fallback fallback = Fallback::kOwnMotion;     // mode evade, nothing meets the constraints (fallback.h)
-  double fallback_gamma = 1.0;                   // the fallback's own-motion links: closing by this times h a step
-  double fallback_penetration_weight = 1e3;      // 1/m^2: the fallback's cost of depth within d_safe (per step)
+  Fallback fallback = Fallback::kChain;          // mode evade, nothing meets the constraints (fallback.h)
+  double fallback_gamma = 1.0;                   // own_motion links: the robot may close by this times h a step
+  double fallback_penetration_weight = 1e4;      // 1/m^2: own_motion's cost of depth within d_safe (per step)
   double recovery_switch_ratio = 0.8;            // solve_elastic keeps the plan grown from the previous one unless
                                                  // another start's costs less than this fraction of it
 };

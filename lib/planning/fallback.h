@@ -1,6 +1,8 @@
-// Mode evade's one fallback (issue 18 item 3): when no plan meets every
-// D-CBF constraint of the cycle's problem, the plan sent is the solution of
-// one relaxed problem, and braking when that solve finds none.
+// Mode evade's one fallback (issue 18 item 3; planner.solver.fallback:
+// own_motion, off by default: docs/experiments/2026-11-28-headon.md): when
+// no plan meets every D-CBF constraint of the cycle's problem, the plan sent
+// is the solution of one relaxed problem, and braking when that solve finds
+// none.
 //
 // The relaxed problem (Problem::own_motion, penetration_weight) charges the
 // robot only for its own motion: each barrier link compares h at step k + 1
