@@ -82,7 +82,8 @@ class InnerCost : public ceres::CostFunction {
         rho_(rho),
         mu_(elastic_penalty),
         cost_scale_(std::sqrt(cost_weight)) {
-    full_rows_ = num_cost_residuals(pb) + static_cast<int>(active_.size());
+    penetration_rows_ = pb.penetration_weight > 0 ? static_cast<int>(pb.obstacles.size()) * pb.N : 0;
+    full_rows_ = num_cost_residuals(pb) + static_cast<int>(active_.size()) + penetration_rows_;
     set_num_residuals(compressed ? pb.num_controls() + 1 : full_rows_);
     compressed_ = compressed;
     mutable_parameter_block_sizes()->push_back(pb.num_controls());
@@ -228,6 +229,7 @@ class InnerCost : public ceres::CostFunction {
     bar_.resize(pb_.obstacles.size() * (N + 1));
     have_.assign(bar_.size(), 0);
     for (size_t a = 0; a < active_.size(); ++a, ++r) constraint_row(a, r, u, residuals, jac);
+    r = penetration_rows(r, residuals, jac);
     for (int q = 0; q < r; ++q)
       if (!std::isfinite(residuals[q])) return false;
     return true;
@@ -294,6 +296,51 @@ class InnerCost : public ceres::CostFunction {
     return bar_[idx];
   }
 
+  // h of the robot at step k against obstacle i at step k + 1 (the fallback's
+  // own-motion links, Problem::own_motion).
+  BarrierValue own_motion_barrier(int i, int k) const {
+    const double* xs = ro_.states.data();
+    const ObstacleTrack& o = pb_.obstacles[i];
+    if (o.field) return barrier_of(i, k);
+    const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k + 1;
+    return footprint_barrier_cs(xs[3 * k], xs[3 * k + 1], xs[3 * k + 2], o.x[k + 1], o.y[k + 1], o.a[k + 1], o.b[k + 1],
+                                orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint, pb_.d_safe);
+  }
+
+  // The second term of barrier link (i, k): decay h(X_k, O_k), or in the
+  // own-motion form decay' h(X_k, O_k+1) (problem.h); *coef its factor.
+  BarrierValue link_start(int i, int k, double* coef) const {
+    const ObstacleTrack& o = pb_.obstacles[i];
+    if (!pb_.own_motion) {
+      *coef = o.decay;
+      return barrier_of(i, k);
+    }
+    const BarrierValue b0 = own_motion_barrier(i, k);
+    *coef = b0.h <= 0.0 ? 1.0 : o.decay;
+    return b0;
+  }
+
+  // Rows from r: sqrt(penetration_weight) min(0, h_i(X_k)) for every
+  // obstacle i and step k = 1..N (Problem::penetration_weight); returns
+  // the next row.
+  int penetration_rows(int r, double* residuals, double* jac) const {
+    if (penetration_rows_ == 0) return r;
+    const int n = pb_.num_controls(), N = pb_.N;
+    const double w = std::sqrt(pb_.penetration_weight);
+    for (int i = 0; i < static_cast<int>(pb_.obstacles.size()); ++i)
+      for (int k = 1; k <= N; ++k, ++r) {
+        const BarrierValue& b = barrier_of(i, k);
+        residuals[r] = b.h < 0 ? w * b.h : 0.0;
+        if (b.h >= 0) {
+          live_[r] = kRowDead;
+          continue;
+        }
+        width_[r] = 2 * k;
+        if (jac) ro_.add_state_row(pb_, k, w * b.gx, w * b.gy, w * b.gth, jac + static_cast<size_t>(r) * n);
+      }
+    return r;
+  }
+
   // Row r: the AL (or elastic) residual of active constraint a, and its
   // Jacobian row (jac: unless null).
   void constraint_row(size_t a, int r, const double* u, double* residuals, double* jac) const {
@@ -307,7 +354,11 @@ class InnerCost : public ceres::CostFunction {
       const int i = (j - R) / N, k = (j - R) % N;
       const ObstacleTrack& o = pb_.obstacles[i];
       g = barrier_of(i, k + 1).h;
-      if (o.decay != 0.0) g -= o.decay * barrier_of(i, k).h;
+      if (o.decay != 0.0 || pb_.own_motion) {
+        double c0 = 0;
+        const BarrierValue b0 = link_start(i, k, &c0);
+        g -= c0 * b0.h;
+      }
       if (!pb_.relax.empty()) g += pb_.relax[j];
     }
     // residual = coef * g + offset when switched on, 0 otherwise
@@ -341,9 +392,10 @@ class InnerCost : public ceres::CostFunction {
       const BarrierValue& b1 = barrier_of(i, k + 1);
       width_[r] = 2 * (k + 1);
       ro_.add_state_row(pb_, k + 1, coef * b1.gx, coef * b1.gy, coef * b1.gth, jr);
-      if (o.decay != 0.0) {
-        const BarrierValue& b0 = barrier_of(i, k);
-        const double d = -coef * o.decay;
+      if (o.decay != 0.0 || pb_.own_motion) {
+        double c0 = 0;
+        const BarrierValue b0 = link_start(i, k, &c0);
+        const double d = -coef * c0;
         ro_.add_state_row(pb_, k, d * b0.gx, d * b0.gy, d * b0.gth, jr);
       }
     }
@@ -370,6 +422,7 @@ class InnerCost : public ceres::CostFunction {
   mutable Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> block_;
   mutable Eigen::VectorXd block_r_;
   int full_rows_ = 0;
+  int penetration_rows_ = 0;  // Problem::penetration_weight: one per obstacle and step
   bool compressed_ = true;
   std::vector<int> held_;  // controls held at their bound (compressed form only)
 

@@ -39,6 +39,11 @@ namespace evade::planning {
 // the full step is accepted at once; bisection needs only cost values.
 enum class LineSearchInterpolation { kBisection, kQuadratic, kCubic };
 
+// Mode evade when no plan meets the cycle's constraints: the recovery chain
+// (relaxed problem, most clearance, escape turn) or the one fallback
+// (fallback.h).
+enum class Fallback { kChain, kOwnMotion };
+
 // Ceres' linear solver for the inner problem's normal equations.
 enum class LinearSolver { kDenseNormalCholesky, kDenseQr };
 
@@ -76,6 +81,9 @@ struct SolverOptions {
   double relax_min_track_age_s = 1.0;              // ... and tracked for this long (a new track reads as
                                                    // static while its velocity is unknown); others only a start
                                                    // inside d_safe
+  Fallback fallback = Fallback::kChain;            // mode evade, nothing meets the constraints (fallback.h)
+  double fallback_gamma = 1.0;                     // own_motion links: the robot may close by this times h a step
+  double fallback_penetration_weight = 1e4;        // 1/m^2: own_motion's cost of depth within d_safe (per step)
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
 
@@ -182,6 +190,10 @@ void SolverOptions::fields(V& v) {
   v.field("estimate_multipliers", estimate_multipliers);
   v.field("relax_max_obstacle_speed_mps", relax_max_obstacle_speed_mps, config::between(0.0, 100.0));
   v.field("relax_min_track_age_s", relax_min_track_age_s, config::between(0.0, 3600.0));
+  v.choice("fallback", fallback,
+           config::Choices<Fallback>{{"chain", Fallback::kChain}, {"own_motion", Fallback::kOwnMotion}});
+  v.field("fallback_gamma", fallback_gamma, config::between(1e-6, 1.0));
+  v.field("fallback_penetration_weight", fallback_penetration_weight, config::between(0.0, 1e9));
   v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
 }

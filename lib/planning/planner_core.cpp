@@ -7,6 +7,7 @@
 
 #include "evade/cmd_vel_t.hpp"
 #include "evade/path_t.hpp"
+#include "planning/fallback.h"
 #include "planning/input_checks.h"
 
 namespace evade::planning {
@@ -522,6 +523,7 @@ int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u
   if (constrained) {
     relax = barrier_relaxation(pb, p_.solver);
     can_relax = std::any_of(relax.begin(), relax.end(), [](double s) { return s > 0; });
+    if (p_.solver.fallback == Fallback::kOwnMotion) can_relax = true;
     std::vector<double> brake = braking_controls(v0, w0);
     project_controls(pb, &brake);
     skip_restarts = can_relax && max_violation(pb, brake.data()) > p_.solver.constraint_tolerance;
@@ -531,7 +533,9 @@ int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u
     // unsolved, candidates for the plan with the most clearance below
     for (double side : {1.0, -1.0}) attempts.push_back(dash_controls(side, v0));
   }
-  if (constrained && skip_restarts) {
+  if (constrained && skip_restarts && p_.solver.fallback == Fallback::kOwnMotion) {
+    // braking misses the hard problem: the fallback decides
+  } else if (constrained && skip_restarts) {
     // unsolved, still candidates for the plan chosen below: with
     // a mover closing in, getting out of its way at speed can beat all else
     for (double side : {1.0, -1.0}) attempts.push_back(swerve_controls(side, v0));
@@ -553,7 +557,10 @@ int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u
   }
   int8_t status = evade::plan_t::STATUS_OK;
   std::vector<double> u = res.u;
-  if (!(res.finite && res.feasible)) {
+  if (!(res.finite && res.feasible) && p_.solver.fallback == Fallback::kOwnMotion) {
+    count("solver_infeasible");
+    status = fallback(pb, warm_u, v0, w0, &res, &u, &iterations);
+  } else if (!(res.finite && res.feasible)) {
     count("solver_infeasible");
     // A start inside d_safe, or a static obstacle whose ellipse swells with
     // its uncertainty, can leave the hard problem without any solution
@@ -577,6 +584,23 @@ int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u
   }
   *u_out = u;
   return status;
+}
+
+int8_t PlannerCore::fallback(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0,
+                             SolveResult* res, std::vector<double>* u, int* iterations) {
+  std::vector<double> brake = braking_controls(v0, w0);
+  project_controls(pb, &brake);
+  const std::optional<CeresMpcSolver> solver = budgeted_solver(*iterations);
+  if (!solver) {
+    count("stopping");
+    *u = brake;
+    return evade::plan_t::STATUS_STOPPING;
+  }
+  *res = solve_fallback(*solver, pb, warm_u, brake);
+  *iterations += res->iterations;
+  *u = res->u;
+  count(res->feasible ? "fallback_relaxed" : "stopping");
+  return res->feasible ? evade::plan_t::STATUS_RECOVERING : evade::plan_t::STATUS_STOPPING;
 }
 
 bool PlannerCore::last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const {

@@ -106,6 +106,11 @@ class PlannerCore : public bus::Core {
   // most clearance. Sets *u and *res, adds to *iterations, returns the status.
   int8_t recover(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom, double v0,
                  double w0, SolveResult* res, std::vector<double>* u, int* iterations);
+  // The one fallback (fallback.h, solver.fallback: own_motion): the relaxed
+  // problem's plan (RECOVERING), else braking (STOPPING). Sets *u and *res,
+  // adds to *iterations, returns the status.
+  int8_t fallback(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0, SolveResult* res,
+                  std::vector<double>* u, int* iterations);
   // The last feasible plan shifted to this cycle, its tail braking; false
   // when there is none from within the horizon.
   bool last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const;

@@ -14,7 +14,18 @@ double objective(const Problem& pb, const double* u) {
   // stage k = 0: fixed by the start state, part of the paper's J all the same
   const double ex = pb.x0 - pb.ref_x[0], ey = pb.y0 - pb.ref_y[0], eyaw = wrap_angle(pb.yaw0 - pb.ref_yaw[0]);
   J += pb.w.q_xy * (ex * ex + ey * ey) + pb.w.q_yaw * eyaw * eyaw;
+  if (pb.penetration_weight > 0) J += pb.penetration_weight * squared_penetration(pb, states);
   return J;
+}
+
+double squared_penetration(const Problem& pb, const std::vector<double>& states) {
+  double sum = 0;
+  for (const auto& o : pb.obstacles)
+    for (int k = 1; k <= pb.N; ++k) {
+      const double h = barrier_at(pb, o, k, &states[3 * k]).h;
+      if (h < 0) sum += h * h;
+    }
+  return sum;
 }
 
 void evaluate_constraints(const Problem& pb, const double* u, std::vector<double>* states, std::vector<double>* g) {

@@ -101,8 +101,19 @@ struct Problem {
   Footprint footprint;
   std::vector<ObstacleTrack> obstacles;
   // Optional per-constraint relaxation added to g_j (empty = none): used
-  // only for an infeasible problem, see CeresMpcSolver::solve_elastic.
+  // only for an infeasible problem, see CeresMpcSolver::solve_elastic and
+  // fallback.h.
   std::vector<double> relax;
+  // The fallback's problem (fallback.h): each barrier link charges the
+  // robot only for its own motion, h(X_k+1, O_k+1) >= decay' h(X_k, O_k+1)
+  // with decay' = the obstacle's decay where that h is positive, 1 where it
+  // is not (the robot may close on an obstacle by (1 - decay) h a step, and
+  // not at all once within d_safe; the obstacle's own approach is not the
+  // plan's doing)...
+  bool own_motion = false;
+  // ...and the depth within d_safe costs penetration_weight (1/m^2) squared,
+  // summed over obstacles and steps 1..N (0: no such term).
+  double penetration_weight = 0.0;
   // Optional per-step upper bounds on v_k below lim.v_max (empty = none):
   // mode evade near hidden regions (occlusion_speed.h).
   std::vector<double> v_cap;
@@ -301,9 +312,11 @@ T constraint(const Problem& pb, const T* states, const T* u, int j) {
   const T* p1 = states + 3 * (k + 1);
   const double s1[3] = {value_of(p1[0]), value_of(p1[1]), value_of(p1[2])};
   T g = lift_barrier(barrier_at(pb, o, k + 1, s1), p1[0], p1[1], p1[2]);
-  if (o.decay != 0.0) {
+  if (o.decay != 0.0 || pb.own_motion) {
     const double s0[3] = {value_of(p0[0]), value_of(p0[1]), value_of(p0[2])};
-    g = g - o.decay * lift_barrier(barrier_at(pb, o, k, s0), p0[0], p0[1], p0[2]);
+    const BarrierValue b0 = barrier_at(pb, o, pb.own_motion ? k + 1 : k, s0);
+    const double decay = pb.own_motion && b0.h <= 0.0 ? 1.0 : o.decay;
+    g = g - decay * lift_barrier(b0, p0[0], p0[1], p0[2]);
   }
   if (!pb.relax.empty()) g = g + pb.relax[j];
   return g;
@@ -349,8 +362,11 @@ void cost_residuals(const Problem& pb, const T* states, const T* u, T* r) {
   }
 }
 
-// The objective J of the paper for controls u (double).
+// The objective J of the paper for controls u (double), plus the
+// penetration term when pb.penetration_weight > 0.
 double objective(const Problem& pb, const double* u);
+// sum over obstacles and steps 1..N of min(0, h)^2 of a rollout's states.
+double squared_penetration(const Problem& pb, const std::vector<double>& states);
 // All constraints g_j(u) (>= 0 when satisfied) and the states of the rollout.
 void evaluate_constraints(const Problem& pb, const double* u, std::vector<double>* states, std::vector<double>* g);
 // Largest violation max_j max(0, -g_j) (m for barriers, m/s or rad/s per step for rates).

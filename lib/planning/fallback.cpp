@@ -1,0 +1,98 @@
+#include "planning/fallback.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace evade::planning {
+namespace {
+
+// cost, violation and clearance of r->u against pb (the cycle's problem)
+void report_against(const Problem& pb, SolveResult* r) {
+  std::vector<double> g;
+  evaluate_constraints(pb, r->u.data(), &r->states, &g);
+  r->max_violation = 0;
+  for (double v : g) r->max_violation = std::max(r->max_violation, -v);
+  r->cost = objective(pb, r->u.data());
+  r->min_barrier = min_barrier(pb, r->states);
+  auto finite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+  };
+  r->finite = finite(r->u) && finite(r->states) && std::isfinite(r->cost);
+}
+
+}  // namespace
+
+Problem fallback_problem(const Problem& pb, const std::vector<double>& brake_u, const SolverOptions& opts) {
+  Problem out = pb;
+  out.own_motion = true;
+  out.penetration_weight = opts.fallback_penetration_weight;
+  for (ObstacleTrack& o : out.obstacles) o.decay = 1.0 - opts.fallback_gamma;
+  out.relax.assign(out.num_constraints(), 0.0);
+  std::vector<double> states, g;
+  evaluate_constraints(out, brake_u.data(), &states, &g);
+  // braking meets every link: each relaxed by what braking misses of it
+  for (int j = out.num_rate_constraints(); j < out.num_constraints(); ++j)
+    if (std::isfinite(g[j]) && g[j] < 0) out.relax[j] = -g[j];
+  return out;
+}
+
+std::vector<std::vector<double>> fallback_starts(const Problem& pb, const std::vector<double>& warm_u,
+                                                 const std::vector<double>& brake_u) {
+  std::vector<std::vector<double>> starts = {warm_u, brake_u};
+  for (double side : {1.0, -1.0}) {
+    std::vector<double> dash(pb.num_controls());
+    double v = pb.v_prev;
+    for (int k = 0; k < pb.N; ++k) {
+      v = std::min(pb.lim.v_max, v + pb.lim.accel * pb.dt);
+      dash[2 * k] = v;
+      dash[2 * k + 1] = k < pb.N / 2 ? side * pb.lim.omega_max : 0.0;
+    }
+    starts.push_back(dash);
+  }
+  if (pb.lim.v_min < 0) {
+    std::vector<double> back(pb.num_controls(), 0.0);
+    for (int k = 0; k < pb.N; ++k) back[2 * k] = pb.lim.v_min;
+    starts.push_back(back);
+  }
+  for (auto& s : starts) project_controls(pb, &s);
+  return starts;
+}
+
+SolveResult solve_fallback(const CeresMpcSolver& solver, const Problem& pb, const std::vector<double>& warm_u,
+                           const std::vector<double>& brake_u) {
+  const SolverOptions& opts = solver.options();
+  const Problem relaxed = fallback_problem(pb, brake_u, opts);
+  std::vector<std::vector<double>> starts = fallback_starts(pb, warm_u, brake_u);
+  // The starts share one solve's budget (the cycle's other solves have
+  // failed already); a budget below one iteration a start keeps the first.
+  starts.resize(std::min(starts.size(), static_cast<size_t>(std::max(1, opts.max_total_iterations))));
+  SolverOptions shared = opts;
+  shared.max_total_iterations = std::max(1, opts.max_total_iterations / static_cast<int>(starts.size()));
+  const CeresMpcSolver budgeted(shared);
+  SolveResult out;
+  bool have = false, out_continues = false;
+  int iterations = 0;
+  for (size_t s = 0; s < starts.size(); ++s) {
+    SolveResult r = budgeted.solve(relaxed, starts[s]);
+    iterations += r.iterations;
+    if (!(r.finite && r.feasible)) continue;
+    // two sides of a mover often cost about the same: the way out under
+    // way is kept unless another is clearly cheaper
+    const double to_beat = out_continues ? opts.recovery_switch_ratio * out.cost : out.cost;
+    if (!have || r.cost < to_beat) {
+      out = r;
+      have = true;
+      out_continues = s == 0;
+    }
+  }
+  if (!have) {
+    out = SolveResult{};
+    out.u = brake_u;
+  }
+  out.iterations = iterations;
+  report_against(pb, &out);
+  out.feasible = have;
+  return out;
+}
+
+}  // namespace evade::planning
