@@ -1000,6 +1000,35 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
   return relax;
 }
 
+MultiStartResult solve_from_starts(const SolverOptions& opts, const Problem& pb,
+                                   std::vector<std::vector<double>> starts, bool least_violating) {
+  starts.resize(std::min(starts.size(), static_cast<size_t>(std::max(1, opts.max_total_iterations))));
+  SolverOptions shared = opts;
+  shared.max_total_iterations = std::max(1, opts.max_total_iterations / static_cast<int>(starts.size()));
+  const CeresMpcSolver budgeted(shared);
+  MultiStartResult m;
+  SolveResult& out = m.best;
+  bool out_continues = false;
+  int iterations = 0;
+  for (size_t s = 0; s < starts.size(); ++s) {
+    SolveResult r = budgeted.solve(pb, starts[s]);
+    iterations += r.iterations;
+    if (!r.finite) continue;
+    const double to_beat = out_continues ? opts.recovery_switch_ratio * out.cost : out.cost;
+    const bool better =
+        !m.found ? (least_violating || r.feasible)
+                 : (r.feasible && (!out.feasible || r.cost < to_beat)) ||
+                       (least_violating && !r.feasible && !out.feasible && r.max_violation < out.max_violation);
+    if (better) {
+      out = r;
+      m.found = true;
+      out_continues = s == 0;
+    }
+  }
+  out.iterations = iterations;
+  return m;
+}
+
 SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vector<double>& start_u,
                                           const std::vector<double>* relax) const {
   // Some obstacles ask more than any plan can give: from inside d_safe
@@ -1030,37 +1059,8 @@ SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vecto
     }
     starts.push_back(guess);
   }
-  // The starts share one solve's iteration budget: this runs after the hard
-  // solve has already failed, and a planning cycle that overruns its period
-  // reacts late to everything else.
-  // A budget smaller than the number of starts (the planner's cycle
-  // budget nearly spent) keeps the first starts only, one iteration each.
-  starts.resize(std::min(starts.size(), static_cast<size_t>(std::max(1, opts_.max_total_iterations))));
-  SolverOptions shared = opts_;
-  shared.max_total_iterations = std::max(1, opts_.max_total_iterations / static_cast<int>(starts.size()));
-  const CeresMpcSolver budgeted(shared);
-  // The plan grown from the previous one is kept unless another is clearly
-  // cheaper (recovery_switch_ratio): two sides of a mover often cost about
-  // the same, and a robot that takes the other one every cycle turns back
-  // and forth in the mover's way instead of getting out of it.
-  SolveResult out;
-  bool have = false, out_continues = false;
-  int iterations = 0;
-  for (size_t s = 0; s < starts.size(); ++s) {
-    std::vector<double>& u = starts[s];
-    project_controls(pb, &u);
-    SolveResult r = budgeted.solve(pb, u);
-    iterations += r.iterations;
-    const double to_beat = out_continues ? opts_.recovery_switch_ratio * out.cost : out.cost;
-    const bool better = !have || (r.feasible && (!out.feasible || r.cost < to_beat)) ||
-                        (!r.feasible && !out.feasible && r.max_violation < out.max_violation);
-    if (r.finite && better) {
-      out = r;
-      have = true;
-      out_continues = s == 0;
-    }
-  }
-  out.iterations = iterations;
+  for (std::vector<double>& u : starts) project_controls(pb, &u);
+  SolveResult out = solve_from_starts(opts_, pb, std::move(starts), /*least_violating=*/true).best;
   const bool shifted_feasible = out.feasible;
   // report against the original constraints
   finish(pb_in, opts_, &out);

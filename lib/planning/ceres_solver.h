@@ -158,6 +158,26 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
 // controls forward), in place.
 void project_controls(const Problem& pb, std::vector<double>* u);
 
+// Solves `pb` from each start in turn on one solve's iteration budget:
+// opts.max_total_iterations split among the starts (a budget smaller than
+// their number keeps the first starts only, one iteration each); this
+// runs after the cycle's hard solve has failed, and a cycle that overruns
+// its period reacts late to everything else. The cheapest feasible result
+// wins, but the first start's (the plan grown from the previous one) is
+// kept unless another costs less than opts.recovery_switch_ratio of it:
+// two sides of a mover often cost about the same, and a robot that takes
+// the other one every cycle turns back and forth in the mover's way
+// instead of getting out of it. With least_violating, when no result is
+// feasible the least violating finite one wins. `found` is false when no
+// result qualified (then `best` is empty); best.iterations is the sum
+// over every start solved.
+struct MultiStartResult {
+  SolveResult best;
+  bool found = false;
+};
+MultiStartResult solve_from_starts(const SolverOptions& opts, const Problem& pb,
+                                   std::vector<std::vector<double>> starts, bool least_violating);
+
 template <class V>
 void SolverOptions::fields(V& v) {
   v.field("max_outer_iterations", max_outer_iterations, config::between(1, 1000));

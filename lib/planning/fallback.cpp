@@ -63,33 +63,10 @@ SolveResult solve_fallback(const CeresMpcSolver& solver, const Problem& pb, cons
   const SolverOptions& opts = solver.options();
   const Problem relaxed = fallback_problem(pb, brake_u, opts);
   std::vector<std::vector<double>> starts = fallback_starts(pb, warm_u, brake_u);
-  // The starts share one solve's budget (the cycle's other solves have
-  // failed already); a budget below one iteration a start keeps the first.
-  starts.resize(std::min(starts.size(), static_cast<size_t>(std::max(1, opts.max_total_iterations))));
-  SolverOptions shared = opts;
-  shared.max_total_iterations = std::max(1, opts.max_total_iterations / static_cast<int>(starts.size()));
-  const CeresMpcSolver budgeted(shared);
-  SolveResult out;
-  bool have = false, out_continues = false;
-  int iterations = 0;
-  for (size_t s = 0; s < starts.size(); ++s) {
-    SolveResult r = budgeted.solve(relaxed, starts[s]);
-    iterations += r.iterations;
-    if (!(r.finite && r.feasible)) continue;
-    // two sides of a mover often cost about the same: the way out under
-    // way is kept unless another is clearly cheaper
-    const double to_beat = out_continues ? opts.recovery_switch_ratio * out.cost : out.cost;
-    if (!have || r.cost < to_beat) {
-      out = r;
-      have = true;
-      out_continues = s == 0;
-    }
-  }
-  if (!have) {
-    out = SolveResult{};
-    out.u = brake_u;
-  }
-  out.iterations = iterations;
+  const MultiStartResult m = solve_from_starts(opts, relaxed, std::move(starts), /*least_violating=*/false);
+  SolveResult out = m.best;
+  if (!m.found) out.u = brake_u;
+  const bool have = m.found;
   report_against(pb, &out);
   out.feasible = have;
   return out;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <random>
 
+#include "box_map.h"
 #include "bus/log.h"
 #include "bus/memory_bus.h"
 #include "config/config.h"
@@ -27,8 +28,7 @@
 namespace evade::planning {
 namespace {
 
-constexpr double kRes = 0.1, kOriginX = -2.0, kOriginY = -6.0;
-constexpr int kW = 120, kH = 120;
+using testing::Box;
 
 PlannerParams jackal_params() {
   PlannerParams p = PlannerParams::from_config(config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
@@ -37,37 +37,12 @@ PlannerParams jackal_params() {
   return p;
 }
 
-// A box [x0, x1] x [y0, y1] standing in the world.
-struct Box {
-  double x0, x1, y0, y1;
-};
-
 // A wall across the route at x in [3.0, 3.2] with a gap of `gap` m centred
 // on y = 0, from y = -6 to 6.
 std::vector<Box> doorway(double gap) { return {{3.0, 3.2, -6.0, -0.5 * gap}, {3.0, 3.2, 0.5 * gap, 6.0}}; }
 
 // The map as the elevation map marks it: every cell a box overlaps.
-evade::grid_map_t map_of(const std::vector<Box>& boxes, int64_t utime) {
-  evade::grid_map_t m{};
-  m.utime = utime;
-  m.origin[0] = kOriginX;
-  m.origin[1] = kOriginY;
-  m.resolution = kRes;
-  m.width = kW;
-  m.height = kH;
-  m.elevation.assign(kH, std::vector<float>(kW, 0.0f));
-  m.obstacle.assign(kH, std::vector<int8_t>(kW, 0));
-  for (int r = 0; r < kH; ++r)
-    for (int c = 0; c < kW; ++c) {
-      const double x0 = kOriginX + c * kRes, y0 = kOriginY + r * kRes;
-      for (const Box& b : boxes)
-        if (x0 < b.x1 - 1e-9 && x0 + kRes > b.x0 + 1e-9 && y0 < b.y1 - 1e-9 && y0 + kRes > b.y0 + 1e-9) {
-          m.obstacle[r][c] = 1;
-          m.elevation[r][c] = 1.5f;
-        }
-    }
-  return m;
-}
+evade::grid_map_t map_of(const std::vector<Box>& boxes, int64_t utime) { return testing::box_map(boxes, utime, 1.5f); }
 
 // The tracker's view of the boxes: 1.5 m tiles, each in the minimum
 // bounding ellipse of its rectangle (semi-axes sqrt(2) x half-sides).
