@@ -493,18 +493,6 @@ ceres::Solver::Options inner_options(const SolverOptions& o, int max_iterations)
   return opt;
 }
 
-// Fills cost, violation, barrier and finiteness of r from r.u.
-void finish(const Problem& pb, const SolverOptions& o, SolveResult* r) {
-  std::vector<double> g;
-  evaluate_constraints(pb, r->u.data(), &r->states, &g);
-  r->max_violation = 0;
-  for (double v : g) r->max_violation = std::max(r->max_violation, -v);
-  r->cost = objective(pb, r->u.data());
-  r->min_barrier = min_barrier(pb, r->states);
-  r->finite = all_finite(r->u) && all_finite(r->states) && std::isfinite(r->cost) && std::isfinite(r->max_violation);
-  r->feasible = r->finite && r->max_violation <= o.constraint_tolerance;
-}
-
 // Bisections of the segment from the best feasible iterate to the last one.
 constexpr int kSegmentBisections = 12;
 
@@ -750,6 +738,17 @@ bool project_onto_constraints(const Problem& pb, const SolverOptions& o, std::ve
 
 }  // namespace
 
+void evaluate_result(const Problem& pb, const SolverOptions& o, SolveResult* r) {
+  std::vector<double> g;
+  evaluate_constraints(pb, r->u.data(), &r->states, &g);
+  r->max_violation = 0;
+  for (double v : g) r->max_violation = std::max(r->max_violation, -v);
+  r->cost = objective(pb, r->u.data());
+  r->min_barrier = min_barrier(pb, r->states);
+  r->finite = all_finite(r->u) && all_finite(r->states) && std::isfinite(r->cost) && std::isfinite(r->max_violation);
+  r->feasible = r->finite && r->max_violation <= o.constraint_tolerance;
+}
+
 bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vector<double>& lambda, double rho,
                               std::vector<double>* residuals, std::vector<double>* jacobian) {
   std::vector<ActiveConstraint> active;
@@ -894,7 +893,7 @@ void project_iterates(const Problem& pb, const SolverOptions& o, Iterates* log, 
   }
   if (improved) {
     res->u = log->best_feasible;
-    finish(pb, o, res);
+    evaluate_result(pb, o, res);
   }
 }
 
@@ -919,7 +918,7 @@ void segment_search(const Problem& pb, const SolverOptions& o, const std::vector
   }
   res->u = best_feasible;
   if (lo > 0.0 && at(lo) && objective(pb, trial.data()) < objective(pb, best_feasible.data())) res->u = trial;
-  finish(pb, o, res);
+  evaluate_result(pb, o, res);
 }
 
 }  // namespace
@@ -950,7 +949,7 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   augmented_lagrangian(pb, opts_, &res, &lambda, &rho, &log);
   res.multipliers = lambda;
   res.penalty = rho;
-  finish(pb, opts_, &res);
+  evaluate_result(pb, opts_, &res);
   if (!res.feasible && res.finite) project_iterates(pb, opts_, &log, &res);
   if (!res.feasible && !log.best_feasible.empty()) segment_search(pb, opts_, log.best_feasible, &res);
   if (!res.feasible && res.finite) {
@@ -959,7 +958,7 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
     // may leave every constraint within tolerance.
     SolveResult repaired = res;
     project_controls(pb, &repaired.u);
-    finish(pb, opts_, &repaired);
+    evaluate_result(pb, opts_, &repaired);
     if (repaired.feasible) res = repaired;
   }
   return res;
@@ -1063,7 +1062,7 @@ SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vecto
   SolveResult out = solve_from_starts(opts_, pb, std::move(starts), /*least_violating=*/true).best;
   const bool shifted_feasible = out.feasible;
   // report against the original constraints
-  finish(pb_in, opts_, &out);
+  evaluate_result(pb_in, opts_, &out);
   out.feasible = shifted_feasible;  // feasible for the shifted barrier
   return out;
 }

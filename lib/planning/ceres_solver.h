@@ -154,6 +154,10 @@ bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vec
 // All zero when neither applies; standing still meets the relaxed problem.
 std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& opts);
 
+// Fills r's cost, max_violation, min_barrier, finite and feasible from
+// r->u against pb (states rolled out again).
+void evaluate_result(const Problem& pb, const SolverOptions& opts, SolveResult* r);
+
 // Clamps controls into the bounds and rate limits (from the measured
 // controls forward), in place.
 void project_controls(const Problem& pb, std::vector<double>* u);

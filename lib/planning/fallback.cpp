@@ -4,24 +4,6 @@
 #include <cmath>
 
 namespace evade::planning {
-namespace {
-
-// cost, violation and clearance of r->u against pb (the cycle's problem)
-void report_against(const Problem& pb, SolveResult* r) {
-  std::vector<double> g;
-  evaluate_constraints(pb, r->u.data(), &r->states, &g);
-  r->max_violation = 0;
-  for (double v : g) r->max_violation = std::max(r->max_violation, -v);
-  r->cost = objective(pb, r->u.data());
-  r->min_barrier = min_barrier(pb, r->states);
-  auto finite = [](const std::vector<double>& v) {
-    return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
-  };
-  r->finite = finite(r->u) && finite(r->states) && std::isfinite(r->cost);
-}
-
-}  // namespace
-
 Problem fallback_problem(const Problem& pb, const std::vector<double>& brake_u, const SolverOptions& opts) {
   Problem out = pb;
   out.own_motion = true;
@@ -67,7 +49,7 @@ SolveResult solve_fallback(const CeresMpcSolver& solver, const Problem& pb, cons
   SolveResult out = m.best;
   if (!m.found) out.u = brake_u;
   const bool have = m.found;
-  report_against(pb, &out);
+  evaluate_result(pb, opts, &out);
   out.feasible = have;
   return out;
 }
