@@ -21,7 +21,9 @@ class SettledCells {
  public:
   // Takes one map's obstacle layer, stamped utime, and writes per cell of
   // that layer 1 where the cell is settled, else 0. A utime before the last
-  // one, or a different resolution, forgets what was seen before.
+  // one, or a different resolution, forgets what was seen before; so does a
+  // map whose corner is not finite or lies beyond the lattice's range
+  // (2^30 cells from the origin), in which nothing is settled.
   void update(const ElevationLayers& layers, int64_t utime, double settle_s, double gap_s,
               std::vector<uint8_t>* settled);
   void clear() { runs_.clear(); }

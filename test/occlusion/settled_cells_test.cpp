@@ -117,5 +117,26 @@ TEST(SettledCells, AGapLongerThanGapSStartsAgain) {
   EXPECT_EQ(frame(&s, wall, kT0).settled, 0u);
 }
 
+TEST(SettledCells, AMapWithACornerOffTheLatticeSettlesNothingAndForgets) {
+  const HiddenRegionParams p;
+  SettledCells s;
+  ElevationLayers wall = flat_map();
+  box(&wall, 1.0, 4.0, 2.0, 2.1);
+  int64_t t = kT0;
+  for (; t <= kT0 + std::llround(p.settle_s * 1e6); t += kDtUs) frame(&s, wall, t);
+  ASSERT_GT(frame(&s, wall, t).settled, 0u);
+  for (const double corner : {std::nan(""), HUGE_VAL, -1e300, 2e8}) {
+    ElevationLayers far = wall;
+    far.origin_x = corner;
+    t += kDtUs;
+    EXPECT_EQ(frame(&s, far, t).settled, 0u) << corner;
+    EXPECT_EQ(s.size(), 0u) << corner;
+  }
+  // back on the lattice, the wall settles again from the start
+  t += kDtUs;
+  EXPECT_EQ(frame(&s, wall, t).settled, 0u);
+  EXPECT_GT(s.size(), 0u);
+}
+
 }  // namespace
 }  // namespace evade::mapping
