@@ -2,6 +2,7 @@
 // planning itself: the elevation maps' arrival and the field of each cycle.
 #include <cmath>
 
+#include "evade/grid_map_t.hpp"
 #include "planning/input_checks.h"
 #include "planning/planner_core.h"
 
