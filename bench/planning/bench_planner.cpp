@@ -221,7 +221,7 @@ void BM_Detour(benchmark::State& state) {
   RouteFollower route;
   route.set_route({0.0, 20.0}, {0.0, 0.0});
   route.update_progress(0.0, 0.0, p.route_search_window_m);
-  std::vector<SettledObstacle> obs = {{4.0, 0.1, 1.0, 1.0, 0.0}};
+  std::vector<Ellipse> obs = {{4.0, 0.1, 1.0, 1.0, 0.0}};
   for (int i = 1; i < k; ++i) {
     const double ang = 2.399963 * i;  // golden angle: spread without overlap
     const double r = 2.0 + 4.0 * i / k;

@@ -36,7 +36,7 @@ struct Grid {
 
 }  // namespace
 
-void SettledMemory::update(int64_t utime, const std::vector<std::pair<int64_t, SettledObstacle>>& settled,
+void SettledMemory::update(int64_t utime, const std::vector<std::pair<int64_t, Ellipse>>& settled,
                            const std::vector<int64_t>& moving) {
   for (const auto& [id, e] : settled) entries_[id] = {e, utime};
   for (int64_t id : moving) entries_.erase(id);
@@ -50,16 +50,16 @@ void SettledMemory::update(int64_t utime, const std::vector<std::pair<int64_t, S
   }
 }
 
-std::vector<SettledObstacle> SettledMemory::obstacles() const {
-  std::vector<SettledObstacle> out;
+std::vector<Ellipse> SettledMemory::obstacles() const {
+  std::vector<Ellipse> out;
   out.reserve(entries_.size());
   for (const auto& [id, e] : entries_) out.push_back(e.ellipse);
   return out;
 }
 
-double DetourPlanner::clearance(const std::vector<SettledObstacle>& obstacles, double px, double py) const {
+double DetourPlanner::clearance(const std::vector<Ellipse>& obstacles, double px, double py) const {
   double h = kFar;
-  for (const SettledObstacle& o : obstacles) {
+  for (const Ellipse& o : obstacles) {
     // Beyond the major axis plus d_safe and comfort, h cannot be the smallest
     // one that matters: skip the line-ellipse distance.
     if (std::hypot(px - o.x, py - o.y) > o.a + d_safe_ + p_.comfort_m + p_.cell_m) continue;
@@ -79,7 +79,7 @@ namespace {
 // *rejoin is the first point rejoin_m past it that is free (-1: none
 // before s_end). False when nothing within the lookahead is blocked.
 bool blocked_stretch(const DetourPlanner& planner, const DetourParams& p, const RouteFollower& route,
-                     const std::vector<SettledObstacle>& obstacles, double s_start, double s_end, double* rejoin) {
+                     const std::vector<Ellipse>& obstacles, double s_start, double s_end, double* rejoin) {
   const double step = p.cell_m;
   double first_blocked = -1, free_run = 0;
   *rejoin = -1;
@@ -151,7 +151,7 @@ struct CellCosts {
 };
 
 CellCosts cell_costs(const DetourPlanner& planner, const DetourParams& p, const Grid& g,
-                     const std::vector<SettledObstacle>& obstacles, const std::vector<double>& off_route) {
+                     const std::vector<Ellipse>& obstacles, const std::vector<double>& off_route) {
   const int n = g.nx * g.ny;
   CellCosts c{std::vector<double>(static_cast<size_t>(n)), std::vector<char>(static_cast<size_t>(n), 0),
               std::vector<char>(static_cast<size_t>(n), 0)};
@@ -281,7 +281,7 @@ void append_smoothed(const Grid& g, const std::vector<int>& cells, int half, std
 }  // namespace
 
 DetourPlanner::Result DetourPlanner::plan(const RouteFollower& route, double px, double py,
-                                          const std::vector<SettledObstacle>& obstacles, std::vector<double>* x,
+                                          const std::vector<Ellipse>& obstacles, std::vector<double>* x,
                                           std::vector<double>* y) {
   x->clear();
   y->clear();

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "config/fields.h"
+#include "planning/ellipse.h"
 #include "planning/reference.h"
 #include "planning/static_field.h"
 
@@ -96,11 +97,6 @@ struct DetourParams {
   }
 };
 
-// A settled obstacle's current ellipse (inflated, as published at k = 0).
-struct SettledObstacle {
-  double x = 0, y = 0, a = 0, b = 0, theta = 0;
-};
-
 // The settled obstacles of the last memory_s, by track id. A large object
 // is seen as pieces whose ids come and go and whose centres jump as the
 // view changes (a parked car's end, then its side: apparent speeds up to
@@ -115,14 +111,14 @@ class SettledMemory {
   // The settled tracks seen at utime (id, ellipse) and the ids seen moving
   // (forgotten at once: a walker who stood and walks on, a cluster merged
   // with a passer-by); older entries expire.
-  void update(int64_t utime, const std::vector<std::pair<int64_t, SettledObstacle>>& settled,
+  void update(int64_t utime, const std::vector<std::pair<int64_t, Ellipse>>& settled,
               const std::vector<int64_t>& moving = {});
-  std::vector<SettledObstacle> obstacles() const;
+  std::vector<Ellipse> obstacles() const;
   size_t size() const { return entries_.size(); }
 
  private:
   struct Entry {
-    SettledObstacle ellipse;
+    Ellipse ellipse;
     int64_t last_seen_us;
   };
   int64_t memory_us_;
@@ -143,12 +139,12 @@ class DetourPlanner {
   // From the robot at (px, py) along `route` (its progress already
   // updated): kDetour with the polyline robot -> way round -> rejoin point
   // -> the rest of the route in (x, y); otherwise (x, y) are left empty.
-  Result plan(const RouteFollower& route, double px, double py, const std::vector<SettledObstacle>& obstacles,
+  Result plan(const RouteFollower& route, double px, double py, const std::vector<Ellipse>& obstacles,
               std::vector<double>* x, std::vector<double>* y);
 
   // The smallest barrier h over the obstacles at (px, py) (m; a large value
   // when there are none), and over the static field when one is set.
-  double clearance(const std::vector<SettledObstacle>& obstacles, double px, double py) const;
+  double clearance(const std::vector<Ellipse>& obstacles, double px, double py) const;
 
   // Static structure by its cells (static_field.h), null for none. Its
   // clearance at a cell is the field less `radius` (the footprint's disc)

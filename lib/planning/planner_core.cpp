@@ -220,7 +220,7 @@ double PlannerCore::track_age_s(int64_t id, int64_t utime) const {
 }
 
 bool PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom,
-                                SettledObstacle* swept) const {
+                                Ellipse* swept) const {
   const DetourParams& d = p_.detour;
   const double speed = std::hypot(t.vx, t.vy);
   if (speed <= 0.0 || route_.length() <= 0.0) return false;
@@ -269,9 +269,9 @@ void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
 }
 
 bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
-  std::vector<std::pair<int64_t, SettledObstacle>> settled;
+  std::vector<std::pair<int64_t, Ellipse>> settled;
   std::vector<int64_t> moving;
-  std::vector<SettledObstacle> swept_movers;
+  std::vector<Ellipse> swept_movers;
   if (predictions_ && p_.detour.enabled) {
     for (const auto& t : predictions_->tracks) {
       if (!valid_track(t)) continue;
@@ -279,7 +279,7 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
       const bool established = age_s >= p_.detour.min_track_age_s;
       if (std::hypot(t.vx, t.vy) > p_.detour.max_obstacle_speed_mps) {
         moving.push_back(t.id);
-        SettledObstacle swept;
+        Ellipse swept;
         if (age_s >= p_.detour.min_mover_age_s && swept_in_grid(t, odom, &swept)) swept_movers.push_back(swept);
         continue;
       }
@@ -290,7 +290,7 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
     }
   }
   settled_.update(odom.utime, settled, moving);
-  std::vector<SettledObstacle> in_grid = settled_.obstacles();
+  std::vector<Ellipse> in_grid = settled_.obstacles();
   in_grid.insert(in_grid.end(), swept_movers.begin(), swept_movers.end());
   if (!swept_movers.empty()) count("detour_movers", static_cast<int64_t>(swept_movers.size()));
   std::vector<double> way_x, way_y;

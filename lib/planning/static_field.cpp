@@ -38,13 +38,6 @@ std::vector<char> static_sites(const evade::grid_map_t& m, const std::vector<Ell
 
 }  // namespace
 
-bool Ellipse::contains(double px, double py, double grow) const {
-  const double c = std::cos(theta), s = std::sin(theta);
-  const double dx = px - x, dy = py - y;
-  const double u = (dx * c + dy * s) / (a + grow), v = (-dx * s + dy * c) / (b + grow);
-  return u * u + v * v <= 1.0;
-}
-
 void squared_distance_1d(const std::vector<double>& f, std::vector<double>* out) {
   const int n = static_cast<int>(f.size());
   out->assign(f.size(), kFar);

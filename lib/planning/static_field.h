@@ -37,6 +37,7 @@
 #include "config/fields.h"
 #include "evade/grid_map_t.hpp"
 #include "evade/prediction_list_t.hpp"
+#include "planning/ellipse.h"
 #include "planning/problem.h"
 
 namespace evade::planning {
@@ -61,12 +62,6 @@ struct StaticFieldParams {
     v.field("max_distance_m", max_distance_m, config::between(0.1, 100.0));
     v.field("min_structure_m", min_structure_m, config::between(0.0, 100.0));
   }
-};
-
-// An ellipse at one moment (a track's step 0).
-struct Ellipse {
-  double x = 0, y = 0, a = 0, b = 0, theta = 0;
-  bool contains(double px, double py, double grow) const;
 };
 
 class StaticField {

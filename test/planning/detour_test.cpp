@@ -28,7 +28,7 @@ RouteFollower straight(double x0, double x1) {
   return r;
 }
 
-SettledObstacle circle(double x, double y, double r) { return {x, y, r, r, 0.0}; }
+Ellipse circle(double x, double y, double r) { return {x, y, r, r, 0.0}; }
 
 // Largest lateral offset of a path within [x_lo, x_hi] (signed, by magnitude).
 double offset_near(const std::vector<double>& x, const std::vector<double>& y, double x_lo, double x_hi) {
@@ -39,7 +39,7 @@ double offset_near(const std::vector<double>& x, const std::vector<double>& y, d
 }
 
 // The lowest barrier h of an obstacle over the points of a way.
-double lowest_h(const std::vector<double>& x, const std::vector<double>& y, const SettledObstacle& o) {
+double lowest_h(const std::vector<double>& x, const std::vector<double>& y, const Ellipse& o) {
   double h = 1e9;
   for (size_t i = 0; i < x.size(); ++i) h = std::min(h, barrier(x[i], y[i], o.x, o.y, o.a, o.b, o.theta, kDsafe).h);
   return h;
@@ -63,7 +63,7 @@ TEST(Detour, ANarrowBlockageIsLeftToTheMpc) {
   const DetourParams p = repo_params();
   DetourPlanner d(p, kDsafe);
   RouteFollower route = straight(0, 20);
-  const SettledObstacle bin = circle(4, 0.65, 0.3);
+  const Ellipse bin = circle(4, 0.65, 0.3);
   ASSERT_LT(barrier(4, 0, bin.x, bin.y, bin.a, bin.b, bin.theta, kDsafe).h, p.margin_m) << "the route is blocked";
   std::vector<double> x, y;
   EXPECT_EQ(d.plan(route, 0, 0, {bin}, &x, &y), DetourPlanner::Result::kClear);
@@ -78,7 +78,7 @@ TEST(Detour, AWideObstacleOnTheRouteIsGoneRoundAboveTheMargin) {
   const DetourParams p = repo_params();
   DetourPlanner d(p, kDsafe);
   RouteFollower route = straight(0, 20);
-  const std::vector<SettledObstacle> obs = {circle(4, 0.2, 1.0)};  // a bit to the left: right is shorter
+  const std::vector<Ellipse> obs = {circle(4, 0.2, 1.0)};  // a bit to the left: right is shorter
   std::vector<double> x, y;
   ASSERT_EQ(d.plan(route, 0, 0, obs, &x, &y), DetourPlanner::Result::kDetour);
   ASSERT_GE(x.size(), 3u);
@@ -102,7 +102,7 @@ TEST(Detour, TheWayRoundKeepsItsSideWhenTheOtherBecomesSlightlyShorter) {
   const double side = offset_near(x, y, 3, 5);
   ASSERT_GT(side, 1.0) << "left, the shorter side at first";
   // the obstacle now sits a little to the left: right is shorter
-  const std::vector<SettledObstacle> moved = {circle(4, 0.1, 1.0)};
+  const std::vector<Ellipse> moved = {circle(4, 0.1, 1.0)};
   ASSERT_EQ(d.plan(route, 0.3, 0, moved, &x, &y), DetourPlanner::Result::kDetour);
   EXPECT_GT(offset_near(x, y, 3, 5), 1.0) << "kept the left";
   // a planner without that history takes the right
@@ -117,7 +117,7 @@ TEST(Detour, TheWayRoundStaysNearTheRoute) {
   // its lower end keeps nearer the route. The lower end is taken.
   DetourPlanner d(repo_params(), kDsafe);
   RouteFollower route = straight(0, 20);
-  std::vector<SettledObstacle> wall;
+  std::vector<Ellipse> wall;
   for (double wy = -1.0; wy <= 2.01; wy += 0.5) wall.push_back(circle(5, wy, 0.3));
   std::vector<double> x, y;
   ASSERT_EQ(d.plan(route, 0, 1.8, wall, &x, &y), DetourPlanner::Result::kDetour);
@@ -137,7 +137,7 @@ TEST(Detour, AnObstacleOnARoutesCornerIsGoneRoundAndTheRouteResumed) {
   RouteFollower route;
   ASSERT_TRUE(route.set_route({0, 6, 6}, {0, 0, 8}));
   route.update_progress(2, 0, 3.0);
-  const SettledObstacle o = circle(6, 0, 0.8);
+  const Ellipse o = circle(6, 0, 0.8);
   std::vector<double> x, y;
   ASSERT_EQ(d.plan(route, 2, 0, {o}, &x, &y), DetourPlanner::Result::kDetour);
   EXPECT_DOUBLE_EQ(x.back(), 6.0);
@@ -168,7 +168,7 @@ TEST(Detour, ABlockedRouteEndOrATooLargeGridGivesNoWay) {
   d.plan(far_route, 1e17, 0, {circle(1e17, 0, 1.0)}, &x, &y);
   for (size_t i = 0; i < x.size(); ++i) EXPECT_TRUE(std::isfinite(x[i]) && std::isfinite(y[i])) << i;
   // a wall across the whole grid: no gap, the route is followed as it is
-  std::vector<SettledObstacle> wall;
+  std::vector<Ellipse> wall;
   for (double wy = -5.0; wy <= 5.01; wy += 0.4) wall.push_back(circle(5, wy, 0.3));
   RouteFollower through = straight(0, 20);
   EXPECT_EQ(d.plan(through, 0, 0, wall, &x, &y), DetourPlanner::Result::kNoWay);
@@ -185,7 +185,7 @@ TEST(Detour, ARobotInsideTheMarginIsLedOut) {
   DetourPlanner d(p, kDsafe);
   RouteFollower route = straight(0, 20);
   // the robot at (3, -0.9) is 0.1 m beyond the ellipse: h < 0
-  const SettledObstacle o = circle(4, 0, 1.0);
+  const Ellipse o = circle(4, 0, 1.0);
   ASSERT_LT(barrier(3.0, -0.9, o.x, o.y, o.a, o.b, o.theta, kDsafe).h, 0.0);
   route.update_progress(3.0, -0.9, 3.0);
   std::vector<double> x, y;
