@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "planning/manoeuvres.h"
+
 namespace evade::planning {
 Problem fallback_problem(const Problem& pb, const std::vector<double>& brake_u, const SolverOptions& opts) {
   Problem out = pb;
@@ -21,16 +23,7 @@ Problem fallback_problem(const Problem& pb, const std::vector<double>& brake_u, 
 std::vector<std::vector<double>> fallback_starts(const Problem& pb, const std::vector<double>& warm_u,
                                                  const std::vector<double>& brake_u) {
   std::vector<std::vector<double>> starts = {warm_u, brake_u};
-  for (double side : {1.0, -1.0}) {
-    std::vector<double> dash(pb.num_controls());
-    double v = pb.v_prev;
-    for (int k = 0; k < pb.N; ++k) {
-      v = std::min(pb.lim.v_max, v + pb.lim.accel * pb.dt);
-      dash[2 * k] = v;
-      dash[2 * k + 1] = k < pb.N / 2 ? side * pb.lim.omega_max : 0.0;
-    }
-    starts.push_back(dash);
-  }
+  for (double side : {1.0, -1.0}) starts.push_back(dash_controls(pb, side));
   if (pb.lim.v_min < 0) {
     std::vector<double> back(pb.num_controls(), 0.0);
     for (int k = 0; k < pb.N; ++k) back[2 * k] = pb.lim.v_min;

@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 #include "evade/cmd_vel_t.hpp"
 #include "evade/path_t.hpp"
-#include "planning/fallback.h"
 #include "planning/input_checks.h"
 
 namespace evade::planning {
@@ -16,20 +14,6 @@ namespace {
 bool finite_odometry(const evade::odometry_t& o) {
   return std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.yaw) && std::isfinite(o.v) &&
          std::isfinite(o.omega);
-}
-
-// The largest amount by which a plan (its rollout's states) misses a
-// barrier constraint h(X_k+1) >= decay h(X_k) over the horizon (0 when it
-// meets all).
-double barrier_shortfall(const Problem& pb, const std::vector<double>& states) {
-  double worst = 0.0;
-  for (const ObstacleTrack& o : pb.obstacles)
-    for (int k = 0; k < pb.N; ++k) {
-      const double h0 = barrier_at(pb, o, k, &states[3 * k]).h;
-      const double h1 = barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h;
-      worst = std::max(worst, o.decay * h0 - h1);
-    }
-  return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
 }
 
 // Controls shifted by `steps`, the tail padded with the last control.
@@ -107,45 +91,6 @@ std::vector<double> PlannerCore::braking_controls(double v, double omega) const 
     u[2 * k + 1] = omega;
   }
   return u;
-}
-
-bool PlannerCore::escape_turn(const Problem& pb, double v0, double omega0, std::vector<double>* u) const {
-  if (!p_.escape.enabled || pb.obstacles.empty()) return false;
-  const int N = p_.horizon_steps;
-  std::vector<double> states(3 * (N + 1));
-  rollout(pb, u->data(), states.data());
-  if (std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m) return false;
-  // the obstacle nearest (in h) of those holding the robot: inside d_safe,
-  // or at its edge, where the D-CBF lets h fall by only gamma h per step
-  const BarrierValue* deepest = nullptr;
-  std::vector<BarrierValue> h0(pb.obstacles.size());
-  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
-  for (size_t i = 0; i < pb.obstacles.size(); ++i) {
-    h0[i] = barrier_at(pb, pb.obstacles[i], 0, start);
-    if (h0[i].h < p_.escape.near_m && (!deepest || h0[i].h < deepest->h)) deepest = &h0[i];
-  }
-  if (!deepest) return false;
-  // The heading that raises h fastest is along grad h; any within 90 deg of
-  // it raises h. Of those within the cone, the one nearest the route's.
-  const double out = std::atan2(deepest->gy, deepest->gx);
-  const double off = wrap_angle(pb.ref_yaw[1] - out);
-  const double target = out + std::clamp(off, -p_.escape.cone_half_angle_rad, p_.escape.cone_half_angle_rad);
-  const double err = wrap_angle(target - pb.yaw0);
-  // facing the way out (within half a step's turn): the solver's plan stands
-  if (std::fabs(err) < 0.5 * p_.limits.omega_max * p_.dt_s) return false;
-  // turn at the limits (yaw acceleration too), no further than the target;
-  // the speed, already near zero (no headway), brakes to zero
-  const std::vector<double> brake = braking_controls(v0, omega0);
-  double omega = omega0, yaw_left = err;
-  for (int k = 0; k < N; ++k) {
-    const double want = std::clamp(yaw_left / p_.dt_s, -p_.limits.omega_max, p_.limits.omega_max);
-    const double dw = p_.limits.alpha * p_.dt_s;
-    omega = std::clamp(want, omega - dw, omega + dw);
-    (*u)[2 * k] = brake[2 * k];
-    (*u)[2 * k + 1] = omega;
-    yaw_left -= omega * p_.dt_s;
-  }
-  return true;
 }
 
 void PlannerCore::on_odometry(const evade::odometry_t& odom) {
@@ -483,126 +428,6 @@ std::optional<CeresMpcSolver> PlannerCore::budgeted_solver(int spent, int reserv
   return CeresMpcSolver(o);
 }
 
-std::vector<double> PlannerCore::swerve_controls(double side, double v0) const {
-  // a swerve to one side at the current speed, then back
-  const int N = p_.horizon_steps;
-  std::vector<double> guess(2 * N);
-  for (int k = 0; k < N; ++k) {
-    guess[2 * k] = v0;
-    guess[2 * k + 1] = (k < N / 2 ? side : -side) * p_.limits.omega_max;
-  }
-  return guess;
-}
-
-std::vector<double> PlannerCore::dash_controls(double side, double v0) const {
-  // getting away to one side: accelerating at the limit while turning at
-  // the limit for half the horizon, then straight on (from rest a swerve at
-  // the current speed only turns on the spot)
-  const int N = p_.horizon_steps;
-  std::vector<double> guess(2 * N);
-  double v = v0;
-  for (int k = 0; k < N; ++k) {
-    v = std::min(p_.limits.v_max, v + p_.limits.accel * p_.dt_s);
-    guess[2 * k] = v;
-    guess[2 * k + 1] = k < N / 2 ? side * p_.limits.omega_max : 0.0;
-  }
-  return guess;
-}
-
-int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom,
-                            double v0, double w0, SolveResult* res_out, std::vector<double>* u_out,
-                            int* iterations_out) {
-  SolveResult& res = *res_out;
-  int& iterations = *iterations_out;
-  auto budgeted = [&](int reserve = 0) { return budgeted_solver(iterations, reserve); };
-  std::vector<std::vector<double>> attempts;  // failed solves, candidates if nothing is feasible
-  if (res.finite) attempts.push_back(res.u);
-  const bool constrained = !pb.obstacles.empty();  // else nothing but the rate limits failed
-  std::vector<double> relax;
-  bool can_relax = false, skip_restarts = false;
-  if (constrained) {
-    relax = barrier_relaxation(pb, p_.solver);
-    can_relax = std::any_of(relax.begin(), relax.end(), [](double s) { return s > 0; });
-    if (p_.solver.fallback == Fallback::kOwnMotion) can_relax = true;
-    std::vector<double> brake = braking_controls(v0, w0);
-    project_controls(pb, &brake);
-    skip_restarts = can_relax && max_violation(pb, brake.data()) > p_.solver.constraint_tolerance;
-    if (skip_restarts) count("restart_skipped");
-  }
-  if (constrained) {
-    // unsolved, candidates for the plan with the most clearance below
-    for (double side : {1.0, -1.0}) attempts.push_back(dash_controls(side, v0));
-  }
-  if (constrained && skip_restarts && p_.solver.fallback == Fallback::kOwnMotion) {
-    // braking misses the hard problem: the fallback decides
-  } else if (constrained && skip_restarts) {
-    // unsolved, still candidates for the plan chosen below: with
-    // a mover closing in, getting out of its way at speed can beat all else
-    for (double side : {1.0, -1.0}) attempts.push_back(swerve_controls(side, v0));
-  } else if (constrained) {
-    // the relaxed solve, when it applies, comes next and keeps its budget
-    const int reserve = can_relax ? p_.solver.max_total_iterations : 0;
-    for (double side : {1.0, -1.0}) {
-      const std::optional<CeresMpcSolver> solver = budgeted(reserve);
-      if (!solver) break;
-      SolveResult alt = solver->solve(pb, swerve_controls(side, v0));
-      iterations += alt.iterations;
-      count("solver_restart");
-      if (alt.finite) attempts.push_back(alt.u);
-      if (alt.finite && alt.feasible) {
-        res = alt;
-        break;
-      }
-    }
-  }
-  int8_t status = evade::plan_t::STATUS_OK;
-  std::vector<double> u = res.u;
-  if (!(res.finite && res.feasible) && p_.solver.fallback == Fallback::kOwnMotion) {
-    count("solver_infeasible");
-    status = fallback(pb, warm_u, v0, w0, &res, &u, &iterations);
-  } else if (!(res.finite && res.feasible)) {
-    count("solver_infeasible");
-    // A start inside d_safe, or a static obstacle whose ellipse swells with
-    // its uncertainty, can leave the hard problem without any solution
-    // (standing misses it too); then the relaxed one (see solve_elastic),
-    // when there is something to relax (computed above).
-    SolveResult rec;
-    const std::optional<CeresMpcSolver> solver = can_relax ? budgeted() : std::nullopt;
-    if (solver) {
-      rec = solver->solve_elastic(pb, warm_u, &relax);
-      iterations += rec.iterations;
-      if (rec.finite && !rec.feasible) attempts.push_back(rec.u);
-    }
-    if (can_relax && rec.finite && rec.feasible) {
-      status = evade::plan_t::STATUS_RECOVERING;
-      u = rec.u;
-      res = rec;
-      if (escape_turn(pb, v0, w0, &u)) count("escape_turn");
-    } else {
-      status = most_clearance(pb, attempts, odom, v0, w0, &u);
-    }
-  }
-  *u_out = u;
-  return status;
-}
-
-int8_t PlannerCore::fallback(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0,
-                             SolveResult* res, std::vector<double>* u, int* iterations) {
-  std::vector<double> brake = braking_controls(v0, w0);
-  project_controls(pb, &brake);
-  const std::optional<CeresMpcSolver> solver = budgeted_solver(*iterations);
-  if (!solver) {
-    count("stopping");
-    *u = brake;
-    return evade::plan_t::STATUS_STOPPING;
-  }
-  *res = solve_fallback(*solver, pb, warm_u, brake);
-  *iterations += res->iterations;
-  *u = res->u;
-  count(res->feasible ? "fallback_relaxed" : "stopping");
-  return res->feasible ? evade::plan_t::STATUS_RECOVERING : evade::plan_t::STATUS_STOPPING;
-}
-
 bool PlannerCore::last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const {
   const int N = p_.horizon_steps;
   if (feasible_u_.empty()) return false;
@@ -615,50 +440,6 @@ bool PlannerCore::last_feasible_shifted(const evade::odometry_t& odom, std::vect
     (*u)[2 * k + 1] = tail[2 * (k - (N - fsteps)) + 1];
   }
   return true;
-}
-
-int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,
-                                   const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u) {
-  const int N = p_.horizon_steps;
-  // Nothing meets every constraint: of the plans at hand (the failed
-  // solves, swerves and dashes to either side, the last feasible plan
-  // shifted, braking), take the one that keeps the most clearance (the
-  // lowest h over the horizon under the current predictions), then the
-  // one that falls least short of the barrier constraints. Replaying an
-  // old plan blindly can drive into an obstacle that is sweeping across
-  // the path; braking can be worse than getting out of its way. The
-  // shortfall alone (the worst step of the D-CBF chain) preferred
-  // standing in an oncoming e-bike's way, deep inside its ellipse, to a
-  // dash aside that falls further short at its first steps.
-  struct Candidate {
-    std::vector<double> u;
-    int8_t status;
-    const char* counter;
-  };
-  std::vector<Candidate> candidates;
-  std::vector<double> f;
-  if (last_feasible_shifted(odom, &f)) candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
-  for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
-  candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
-  double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
-  const Candidate* chosen = &candidates.back();
-  std::vector<double> states(3 * (N + 1));
-  for (auto& c : candidates) {
-    project_controls(pb, &c.u);  // consistent with the measured speed and the limits
-    rollout(pb, c.u.data(), states.data());
-    // from k = 1: where the robot is now is the same for every plan
-    const double h = min_barrier(pb, states, 1);
-    const double shortfall = barrier_shortfall(pb, states);
-    const double tie = p_.solver.constraint_tolerance;
-    if (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9)) {
-      best_h = h;
-      best_shortfall = shortfall;
-      chosen = &c;
-    }
-  }
-  *u = chosen->u;
-  count(chosen->counter);
-  return chosen->status;
 }
 
 void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb,
@@ -733,12 +514,7 @@ evade::plan_t PlannerCore::plan_message(const evade::odometry_t& odom, int8_t st
   plan.min_barrier = min_barrier(pb, states);
   plan.max_violation = pb.ref_x.empty() ? 0.0 : max_violation(pb, u.data());
   for (const ObstacleTrack& o : pb.obstacles) {
-    double slack = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < N; ++k) {
-      const double h0 = barrier_at(pb, o, k, &states[3 * k]).h;
-      const double h1 = barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h;
-      slack = std::min(slack, h1 - o.decay * h0);
-    }
+    const double slack = barrier_slack(pb, o, states);
     plan.obstacle_id.push_back(o.id);
     plan.obstacle_x.push_back(o.x.empty() ? 0.0 : o.x[0]);
     plan.obstacle_y.push_back(o.y.empty() ? 0.0 : o.y[0]);

@@ -98,24 +98,31 @@ class PlannerCore : public bus::Core {
   // max_cycle_iterations after `spent`, less `reserve`, at most one solve's
   // budget; none (counted) when nothing is left.
   std::optional<CeresMpcSolver> budgeted_solver(int spent, int reserve = 0);
-  // evade's recovery after the hard solve failed (*res): swerve restarts,
-  // the relaxed problem, the escape turn, else the candidate plan with the
-  // most clearance. Sets *u and *res, adds to *iterations, returns the status.
+  // ---- recovery (planner_recovery.cpp), mode evade ----
+  // After the hard solve failed (*res): the strategy of solver.fallback.
+  // Each sets *u and *res, adds to *iterations and returns the status.
   int8_t recover(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom, double v0,
                  double w0, SolveResult* res, std::vector<double>* u, int* iterations);
-  // The one fallback (fallback.h, solver.fallback: own_motion): the relaxed
-  // problem's plan (RECOVERING), else braking (STOPPING). Sets *u and *res,
-  // adds to *iterations, returns the status.
-  int8_t fallback(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0, SolveResult* res,
-                  std::vector<double>* u, int* iterations);
+  // `chain`: swerve restarts, the relaxed problem and its escape turn, else
+  // the candidate plan with the most clearance.
+  int8_t recover_chain(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom, double v0,
+                       double w0, SolveResult* res, std::vector<double>* u, int* iterations);
+  // `own_motion`: swerve restarts, else the one fallback (fallback.h): its
+  // relaxed problem's plan (RECOVERING), else braking (STOPPING).
+  int8_t recover_own_motion(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0,
+                            SolveResult* res, std::vector<double>* u, int* iterations);
+  // Both: braking at the limits projected onto pb's bounds; whether it
+  // misses the hard problem (then the restarts are skipped: the relaxed
+  // problem decides); the hard problem from a swerve to either side
+  // (manoeuvres.h), `reserve` iterations kept for the solve after it, the
+  // first feasible one into *res, each finite plan into *tried when given.
+  std::vector<double> projected_braking(const Problem& pb, double v0, double w0) const;
+  bool braking_misses(const Problem& pb, const std::vector<double>& brake) const;
+  void swerve_restarts(const Problem& pb, int reserve, SolveResult* res, int* iterations,
+                       std::vector<std::vector<double>>* tried);
   // The last feasible plan shifted to this cycle, its tail braking; false
   // when there is none from within the horizon.
   bool last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const;
-  // Recovery starts and candidates (side +1 left, -1 right): a swerve at
-  // speed v0 to one side at the turn-rate limit, then back; a dash that
-  // accelerates at the limit while turning for half the horizon.
-  std::vector<double> swerve_controls(double side, double v0) const;
-  std::vector<double> dash_controls(double side, double v0) const;
   // Nothing met every constraint: of the plans at hand (`attempts`, the
   // last feasible plan shifted, braking) the one with the most clearance.
   int8_t most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,

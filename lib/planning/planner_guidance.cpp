@@ -21,8 +21,9 @@ void PlannerCore::plan_with_guidance(const Problem& pb, const std::vector<double
   int8_t status = o.status;
   int iterations = o.iterations;
   if (!o.feasible && p_.guidance.fallback == GuidanceParams::Fallback::kRecovery) {
-    // evade's recovery chain, from the least violating local solve, with
-    // the iterations the local solves left (local_solves_budget)
+    // evade's recovery (solver.fallback's strategy), from the least
+    // violating local solve, with the iterations the local solves left
+    // (local_solves_budget)
     status = recover(pb, warm_u, odom, v0, w0, &res, &u, &iterations);
   } else if (!o.feasible) {
     count("solver_infeasible");

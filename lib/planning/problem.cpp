@@ -1,6 +1,7 @@
 #include "planning/problem.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace evade::planning {
 
@@ -48,6 +49,16 @@ double min_barrier(const Problem& pb, const std::vector<double>& states, int fir
   for (const auto& o : pb.obstacles)
     for (int k = first_step; k <= pb.N; ++k) best = std::min(best, barrier_at(pb, o, k, &states[3 * k]).h);
   return best;
+}
+
+double barrier_slack(const Problem& pb, const ObstacleTrack& o, const std::vector<double>& states) {
+  double slack = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < pb.N; ++k) {
+    const double h0 = barrier_at(pb, o, k, &states[3 * k]).h;
+    const double h1 = barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h;
+    slack = std::min(slack, h1 - o.decay * h0);
+  }
+  return slack;
 }
 
 }  // namespace evade::planning

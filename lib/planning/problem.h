@@ -375,5 +375,9 @@ double max_violation(const Problem& pb, const double* u);
 // states; kNoObstacleBarrier when there is none.
 inline constexpr double kNoObstacleBarrier = 1e6;
 double min_barrier(const Problem& pb, const std::vector<double>& states, int first_step = 0);
+// The smallest slack h(X_k+1) - decay h(X_k) of obstacle o's barrier links
+// over a rollout's states, k = 0..N-1 (NaN links skipped; +inf when there
+// is none): negative where the plan misses the D-CBF constraint.
+double barrier_slack(const Problem& pb, const ObstacleTrack& o, const std::vector<double>& states);
 
 }  // namespace evade::planning

@@ -91,6 +91,26 @@ TEST(Barrier, FootprintDerivativesMatchFiniteDifferences) {
   }
 }
 
+// barrier_slack (the most clearance's shortfall, PLAN.obstacle_slack) is
+// the smallest of an obstacle's D-CBF constraints g >= 0 over the horizon:
+// negative for a plan that drives on at a bike coming head-on, positive
+// for one that stays clear of an obstacle beside the path.
+TEST(Barrier, SlackIsTheSmallestOfAnObstaclesConstraints) {
+  Problem pb = straight_problem(0, 0, 0, 0.8, 0.8);
+  pb.obstacles.push_back(moving_obstacle(1, 3.0, 0.0, -4.0, 0.0, 0.9, 0.4, 0.0, 0.9, pb.N, pb.dt));
+  pb.obstacles.push_back(moving_obstacle(2, 2.0, 2.5, 0.0, 0.0, 0.3, 0.3, 0.0, 0.9, pb.N, pb.dt));
+  std::vector<double> u(pb.num_controls());
+  for (int k = 0; k < pb.N; ++k) u[2 * k] = 0.8;
+  std::vector<double> states, g;
+  evaluate_constraints(pb, u.data(), &states, &g);
+  for (size_t i = 0; i < pb.obstacles.size(); ++i) {
+    const auto first = g.begin() + pb.num_rate_constraints() + static_cast<int>(i) * pb.N;
+    EXPECT_NEAR(barrier_slack(pb, pb.obstacles[i], states), *std::min_element(first, first + pb.N), 1e-12);
+  }
+  EXPECT_LT(barrier_slack(pb, pb.obstacles[0], states), -0.1);
+  EXPECT_GT(barrier_slack(pb, pb.obstacles[1], states), 0.0);
+}
+
 // Covering discs hold the whole rectangle, and against a round obstacle h
 // + d_safe is the body's clearance less at most the discs' excess.
 TEST(Footprint, CoveringDiscsHoldTheRectangle) {

@@ -1,0 +1,219 @@
+// PlannerCore's recovery in mode evade (README, What a cycle does, item 7):
+// when the hard solve fails, the strategy of planner.solver.fallback picks
+// the plan sent. `chain` (the default): swerve restarts, the relaxed
+// problem of solve_elastic and its escape turn, else the candidate with the
+// most clearance. `own_motion`: the one relaxed problem of fallback.h, else
+// braking. Both start with the swerve restarts of the hard problem, which
+// they skip when braking misses it too and a relaxed problem follows.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "evade/plan_t.hpp"
+#include "planning/fallback.h"
+#include "planning/manoeuvres.h"
+#include "planning/planner_core.h"
+
+namespace evade::planning {
+namespace {
+
+// The largest amount by which a plan (its rollout's states) misses a
+// barrier constraint h(X_k+1) >= decay h(X_k) over the horizon (0 when it
+// meets all).
+double barrier_shortfall(const Problem& pb, const std::vector<double>& states) {
+  double worst = 0.0;
+  for (const ObstacleTrack& o : pb.obstacles) worst = std::max(worst, -barrier_slack(pb, o, states));
+  return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom,
+                            double v0, double w0, SolveResult* res, std::vector<double>* u, int* iterations) {
+  if (p_.solver.fallback == Fallback::kOwnMotion) return recover_own_motion(pb, warm_u, v0, w0, res, u, iterations);
+  return recover_chain(pb, warm_u, odom, v0, w0, res, u, iterations);
+}
+
+std::vector<double> PlannerCore::projected_braking(const Problem& pb, double v0, double w0) const {
+  std::vector<double> brake = braking_controls(v0, w0);
+  project_controls(pb, &brake);
+  return brake;
+}
+
+bool PlannerCore::braking_misses(const Problem& pb, const std::vector<double>& brake) const {
+  return max_violation(pb, brake.data()) > p_.solver.constraint_tolerance;
+}
+
+void PlannerCore::swerve_restarts(const Problem& pb, int reserve, SolveResult* res, int* iterations,
+                                  std::vector<std::vector<double>>* tried) {
+  for (double side : {1.0, -1.0}) {
+    const std::optional<CeresMpcSolver> solver = budgeted_solver(*iterations, reserve);
+    if (!solver) return;
+    SolveResult alt = solver->solve(pb, swerve_controls(pb, side));
+    *iterations += alt.iterations;
+    count("solver_restart");
+    if (alt.finite && tried) tried->push_back(alt.u);
+    if (alt.finite && alt.feasible) {
+      *res = alt;
+      return;
+    }
+  }
+}
+
+int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom,
+                                  double v0, double w0, SolveResult* res, std::vector<double>* u, int* iterations) {
+  std::vector<std::vector<double>> candidates;  // unsolved plans, for the most clearance
+  if (res->finite) candidates.push_back(res->u);
+  std::vector<double> relax;  // solve_elastic's (none without obstacles: only the rate limits failed)
+  bool can_relax = false;
+  if (!pb.obstacles.empty()) {
+    relax = barrier_relaxation(pb, p_.solver);
+    can_relax = std::any_of(relax.begin(), relax.end(), [](double s) { return s > 0; });
+    for (double side : {1.0, -1.0}) candidates.push_back(dash_controls(pb, side));
+    if (can_relax && braking_misses(pb, projected_braking(pb, v0, w0))) {
+      // the relaxed problem decides; the swerves stay candidates: with a
+      // mover closing in, getting out of its way at speed can beat all else
+      count("restart_skipped");
+      for (double side : {1.0, -1.0}) candidates.push_back(swerve_controls(pb, side));
+    } else {
+      // the relaxed solve, when it applies, comes next and keeps its budget
+      swerve_restarts(pb, can_relax ? p_.solver.max_total_iterations : 0, res, iterations, &candidates);
+    }
+  }
+  if (res->finite && res->feasible) {
+    *u = res->u;
+    return evade::plan_t::STATUS_OK;
+  }
+  count("solver_infeasible");
+  // A start inside d_safe, or a static obstacle whose ellipse swells with
+  // its uncertainty, can leave the hard problem without any solution
+  // (standing misses it too); then the relaxed one (see solve_elastic),
+  // when there is something to relax.
+  const std::optional<CeresMpcSolver> solver = can_relax ? budgeted_solver(*iterations) : std::nullopt;
+  if (solver) {
+    const SolveResult rec = solver->solve_elastic(pb, warm_u, &relax);
+    *iterations += rec.iterations;
+    if (rec.finite && rec.feasible) {
+      *u = rec.u;
+      *res = rec;
+      if (escape_turn(pb, v0, w0, u)) count("escape_turn");
+      return evade::plan_t::STATUS_RECOVERING;
+    }
+    if (rec.finite) candidates.push_back(rec.u);
+  }
+  return most_clearance(pb, candidates, odom, v0, w0, u);
+}
+
+int8_t PlannerCore::recover_own_motion(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0,
+                                       SolveResult* res, std::vector<double>* u, int* iterations) {
+  const std::vector<double> brake = projected_braking(pb, v0, w0);
+  if (pb.obstacles.empty()) {
+    // only the rate limits failed: nothing to restart against
+  } else if (braking_misses(pb, brake)) {
+    count("restart_skipped");  // the fallback decides
+  } else {
+    // the fallback's solve keeps its budget
+    swerve_restarts(pb, p_.solver.max_total_iterations, res, iterations, nullptr);
+  }
+  if (res->finite && res->feasible) {
+    *u = res->u;
+    return evade::plan_t::STATUS_OK;
+  }
+  count("solver_infeasible");
+  const std::optional<CeresMpcSolver> solver = budgeted_solver(*iterations);
+  if (!solver) {
+    count("stopping");
+    *u = brake;
+    return evade::plan_t::STATUS_STOPPING;
+  }
+  *res = solve_fallback(*solver, pb, warm_u, brake);
+  *iterations += res->iterations;
+  *u = res->u;
+  count(res->feasible ? "fallback_relaxed" : "stopping");
+  return res->feasible ? evade::plan_t::STATUS_RECOVERING : evade::plan_t::STATUS_STOPPING;
+}
+
+int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,
+                                   const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u) {
+  const int N = p_.horizon_steps;
+  // Nothing meets every constraint: of the plans at hand (the failed
+  // solves, swerves and dashes to either side, the last feasible plan
+  // shifted, braking), take the one that keeps the most clearance (the
+  // lowest h over the horizon under the current predictions), then the
+  // one that falls least short of the barrier constraints. Replaying an
+  // old plan blindly can drive into an obstacle that is sweeping across
+  // the path; braking can be worse than getting out of its way. The
+  // shortfall alone (the worst step of the D-CBF chain) preferred
+  // standing in an oncoming e-bike's way, deep inside its ellipse, to a
+  // dash aside that falls further short at its first steps.
+  struct Candidate {
+    std::vector<double> u;
+    int8_t status;
+    const char* counter;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<double> f;
+  if (last_feasible_shifted(odom, &f)) candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
+  for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
+  candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
+  double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
+  const Candidate* chosen = &candidates.back();
+  std::vector<double> states(3 * (N + 1));
+  for (auto& c : candidates) {
+    project_controls(pb, &c.u);  // consistent with the measured speed and the limits
+    rollout(pb, c.u.data(), states.data());
+    // from k = 1: where the robot is now is the same for every plan
+    const double h = min_barrier(pb, states, 1);
+    const double shortfall = barrier_shortfall(pb, states);
+    const double tie = p_.solver.constraint_tolerance;
+    if (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9)) {
+      best_h = h;
+      best_shortfall = shortfall;
+      chosen = &c;
+    }
+  }
+  *u = chosen->u;
+  count(chosen->counter);
+  return chosen->status;
+}
+
+bool PlannerCore::escape_turn(const Problem& pb, double v0, double omega0, std::vector<double>* u) const {
+  if (!p_.escape.enabled || pb.obstacles.empty()) return false;
+  const int N = p_.horizon_steps;
+  std::vector<double> states(3 * (N + 1));
+  rollout(pb, u->data(), states.data());
+  if (std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m) return false;
+  // the obstacle nearest (in h) of those holding the robot: inside d_safe,
+  // or at its edge, where the D-CBF lets h fall by only gamma h per step
+  const BarrierValue* deepest = nullptr;
+  std::vector<BarrierValue> h0(pb.obstacles.size());
+  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
+  for (size_t i = 0; i < pb.obstacles.size(); ++i) {
+    h0[i] = barrier_at(pb, pb.obstacles[i], 0, start);
+    if (h0[i].h < p_.escape.near_m && (!deepest || h0[i].h < deepest->h)) deepest = &h0[i];
+  }
+  if (!deepest) return false;
+  // The heading that raises h fastest is along grad h; any within 90 deg of
+  // it raises h. Of those within the cone, the one nearest the route's.
+  const double out = std::atan2(deepest->gy, deepest->gx);
+  const double off = wrap_angle(pb.ref_yaw[1] - out);
+  const double target = out + std::clamp(off, -p_.escape.cone_half_angle_rad, p_.escape.cone_half_angle_rad);
+  const double err = wrap_angle(target - pb.yaw0);
+  // facing the way out (within half a step's turn): the solver's plan stands
+  if (std::fabs(err) < 0.5 * p_.limits.omega_max * p_.dt_s) return false;
+  // turn at the limits (yaw acceleration too), no further than the target;
+  // the speed, already near zero (no headway), brakes to zero
+  const std::vector<double> brake = braking_controls(v0, omega0);
+  double omega = omega0, yaw_left = err;
+  for (int k = 0; k < N; ++k) {
+    const double want = std::clamp(yaw_left / p_.dt_s, -p_.limits.omega_max, p_.limits.omega_max);
+    const double dw = p_.limits.alpha * p_.dt_s;
+    omega = std::clamp(want, omega - dw, omega + dw);
+    (*u)[2 * k] = brake[2 * k];
+    (*u)[2 * k + 1] = omega;
+    yaw_left -= omega * p_.dt_s;
+  }
+  return true;
+}
+
+}  // namespace evade::planning
