@@ -207,6 +207,11 @@ class PlannerCore : public bus::Core {
   // than the epoch.
   bool accept_predictions(const evade::prediction_list_t& m);
   bool accept_observed(const evade::obstacle_list_t& m);
+  // A message of `input` stamped utime: false (counted `<input>_late`,
+  // `<input>_future`) unless within max_age_s of now either way; false
+  // (`<input>_before_epoch`) when stamped before the current epoch began.
+  bool on_time(const std::string& input, int64_t utime, double max_age_s);
+  bool of_this_epoch(const std::string& input, int64_t utime);
   // A track (or observed ellipse, in the modes that read OBSTACLES) that
   // cannot be constrained against near the robot: publishes a braking plan
   // (STATUS_STOPPING) and returns true.

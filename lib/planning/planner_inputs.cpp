@@ -2,6 +2,7 @@
 // what of ODOMETRY and OBSTACLE_PREDICTIONS the planner may act on.
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "evade/plan_t.hpp"
 #include "planning/input_checks.h"
@@ -13,16 +14,7 @@ bool PlannerCore::accept_odometry(const evade::odometry_t& odom) {
   // Late odometry is not used: the watchdog brakes once the last usable
   // one is older than odometry_max_age_s. Odometry from the future would
   // hold the rate limiter (and its age) hostage for as long as it claims.
-  switch (arrival(now(), odom.utime, std::llround(p_.odometry_max_age_s * 1e6))) {
-    case Arrival::kLate:
-      count("odometry_late");
-      return false;
-    case Arrival::kFuture:
-      count("odometry_future");
-      return false;
-    case Arrival::kOnTime:
-      break;
-  }
+  if (!on_time("odometry", odom.utime, p_.odometry_max_age_s)) return false;
   if (have_epoch_ && odom.epoch != epoch_) {
     start_new_epoch(odom);
     return false;
@@ -71,40 +63,34 @@ void PlannerCore::start_new_epoch(const evade::odometry_t& odom) {
   publish_plan(odom, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v0, w0), 0, 0, 0);
 }
 
-bool PlannerCore::accept_predictions(const evade::prediction_list_t& m) {
-  switch (arrival(now(), m.utime, std::llround(p_.predictions_max_age_s * 1e6))) {
+bool PlannerCore::on_time(const std::string& input, int64_t utime, double max_age_s) {
+  switch (arrival(now(), utime, std::llround(max_age_s * 1e6))) {
     case Arrival::kLate:
-      count("predictions_late");
+      count(input + "_late");
       return false;
     case Arrival::kFuture:
-      count("predictions_future");
+      count(input + "_future");
       return false;
     case Arrival::kOnTime:
       break;
   }
-  if (epoch_start_utime_ >= 0 && m.utime < epoch_start_utime_) {
-    count("predictions_before_epoch");  // perceived in the old odometry frame
+  return true;
+}
+
+bool PlannerCore::of_this_epoch(const std::string& input, int64_t utime) {
+  if (epoch_start_utime_ >= 0 && utime < epoch_start_utime_) {
+    count(input + "_before_epoch");  // perceived in the old odometry frame
     return false;
   }
   return true;
 }
 
+bool PlannerCore::accept_predictions(const evade::prediction_list_t& m) {
+  return on_time("predictions", m.utime, p_.predictions_max_age_s) && of_this_epoch("predictions", m.utime);
+}
+
 bool PlannerCore::accept_observed(const evade::obstacle_list_t& m) {
-  switch (arrival(now(), m.utime, std::llround(p_.obstacles_max_age_s * 1e6))) {
-    case Arrival::kLate:
-      count("obstacles_late");
-      return false;
-    case Arrival::kFuture:
-      count("obstacles_future");
-      return false;
-    case Arrival::kOnTime:
-      break;
-  }
-  if (epoch_start_utime_ >= 0 && m.utime < epoch_start_utime_) {
-    count("obstacles_before_epoch");
-    return false;
-  }
-  return true;
+  return on_time("obstacles", m.utime, p_.obstacles_max_age_s) && of_this_epoch("obstacles", m.utime);
 }
 
 bool PlannerCore::brake_for_invalid_track(const evade::odometry_t& odom, double v0, double w0) {
