@@ -149,26 +149,44 @@ struct BarrierValue {
 // the value is clamped so that derivatives stay finite.
 inline constexpr double kMinCentreDistance = 1e-6;
 
+// The first stage of the barrier: the offset d from the centre (clamped
+// away from it), |d|, d.e1, d.e2, s, and h. The derivatives follow from it
+// (barrier_derivatives); a caller that needs only h stops here.
+struct BarrierStage {
+  double dx = 0, dy = 0, r = 0, p = 0, q = 0, s = 0, h = 0;
+};
+
 // The ellipse's orientation as its cosine c and sine s_ (a caller that
 // evaluates the same ellipse many times computes them once).
-inline BarrierValue barrier_cs(double px, double py, double cx, double cy, double a, double b, double c, double s_,
-                               double d_safe, bool want_hessian = false) {
-  BarrierValue out;
-  double dx = px - cx, dy = py - cy;
-  double r = std::sqrt(dx * dx + dy * dy);  // planner coordinates are bounded: no overflow to guard against
-  if (r < kMinCentreDistance) {
+inline BarrierStage barrier_stage(double px, double py, double cx, double cy, double a, double b, double c, double s_,
+                                  double d_safe) {
+  BarrierStage t;
+  t.dx = px - cx;
+  t.dy = py - cy;
+  t.r = std::sqrt(t.dx * t.dx + t.dy * t.dy);  // planner coordinates are bounded: no overflow to guard against
+  if (t.r < kMinCentreDistance) {
     // At the centre: any direction; use the major axis so the gradient points out.
-    dx = kMinCentreDistance * c;
-    dy = kMinCentreDistance * s_;
-    r = kMinCentreDistance;
+    t.dx = kMinCentreDistance * c;
+    t.dy = kMinCentreDistance * s_;
+    t.r = kMinCentreDistance;
   }
-  const double p = dx * c + dy * s_;   // d.e1
-  const double q = -dx * s_ + dy * c;  // d.e2
+  t.p = t.dx * c + t.dy * s_;   // d.e1
+  t.q = -t.dx * s_ + t.dy * c;  // d.e2
   const double a2 = a * a, b2 = b * b;
-  const double s = std::sqrt(b2 * p * p + a2 * q * q);
+  t.s = std::sqrt(b2 * t.p * t.p + a2 * t.q * t.q);
+  const double l = a * b * t.r / t.s;
+  t.h = t.r - l - d_safe;
+  return t;
+}
+
+// h and its derivatives in the position from the first stage.
+inline BarrierValue barrier_derivatives(const BarrierStage& t, double a, double b, double c, double s_,
+                                        bool want_hessian) {
+  BarrierValue out;
+  const double dx = t.dx, dy = t.dy, r = t.r, p = t.p, q = t.q, s = t.s;
+  const double a2 = a * a, b2 = b * b;
   const double ab = a * b;
-  const double l = ab * r / s;
-  out.h = r - l - d_safe;
+  out.h = t.h;
   // gradients in the world frame
   const double rx = dx / r, ry = dy / r;             // grad r
   const double sx = (b2 * p * c - a2 * q * s_) / s;  // grad s
@@ -196,6 +214,11 @@ inline BarrierValue barrier_cs(double px, double py, double cx, double cy, doubl
   return out;
 }
 
+inline BarrierValue barrier_cs(double px, double py, double cx, double cy, double a, double b, double c, double s_,
+                               double d_safe, bool want_hessian = false) {
+  return barrier_derivatives(barrier_stage(px, py, cx, cy, a, b, c, s_, d_safe), a, b, c, s_, want_hessian);
+}
+
 inline BarrierValue barrier(double px, double py, double cx, double cy, double a, double b, double theta, double d_safe,
                             bool want_hessian = false) {
   return barrier_cs(px, py, cx, cy, a, b, std::cos(theta), std::sin(theta), d_safe, want_hessian);
@@ -206,35 +229,51 @@ inline BarrierValue barrier_at(const ObstacleTrack& o, int k, double px, double 
   return barrier(px, py, o.x[k], o.y[k], o.a[k], o.b[k], o.theta[k], d_safe, want_hessian);
 }
 
-// The footprint's h at pose (px, py, yaw) against an ellipse (orientation
-// as cosine c and sine s_): the smallest over the discs of the barrier of
-// the disc's centre less its radius, with derivatives in (x, y, yaw) of
-// that disc (h is a minimum of smooth functions: where two discs tie, one
-// side's derivatives).
+// Whether the footprint is the paper's point robot (its h does not depend
+// on the heading).
+inline bool is_point(const Footprint& fp) { return fp.offsets.size() == 1 && fp.offsets[0] == 0.0; }
+
+// The footprint's h at pose (px, py) with heading cosine cyaw and sine syaw
+// against an ellipse (orientation as cosine c and sine s_): the smallest
+// over the discs of the barrier of the disc's centre less its radius, with
+// derivatives in (x, y, yaw) of that disc (h is a minimum of smooth
+// functions: where two discs tie, one side's derivatives). Without
+// want_derivatives only h is set (the derivatives are those of the one
+// disc, computed last).
+inline BarrierValue footprint_barrier_trig(double px, double py, double cyaw, double syaw, double cx, double cy,
+                                           double a, double b, double c, double s_, const Footprint& fp, double d_safe,
+                                           bool want_derivatives, bool want_hessian = false) {
+  BarrierStage best;
+  double best_h = 0.0, best_off = 0.0;
+  bool first = true;
+  for (double off : fp.offsets) {
+    const BarrierStage t = barrier_stage(px + off * cyaw, py + off * syaw, cx, cy, a, b, c, s_, d_safe);
+    const double h = t.h - fp.radius;
+    if (first || h < best_h) best = t, best_h = h, best_off = off, first = false;
+  }
+  BarrierValue out;
+  if (want_derivatives) out = barrier_derivatives(best, a, b, c, s_, want_hessian);
+  out.h = best_h;
+  if (want_derivatives && best_off != 0.0) {
+    // the disc's centre moves with yaw by t = off (-sin, cos), t' = -off (cos, sin)
+    const double tx = -best_off * syaw, ty = best_off * cyaw;
+    out.gth = out.gx * tx + out.gy * ty;
+    if (want_hessian) {
+      out.hxt = out.hxx * tx + out.hxy * ty;
+      out.hyt = out.hxy * tx + out.hyy * ty;
+      out.htt = tx * out.hxt + ty * out.hyt + out.gx * (-best_off * cyaw) + out.gy * (-best_off * syaw);
+    }
+  }
+  return out;
+}
+
+// The same at heading yaw.
 inline BarrierValue footprint_barrier_cs(double px, double py, double yaw, double cx, double cy, double a, double b,
                                          double c, double s_, const Footprint& fp, double d_safe,
                                          bool want_hessian = false) {
-  const bool point = fp.offsets.size() == 1 && fp.offsets[0] == 0.0;
+  const bool point = is_point(fp);
   const double cyaw = point ? 1.0 : std::cos(yaw), syaw = point ? 0.0 : std::sin(yaw);
-  BarrierValue best;
-  bool first = true;
-  double best_off = 0.0;
-  for (double off : fp.offsets) {
-    BarrierValue v = barrier_cs(px + off * cyaw, py + off * syaw, cx, cy, a, b, c, s_, d_safe, want_hessian);
-    v.h -= fp.radius;
-    if (first || v.h < best.h) best = v, best_off = off, first = false;
-  }
-  if (best_off != 0.0) {
-    // the disc's centre moves with yaw by t = off (-sin, cos), t' = -off (cos, sin)
-    const double tx = -best_off * syaw, ty = best_off * cyaw;
-    best.gth = best.gx * tx + best.gy * ty;
-    if (want_hessian) {
-      best.hxt = best.hxx * tx + best.hxy * ty;
-      best.hyt = best.hxy * tx + best.hyy * ty;
-      best.htt = tx * best.hxt + ty * best.hyt + best.gx * (-best_off * cyaw) + best.gy * (-best_off * syaw);
-    }
-  }
-  return best;
+  return footprint_barrier_trig(px, py, cyaw, syaw, cx, cy, a, b, c, s_, fp, d_safe, true, want_hessian);
 }
 
 // The footprint's h against a static distance field (static_field.cpp;
