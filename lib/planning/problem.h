@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "config/fields.h"
@@ -233,37 +234,55 @@ inline BarrierValue barrier_at(const ObstacleTrack& o, int k, double px, double 
 // on the heading).
 inline bool is_point(const Footprint& fp) { return fp.offsets.size() == 1 && fp.offsets[0] == 0.0; }
 
-// The footprint's h at pose (px, py) with heading cosine cyaw and sine syaw
-// against an ellipse (orientation as cosine c and sine s_): the smallest
-// over the discs of the barrier of the disc's centre less its radius, with
-// derivatives in (x, y, yaw) of that disc (h is a minimum of smooth
-// functions: where two discs tie, one side's derivatives). Without
-// want_derivatives only h is set (the derivatives are those of the one
-// disc, computed last).
-inline BarrierValue footprint_barrier_trig(double px, double py, double cyaw, double syaw, double cx, double cy,
-                                           double a, double b, double c, double s_, const Footprint& fp, double d_safe,
-                                           bool want_derivatives, bool want_hessian = false) {
-  BarrierStage best;
-  double best_h = 0.0, best_off = 0.0;
+// The footprint's nearest disc at pose (px, py) with heading cosine cyaw
+// and sine syaw against an ellipse (orientation as cosine c and sine s_):
+// the smallest over the discs of the barrier of the disc's centre less its
+// radius (h), that disc's first stage and its offset.
+struct FootprintStage {
+  BarrierStage disc;
+  double h = 0.0, off = 0.0;
+};
+
+inline FootprintStage footprint_stage(double px, double py, double cyaw, double syaw, double cx, double cy, double a,
+                                      double b, double c, double s_, const Footprint& fp, double d_safe) {
+  FootprintStage best;
   bool first = true;
   for (double off : fp.offsets) {
     const BarrierStage t = barrier_stage(px + off * cyaw, py + off * syaw, cx, cy, a, b, c, s_, d_safe);
     const double h = t.h - fp.radius;
-    if (first || h < best_h) best = t, best_h = h, best_off = off, first = false;
+    if (first || h < best.h) best.disc = t, best.h = h, best.off = off, first = false;
   }
-  BarrierValue out;
-  if (want_derivatives) out = barrier_derivatives(best, a, b, c, s_, want_hessian);
-  out.h = best_h;
-  if (want_derivatives && best_off != 0.0) {
+  return best;
+}
+
+// The footprint's h and its derivatives in (x, y, yaw): those of the
+// nearest disc (h is a minimum of smooth functions: where two discs tie,
+// one side's derivatives).
+inline BarrierValue footprint_derivatives(const FootprintStage& t, double cyaw, double syaw, double a, double b,
+                                          double c, double s_, bool want_hessian = false) {
+  BarrierValue out = barrier_derivatives(t.disc, a, b, c, s_, want_hessian);
+  out.h = t.h;
+  if (t.off != 0.0) {
     // the disc's centre moves with yaw by t = off (-sin, cos), t' = -off (cos, sin)
-    const double tx = -best_off * syaw, ty = best_off * cyaw;
+    const double tx = -t.off * syaw, ty = t.off * cyaw;
     out.gth = out.gx * tx + out.gy * ty;
     if (want_hessian) {
       out.hxt = out.hxx * tx + out.hxy * ty;
       out.hyt = out.hxy * tx + out.hyy * ty;
-      out.htt = tx * out.hxt + ty * out.hyt + out.gx * (-best_off * cyaw) + out.gy * (-best_off * syaw);
+      out.htt = tx * out.hxt + ty * out.hyt + out.gx * (-t.off * cyaw) + out.gy * (-t.off * syaw);
     }
   }
+  return out;
+}
+
+// Both: h alone unless want_derivatives.
+inline BarrierValue footprint_barrier_trig(double px, double py, double cyaw, double syaw, double cx, double cy,
+                                           double a, double b, double c, double s_, const Footprint& fp, double d_safe,
+                                           bool want_derivatives, bool want_hessian = false) {
+  const FootprintStage t = footprint_stage(px, py, cyaw, syaw, cx, cy, a, b, c, s_, fp, d_safe);
+  if (want_derivatives) return footprint_derivatives(t, cyaw, syaw, a, b, c, s_, want_hessian);
+  BarrierValue out;
+  out.h = t.h;
   return out;
 }
 
@@ -331,6 +350,30 @@ double value_of(const J& x) {
   return x.a;
 }
 
+// h alone of obstacle o at its step k for a state (x, y, yaw): barrier_at's
+// h without its derivatives.
+inline double barrier_h_at(const Problem& pb, const ObstacleTrack& o, int k, const double* state) {
+  if (o.field) return static_field_barrier(*o.field, state[0], state[1], state[2], pb.footprint).h;
+  const bool point = is_point(pb.footprint);
+  const double cyaw = point ? 1.0 : std::cos(state[2]), syaw = point ? 0.0 : std::sin(state[2]);
+  return footprint_stage(state[0], state[1], cyaw, syaw, o.x[k], o.y[k], o.a[k], o.b[k], std::cos(o.theta[k]),
+                         std::sin(o.theta[k]), pb.footprint, pb.d_safe)
+      .h;
+}
+
+// The barrier of constraint(): for double its value alone (lift_barrier
+// uses no more), for a Jet with its derivatives.
+template <class T>
+BarrierValue constraint_barrier(const Problem& pb, const ObstacleTrack& o, int k, const double* state) {
+  if constexpr (std::is_same_v<T, double>) {
+    BarrierValue b;
+    b.h = barrier_h_at(pb, o, k, state);
+    return b;
+  } else {
+    return barrier_at(pb, o, k, state);
+  }
+}
+
 // Constraint j (>= 0 when satisfied), see Problem::num_constraints for the layout.
 template <class T>
 T constraint(const Problem& pb, const T* states, const T* u, int j) {
@@ -350,10 +393,10 @@ T constraint(const Problem& pb, const T* states, const T* u, int j) {
   const T* p0 = states + 3 * k;
   const T* p1 = states + 3 * (k + 1);
   const double s1[3] = {value_of(p1[0]), value_of(p1[1]), value_of(p1[2])};
-  T g = lift_barrier(barrier_at(pb, o, k + 1, s1), p1[0], p1[1], p1[2]);
+  T g = lift_barrier(constraint_barrier<T>(pb, o, k + 1, s1), p1[0], p1[1], p1[2]);
   if (o.decay != 0.0 || pb.own_motion) {
     const double s0[3] = {value_of(p0[0]), value_of(p0[1]), value_of(p0[2])};
-    const BarrierValue b0 = barrier_at(pb, o, pb.own_motion ? k + 1 : k, s0);
+    const BarrierValue b0 = constraint_barrier<T>(pb, o, pb.own_motion ? k + 1 : k, s0);
     const double decay = pb.own_motion && b0.h <= 0.0 ? 1.0 : o.decay;
     g = g - decay * lift_barrier(b0, p0[0], p0[1], p0[2]);
   }
