@@ -84,6 +84,8 @@ Warm warm_start(int k, const CeresMpcSolver& solver) {
 // solve, iterations.
 struct Row {
   double cost = 0, viol = 0, cpu_ms = 0, iters = 0;
+  double outer = 0;  // Ceres' outer (AL) iterations; 0 for IPOPT
+  bool ok = false;   // Ceres: feasible; IPOPT: solved
 };
 // by (solver, start) and k
 std::map<std::string, std::map<int, Row>> g_rows;
@@ -110,11 +112,18 @@ void run_solves(benchmark::State& state, const std::string& name, int k, F solve
   state.counters["cost"] = row.cost;
   state.counters["viol"] = row.viol;
   state.counters["iters"] = row.iters;
+  if (row.outer > 0) state.counters["outer"] = row.outer;
+  state.counters[row.outer > 0 ? "feasible" : "solved"] = row.ok;
   g_rows[name][k] = row;
 }
 
-Row ceres_row(const SolveResult& r) { return {r.cost, r.max_violation, 0, static_cast<double>(r.iterations)}; }
-Row ipopt_row(const IpoptResult& r) { return {r.cost, r.max_violation, 0, static_cast<double>(r.iterations)}; }
+Row ceres_row(const SolveResult& r) {
+  return {r.cost,    r.max_violation, 0, static_cast<double>(r.iterations), static_cast<double>(r.outer_iterations),
+          r.feasible};
+}
+Row ipopt_row(const IpoptResult& r) {
+  return {r.cost, r.max_violation, 0, static_cast<double>(r.iterations), 0, r.solved};
+}
 
 void BM_Ceres(benchmark::State& state) {
   const int k = static_cast<int>(state.range(0));
@@ -166,12 +175,7 @@ void BM_Ipopt(benchmark::State& state, bool warm, bool lbfgs) {
   const std::vector<double> start = warm ? warm_start(k, CeresMpcSolver{SolverOptions{}}).u : std::vector<double>{};
   const evade::planning::IpoptOptions o = ipopt_options(warm, lbfgs, start);
   const std::string name = std::string("ipopt") + (lbfgs ? " lbfgs" : "") + (warm ? " warm" : " cold");
-  IpoptResult last;
-  run_solves(state, name, k, [&] {
-    last = evade::planning::solve_with_ipopt(pb, o);
-    return ipopt_row(last);
-  });
-  state.counters["solved"] = last.solved;
+  run_solves(state, name, k, [&] { return ipopt_row(evade::planning::solve_with_ipopt(pb, o)); });
   // the reference: IPOPT to tol 1e-8 from the same start (not timed)
   if (!lbfgs) {
     evade::planning::IpoptOptions tight = o;
@@ -423,7 +427,7 @@ void print_comparison(const std::string& start) {
   for (const auto& [k, c] : ceres) {
     auto find = [&](const std::string& name) {
       const auto it = g_rows.find(name);
-      return it == g_rows.end() || !it->second.count(k) ? Row{-1, -1, -1, -1} : it->second.at(k);
+      return it == g_rows.end() || !it->second.count(k) ? Row{-1, -1, -1, -1, 0, false} : it->second.at(k);
     };
     const Row ex = find("ipopt " + start), lb = find("ipopt lbfgs " + start), ref = find("reference " + start);
     const Row& fast = lb.cpu_ms > 0 && (ex.cpu_ms <= 0 || lb.cpu_ms < ex.cpu_ms) ? lb : ex;
