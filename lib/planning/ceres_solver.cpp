@@ -108,16 +108,11 @@ class InnerCost : public ceres::CostFunction {
     // works on a 51-row problem instead of several hundred rows, most of them
     // zero (constraints whose AL term is off).
     const int n = pb_.num_controls();
-    full_r_.resize(full_rows_);
-    if (jac) full_j_.resize(static_cast<size_t>(full_rows_) * n);
-    if (!evaluate_full(params[0], full_r_.data(), jac ? full_j_.data() : nullptr)) return false;
+    if (!jac) return cost_only(params[0], residuals);
+    if (!full_at(params[0])) return false;
     const Eigen::Map<const Eigen::VectorXd> r(full_r_.data(), full_rows_);
     const double rr = r.squaredNorm();
     std::fill(residuals, residuals + n + 1, 0.0);
-    if (!jac) {
-      residuals[n] = std::sqrt(rr);
-      return true;
-    }
     // J^T J and J^T r over the live rows only: the sparse ones (controls,
     // control changes, rate limits: at most two entries, recorded by
     // evaluate_full) added directly, the dense ones (tracking, barriers)
@@ -155,9 +150,7 @@ class InnerCost : public ceres::CostFunction {
   // half), without the J^T J that Evaluate builds: what held_at_bounds needs.
   bool gradient(const double* u, std::vector<double>* g) const {
     const int n = pb_.num_controls();
-    full_r_.resize(full_rows_);
-    full_j_.resize(static_cast<size_t>(full_rows_) * n);
-    if (!evaluate_full(u, full_r_.data(), full_j_.data())) return false;
+    if (!full_at(u)) return false;
     Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
     accumulate_sparse_rows(nullptr, &b);
     accumulate_dense_rows(nullptr, &b);
@@ -166,6 +159,39 @@ class InnerCost : public ceres::CostFunction {
   }
 
  private:
+  // The full residuals and Jacobian at u in full_r_ and full_j_ (and the
+  // rows' kinds), evaluated unless the last evaluation was this one at the
+  // same controls: held_at_bounds takes the gradient where Ceres then
+  // starts, and where its last step ended.
+  bool full_at(const double* u) const {
+    const int n = pb_.num_controls();
+    if (static_cast<int>(full_u_.size()) == n && std::equal(u, u + n, full_u_.begin())) return full_ok_;
+    full_u_.assign(u, u + n);
+    full_r_.resize(full_rows_);
+    full_j_.resize(static_cast<size_t>(full_rows_) * n);
+    full_ok_ = evaluate_full(u, full_r_.data(), full_j_.data());
+    return full_ok_;
+  }
+
+  // The compressed residuals without the Jacobian: |r| in the last, the
+  // others 0. Ceres' line search on a bounded problem evaluates the cost at
+  // the point that it then evaluates again as the step's candidate; the
+  // same controls give the same value, so the last one is kept.
+  bool cost_only(const double* u, double* residuals) const {
+    const int n = pb_.num_controls();
+    std::fill(residuals, residuals + n + 1, 0.0);
+    if (static_cast<int>(cost_u_.size()) != n || !std::equal(u, u + n, cost_u_.begin())) {
+      cost_u_.assign(u, u + n);
+      full_u_.clear();  // full_r_ and the rows' kinds are this evaluation's now
+      full_r_.resize(full_rows_);
+      cost_ok_ = evaluate_full(u, full_r_.data(), nullptr);
+      cost_norm_ =
+          cost_ok_ ? std::sqrt(Eigen::Map<const Eigen::VectorXd>(full_r_.data(), full_rows_).squaredNorm()) : 0.0;
+    }
+    residuals[n] = cost_norm_;
+    return cost_ok_;
+  }
+
   // J^T J (into *A unless null) and J^T r (into *b) of the live rows.
   void accumulate_sparse_rows(Eigen::MatrixXd* A, Eigen::VectorXd* b) const {
     const int n = pb_.num_controls();
@@ -219,6 +245,18 @@ class InnerCost : public ceres::CostFunction {
   bool evaluate_full(const double* u, double* residuals, double* jac) const {
     const int n = pb_.num_controls(), N = pb_.N;
     ro_.compute(pb_, u, jac != nullptr);
+    derivatives_ = jac != nullptr;
+    headings();
+    // An evaluation with derivatives at the controls of the last one without
+    // (Ceres evaluates the Jacobian where its line search has just evaluated
+    // the cost) takes each nearest disc from it.
+    const size_t stages = pb_.obstacles.size() * static_cast<size_t>(N + 1);
+    reuse_stages_ = derivatives_ && static_cast<int>(stage_u_.size()) == n && std::equal(u, u + n, stage_u_.begin());
+    if (!derivatives_) {
+      stage_u_.assign(u, u + n);
+      stage_.resize(stages);
+      staged_.assign(stages, 0);
+    }
     if (jac) std::fill(jac, jac + static_cast<size_t>(full_rows_) * n, 0.0);
     live_.assign(full_rows_, kRowDense);
     nz_.assign(2 * static_cast<size_t>(full_rows_), -1);
@@ -278,7 +316,20 @@ class InnerCost : public ceres::CostFunction {
     return r;
   }
 
-  // h_i(X_k) of the current rollout, computed on first use.
+  // The cosine and sine of the rollout's heading at every step, once for
+  // every obstacle (1 and 0 for a point robot, whose h ignores the heading).
+  void headings() const {
+    const double* xs = ro_.states.data();
+    const bool point = is_point(pb_.footprint);
+    heading_.resize(2 * static_cast<size_t>(pb_.N + 1));
+    for (int k = 0; k <= pb_.N; ++k) {
+      heading_[2 * k] = point ? 1.0 : std::cos(xs[3 * k + 2]);
+      heading_[2 * k + 1] = point ? 0.0 : std::sin(xs[3 * k + 2]);
+    }
+  }
+
+  // h_i(X_k) of the current rollout, computed on first use (its derivatives
+  // only when the evaluation wants a Jacobian).
   const BarrierValue& barrier_of(int i, int k) const {
     const double* xs = ro_.states.data();
     const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k;
@@ -289,8 +340,20 @@ class InnerCost : public ceres::CostFunction {
         have_[idx] = 1;
         return bar_[idx];
       }
-      bar_[idx] = footprint_barrier_cs(xs[3 * k], xs[3 * k + 1], xs[3 * k + 2], o.x[k], o.y[k], o.a[k], o.b[k],
-                                       orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint, pb_.d_safe);
+      const double cyaw = heading_[2 * k], syaw = heading_[2 * k + 1];
+      const double c = orientation_[2 * idx], sn = orientation_[2 * idx + 1];
+      const FootprintStage t = reuse_stages_ && staged_[idx]
+                                   ? stage_[idx]
+                                   : footprint_stage(xs[3 * k], xs[3 * k + 1], cyaw, syaw, o.x[k], o.y[k], o.a[k],
+                                                     o.b[k], c, sn, pb_.footprint, pb_.d_safe);
+      if (derivatives_) {
+        bar_[idx] = footprint_derivatives(t, cyaw, syaw, o.a[k], o.b[k], c, sn);
+      } else {
+        bar_[idx] = BarrierValue{};
+        bar_[idx].h = t.h;
+        stage_[idx] = t;
+        staged_[idx] = 1;
+      }
       have_[idx] = 1;
     }
     return bar_[idx];
@@ -303,8 +366,9 @@ class InnerCost : public ceres::CostFunction {
     const ObstacleTrack& o = pb_.obstacles[i];
     if (o.field) return barrier_of(i, k);
     const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k + 1;
-    return footprint_barrier_cs(xs[3 * k], xs[3 * k + 1], xs[3 * k + 2], o.x[k + 1], o.y[k + 1], o.a[k + 1], o.b[k + 1],
-                                orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint, pb_.d_safe);
+    return footprint_barrier_trig(xs[3 * k], xs[3 * k + 1], heading_[2 * k], heading_[2 * k + 1], o.x[k + 1],
+                                  o.y[k + 1], o.a[k + 1], o.b[k + 1], orientation_[2 * idx], orientation_[2 * idx + 1],
+                                  pb_.footprint, pb_.d_safe, derivatives_);
   }
 
   // The second term of barrier link (i, k): decay h(X_k, O_k), or in the
@@ -411,6 +475,17 @@ class InnerCost : public ceres::CostFunction {
   mutable Rollout ro_;
   std::vector<double> orientation_;  // cos, sin of theta per obstacle and step (index i (N + 1) + k)
   mutable std::vector<BarrierValue> bar_;
+  mutable std::vector<double> full_u_;         // the controls of full_r_ and full_j_ (full_at) ...
+  mutable bool full_ok_ = false;               // ... and whether that evaluation succeeded
+  mutable std::vector<double> cost_u_;         // the controls of the last cost_only evaluation ...
+  mutable double cost_norm_ = 0;               // ... its |r| ...
+  mutable bool cost_ok_ = false;               // ... and whether it succeeded
+  mutable std::vector<double> stage_u_;        // the controls of the last evaluation without derivatives ...
+  mutable std::vector<FootprintStage> stage_;  // ... the nearest disc of each obstacle and step it computed
+  mutable std::vector<char> staged_;           // ... where it did
+  mutable bool reuse_stages_ = false;          // this evaluation is at stage_u_
+  mutable std::vector<double> heading_;        // cos, sin of the heading at each step (headings())
+  mutable bool derivatives_ = true;            // whether this evaluation computes the barriers' derivatives
   mutable std::vector<char> have_;
   // per full row: zero, at most two nonzero Jacobian entries, or dense
   static constexpr char kRowDead = 0, kRowSparse = 1, kRowDense = 2;

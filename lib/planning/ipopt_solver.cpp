@@ -19,7 +19,15 @@ constexpr Number kInf = 2e19;  // IPOPT's default "no bound"
 // on x, y and theta of its two steps.
 class MpcNlp : public Ipopt::TNLP {
  public:
-  explicit MpcNlp(const Problem& pb) : pb_(pb), N_(pb.N), M_(static_cast<int>(pb.obstacles.size())) {}
+  // start_u: the controls to start from (empty: zeros); the states are
+  // rolled out from them, so that the start meets the dynamics.
+  MpcNlp(const Problem& pb, const std::vector<double>& start_u)
+      : pb_(pb), N_(pb.N), M_(static_cast<int>(pb.obstacles.size())) {
+    start_u_.assign(static_cast<size_t>(2 * N_), 0.0);
+    for (size_t i = 0; i < start_u_.size() && i < start_u.size(); ++i) start_u_[i] = start_u[i];
+    start_x_.resize(static_cast<size_t>(3 * (N_ + 1)));
+    rollout(pb, start_u_.data(), start_x_.data());
+  }
 
   std::vector<double> solution;
   int iterations = 0;
@@ -76,7 +84,9 @@ class MpcNlp : public Ipopt::TNLP {
   bool get_starting_point(Index n, bool init_x, Number* x, bool init_z, Number*, Number*, Index, bool init_lambda,
                           Number*) override {
     if (!init_x || init_z || init_lambda) return false;
-    for (Index i = 0; i < n; ++i) x[i] = 0.0;  // cold start from zeros, as the paper's code
+    for (int i = 0; i < 3 * (N_ + 1); ++i) x[i] = start_x_[static_cast<size_t>(i)];
+    for (int i = 0; i < 2 * N_; ++i) x[ui(0) + i] = start_u_[static_cast<size_t>(i)];
+    (void)n;
     return true;
   }
 
@@ -306,6 +316,7 @@ class MpcNlp : public Ipopt::TNLP {
 
   const Problem& pb_;
   int N_, M_;
+  std::vector<double> start_u_, start_x_;
   std::vector<Index> h_rows_, h_cols_;
   std::vector<int> hx_, hyx_, hy_, ht_, htx_, hty_, hvt_, hv_, hw_, hvv1_, hww1_;
 };
@@ -314,13 +325,19 @@ class MpcNlp : public Ipopt::TNLP {
 
 IpoptResult solve_with_ipopt(const Problem& pb, const IpoptOptions& opts) {
   IpoptResult out;
-  Ipopt::SmartPtr<MpcNlp> nlp = new MpcNlp(pb);
+  Ipopt::SmartPtr<MpcNlp> nlp = new MpcNlp(pb, opts.start_u);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  app->Options()->SetIntegerValue("print_level", opts.print_level);
-  app->Options()->SetStringValue("sb", "yes");
-  app->Options()->SetNumericValue("tol", opts.tol);
-  app->Options()->SetIntegerValue("max_iter", opts.max_iter);
-  app->Options()->SetStringValue("hessian_approximation", "exact");
+  Ipopt::OptionsList& o = *app->Options();
+  o.SetIntegerValue("print_level", opts.print_level);
+  o.SetStringValue("sb", "yes");
+  o.SetNumericValue("tol", opts.tol);
+  o.SetNumericValue("constr_viol_tol", opts.constr_viol_tol);
+  o.SetNumericValue("compl_inf_tol", opts.compl_inf_tol);
+  o.SetIntegerValue("max_iter", opts.max_iter);
+  o.SetStringValue("hessian_approximation", opts.limited_memory ? "limited-memory" : "exact");
+  o.SetNumericValue("mu_init", opts.mu_init);
+  o.SetNumericValue("bound_push", opts.bound_push);
+  o.SetNumericValue("bound_frac", opts.bound_push);
   if (app->Initialize() != Ipopt::Solve_Succeeded) return out;
   const Ipopt::ApplicationReturnStatus st = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(nlp)));
   out.status = static_cast<int>(st);

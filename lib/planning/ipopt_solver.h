@@ -1,8 +1,10 @@
 // The IPOPT peer of CeresMpcSolver: the same MPC problem (planning::Problem)
 // solved by IPOPT 3.11 through its Ipopt::TNLP interface with exact first
-// and second derivatives, cold-started from zeros, as the paper's code does
-// through CasADi (which, like here, keeps the states as variables and the
-// unicycle model as equality constraints: multiple shooting). Eliminating
+// and second derivatives (or L-BFGS), as the paper's code does through
+// CasADi (which, like here, keeps the states as variables and the unicycle
+// model as equality constraints: multiple shooting). It starts from given
+// controls (zeros by default) with the states rolled out from them, so that
+// it and Ceres can start from the same point. Eliminating
 // the states by the dynamics gives exactly Ceres' single-shooting problem:
 // same cost, same bounds, same rate limits, same barrier constraints.
 // Used by the benchmark and as a cross-check in tests, not by the planner.
@@ -24,9 +26,15 @@ struct IpoptResult {
 };
 
 struct IpoptOptions {
-  double tol = 1e-8;
+  double tol = 1e-8;              // IPOPT's scaled NLP error at which it stops
+  double constr_viol_tol = 1e-4;  // ... with constraint violation below this (IPOPT's default)
+  double compl_inf_tol = 1e-4;    // ... and complementarity below this (IPOPT's default)
   int max_iter = 1000;
   int print_level = 0;
+  bool limited_memory = false;  // L-BFGS instead of the exact Hessian
+  double mu_init = 0.1;         // initial barrier parameter (IPOPT's default; lower near the answer)
+  double bound_push = 0.01;     // how far the start is moved into the bounds (bound_push and bound_frac)
+  std::vector<double> start_u;  // 2N controls to start from (states rolled out from them); empty: zeros
 };
 
 IpoptResult solve_with_ipopt(const Problem& pb, const IpoptOptions& opts = {});

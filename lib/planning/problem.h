@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "config/fields.h"
@@ -149,26 +150,44 @@ struct BarrierValue {
 // the value is clamped so that derivatives stay finite.
 inline constexpr double kMinCentreDistance = 1e-6;
 
+// The first stage of the barrier: the offset d from the centre (clamped
+// away from it), |d|, d.e1, d.e2, s, and h. The derivatives follow from it
+// (barrier_derivatives); a caller that needs only h stops here.
+struct BarrierStage {
+  double dx = 0, dy = 0, r = 0, p = 0, q = 0, s = 0, h = 0;
+};
+
 // The ellipse's orientation as its cosine c and sine s_ (a caller that
 // evaluates the same ellipse many times computes them once).
-inline BarrierValue barrier_cs(double px, double py, double cx, double cy, double a, double b, double c, double s_,
-                               double d_safe, bool want_hessian = false) {
-  BarrierValue out;
-  double dx = px - cx, dy = py - cy;
-  double r = std::sqrt(dx * dx + dy * dy);  // planner coordinates are bounded: no overflow to guard against
-  if (r < kMinCentreDistance) {
+inline BarrierStage barrier_stage(double px, double py, double cx, double cy, double a, double b, double c, double s_,
+                                  double d_safe) {
+  BarrierStage t;
+  t.dx = px - cx;
+  t.dy = py - cy;
+  t.r = std::sqrt(t.dx * t.dx + t.dy * t.dy);  // planner coordinates are bounded: no overflow to guard against
+  if (t.r < kMinCentreDistance) {
     // At the centre: any direction; use the major axis so the gradient points out.
-    dx = kMinCentreDistance * c;
-    dy = kMinCentreDistance * s_;
-    r = kMinCentreDistance;
+    t.dx = kMinCentreDistance * c;
+    t.dy = kMinCentreDistance * s_;
+    t.r = kMinCentreDistance;
   }
-  const double p = dx * c + dy * s_;   // d.e1
-  const double q = -dx * s_ + dy * c;  // d.e2
+  t.p = t.dx * c + t.dy * s_;   // d.e1
+  t.q = -t.dx * s_ + t.dy * c;  // d.e2
   const double a2 = a * a, b2 = b * b;
-  const double s = std::sqrt(b2 * p * p + a2 * q * q);
+  t.s = std::sqrt(b2 * t.p * t.p + a2 * t.q * t.q);
+  const double l = a * b * t.r / t.s;
+  t.h = t.r - l - d_safe;
+  return t;
+}
+
+// h and its derivatives in the position from the first stage.
+inline BarrierValue barrier_derivatives(const BarrierStage& t, double a, double b, double c, double s_,
+                                        bool want_hessian) {
+  BarrierValue out;
+  const double dx = t.dx, dy = t.dy, r = t.r, p = t.p, q = t.q, s = t.s;
+  const double a2 = a * a, b2 = b * b;
   const double ab = a * b;
-  const double l = ab * r / s;
-  out.h = r - l - d_safe;
+  out.h = t.h;
   // gradients in the world frame
   const double rx = dx / r, ry = dy / r;             // grad r
   const double sx = (b2 * p * c - a2 * q * s_) / s;  // grad s
@@ -196,6 +215,11 @@ inline BarrierValue barrier_cs(double px, double py, double cx, double cy, doubl
   return out;
 }
 
+inline BarrierValue barrier_cs(double px, double py, double cx, double cy, double a, double b, double c, double s_,
+                               double d_safe, bool want_hessian = false) {
+  return barrier_derivatives(barrier_stage(px, py, cx, cy, a, b, c, s_, d_safe), a, b, c, s_, want_hessian);
+}
+
 inline BarrierValue barrier(double px, double py, double cx, double cy, double a, double b, double theta, double d_safe,
                             bool want_hessian = false) {
   return barrier_cs(px, py, cx, cy, a, b, std::cos(theta), std::sin(theta), d_safe, want_hessian);
@@ -206,35 +230,69 @@ inline BarrierValue barrier_at(const ObstacleTrack& o, int k, double px, double 
   return barrier(px, py, o.x[k], o.y[k], o.a[k], o.b[k], o.theta[k], d_safe, want_hessian);
 }
 
-// The footprint's h at pose (px, py, yaw) against an ellipse (orientation
-// as cosine c and sine s_): the smallest over the discs of the barrier of
-// the disc's centre less its radius, with derivatives in (x, y, yaw) of
-// that disc (h is a minimum of smooth functions: where two discs tie, one
-// side's derivatives).
+// Whether the footprint is the paper's point robot (its h does not depend
+// on the heading).
+inline bool is_point(const Footprint& fp) { return fp.offsets.size() == 1 && fp.offsets[0] == 0.0; }
+
+// The footprint's nearest disc at pose (px, py) with heading cosine cyaw
+// and sine syaw against an ellipse (orientation as cosine c and sine s_):
+// the smallest over the discs of the barrier of the disc's centre less its
+// radius (h), that disc's first stage and its offset.
+struct FootprintStage {
+  BarrierStage disc;
+  double h = 0.0, off = 0.0;
+};
+
+inline FootprintStage footprint_stage(double px, double py, double cyaw, double syaw, double cx, double cy, double a,
+                                      double b, double c, double s_, const Footprint& fp, double d_safe) {
+  FootprintStage best;
+  bool first = true;
+  for (double off : fp.offsets) {
+    const BarrierStage t = barrier_stage(px + off * cyaw, py + off * syaw, cx, cy, a, b, c, s_, d_safe);
+    const double h = t.h - fp.radius;
+    if (first || h < best.h) best.disc = t, best.h = h, best.off = off, first = false;
+  }
+  return best;
+}
+
+// The footprint's h and its derivatives in (x, y, yaw): those of the
+// nearest disc (h is a minimum of smooth functions: where two discs tie,
+// one side's derivatives).
+inline BarrierValue footprint_derivatives(const FootprintStage& t, double cyaw, double syaw, double a, double b,
+                                          double c, double s_, bool want_hessian = false) {
+  BarrierValue out = barrier_derivatives(t.disc, a, b, c, s_, want_hessian);
+  out.h = t.h;
+  if (t.off != 0.0) {
+    // the disc's centre moves with yaw by t = off (-sin, cos), t' = -off (cos, sin)
+    const double tx = -t.off * syaw, ty = t.off * cyaw;
+    out.gth = out.gx * tx + out.gy * ty;
+    if (want_hessian) {
+      out.hxt = out.hxx * tx + out.hxy * ty;
+      out.hyt = out.hxy * tx + out.hyy * ty;
+      out.htt = tx * out.hxt + ty * out.hyt + out.gx * (-t.off * cyaw) + out.gy * (-t.off * syaw);
+    }
+  }
+  return out;
+}
+
+// Both: h alone unless want_derivatives.
+inline BarrierValue footprint_barrier_trig(double px, double py, double cyaw, double syaw, double cx, double cy,
+                                           double a, double b, double c, double s_, const Footprint& fp, double d_safe,
+                                           bool want_derivatives, bool want_hessian = false) {
+  const FootprintStage t = footprint_stage(px, py, cyaw, syaw, cx, cy, a, b, c, s_, fp, d_safe);
+  if (want_derivatives) return footprint_derivatives(t, cyaw, syaw, a, b, c, s_, want_hessian);
+  BarrierValue out;
+  out.h = t.h;
+  return out;
+}
+
+// The same at heading yaw.
 inline BarrierValue footprint_barrier_cs(double px, double py, double yaw, double cx, double cy, double a, double b,
                                          double c, double s_, const Footprint& fp, double d_safe,
                                          bool want_hessian = false) {
-  const bool point = fp.offsets.size() == 1 && fp.offsets[0] == 0.0;
+  const bool point = is_point(fp);
   const double cyaw = point ? 1.0 : std::cos(yaw), syaw = point ? 0.0 : std::sin(yaw);
-  BarrierValue best;
-  bool first = true;
-  double best_off = 0.0;
-  for (double off : fp.offsets) {
-    BarrierValue v = barrier_cs(px + off * cyaw, py + off * syaw, cx, cy, a, b, c, s_, d_safe, want_hessian);
-    v.h -= fp.radius;
-    if (first || v.h < best.h) best = v, best_off = off, first = false;
-  }
-  if (best_off != 0.0) {
-    // the disc's centre moves with yaw by t = off (-sin, cos), t' = -off (cos, sin)
-    const double tx = -best_off * syaw, ty = best_off * cyaw;
-    best.gth = best.gx * tx + best.gy * ty;
-    if (want_hessian) {
-      best.hxt = best.hxx * tx + best.hxy * ty;
-      best.hyt = best.hxy * tx + best.hyy * ty;
-      best.htt = tx * best.hxt + ty * best.hyt + best.gx * (-best_off * cyaw) + best.gy * (-best_off * syaw);
-    }
-  }
-  return best;
+  return footprint_barrier_trig(px, py, cyaw, syaw, cx, cy, a, b, c, s_, fp, d_safe, true, want_hessian);
 }
 
 // The footprint's h against a static distance field (static_field.cpp;
@@ -292,6 +350,30 @@ double value_of(const J& x) {
   return x.a;
 }
 
+// h alone of obstacle o at its step k for a state (x, y, yaw): barrier_at's
+// h without its derivatives.
+inline double barrier_h_at(const Problem& pb, const ObstacleTrack& o, int k, const double* state) {
+  if (o.field) return static_field_barrier(*o.field, state[0], state[1], state[2], pb.footprint).h;
+  const bool point = is_point(pb.footprint);
+  const double cyaw = point ? 1.0 : std::cos(state[2]), syaw = point ? 0.0 : std::sin(state[2]);
+  return footprint_stage(state[0], state[1], cyaw, syaw, o.x[k], o.y[k], o.a[k], o.b[k], std::cos(o.theta[k]),
+                         std::sin(o.theta[k]), pb.footprint, pb.d_safe)
+      .h;
+}
+
+// The barrier of constraint(): for double its value alone (lift_barrier
+// uses no more), for a Jet with its derivatives.
+template <class T>
+BarrierValue constraint_barrier(const Problem& pb, const ObstacleTrack& o, int k, const double* state) {
+  if constexpr (std::is_same_v<T, double>) {
+    BarrierValue b;
+    b.h = barrier_h_at(pb, o, k, state);
+    return b;
+  } else {
+    return barrier_at(pb, o, k, state);
+  }
+}
+
 // Constraint j (>= 0 when satisfied), see Problem::num_constraints for the layout.
 template <class T>
 T constraint(const Problem& pb, const T* states, const T* u, int j) {
@@ -311,10 +393,10 @@ T constraint(const Problem& pb, const T* states, const T* u, int j) {
   const T* p0 = states + 3 * k;
   const T* p1 = states + 3 * (k + 1);
   const double s1[3] = {value_of(p1[0]), value_of(p1[1]), value_of(p1[2])};
-  T g = lift_barrier(barrier_at(pb, o, k + 1, s1), p1[0], p1[1], p1[2]);
+  T g = lift_barrier(constraint_barrier<T>(pb, o, k + 1, s1), p1[0], p1[1], p1[2]);
   if (o.decay != 0.0 || pb.own_motion) {
     const double s0[3] = {value_of(p0[0]), value_of(p0[1]), value_of(p0[2])};
-    const BarrierValue b0 = barrier_at(pb, o, pb.own_motion ? k + 1 : k, s0);
+    const BarrierValue b0 = constraint_barrier<T>(pb, o, pb.own_motion ? k + 1 : k, s0);
     const double decay = pb.own_motion && b0.h <= 0.0 ? 1.0 : o.decay;
     g = g - decay * lift_barrier(b0, p0[0], p0[1], p0[2]);
   }

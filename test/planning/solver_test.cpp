@@ -415,5 +415,27 @@ TEST(IpoptPeer, SolvesTheSameFootprintNlpAsCeres) {
   }
 }
 
+// IPOPT starts where it is told (bench_planner compares it with Ceres from
+// the same start): stopped before its first iteration, it returns the
+// given controls (pushed 1e-8 into their bounds), whose rollout costs what
+// Ceres's plan does; from zeros it returns the robot standing.
+TEST(IpoptPeer, StartsFromTheGivenControls) {
+  const Problem pb = bench_problem(4);
+  const SolveResult ceres = CeresMpcSolver(opts()).solve(pb, std::vector<double>(2 * pb.N, 0.0));
+  ASSERT_TRUE(ceres.feasible);
+  IpoptOptions o;
+  o.max_iter = 0;
+  o.bound_push = 1e-8;
+  o.start_u = ceres.u;
+  const IpoptResult warm = solve_with_ipopt(pb, o);
+  ASSERT_EQ(warm.u.size(), ceres.u.size());
+  for (size_t i = 0; i < warm.u.size(); ++i) EXPECT_NEAR(warm.u[i], ceres.u[i], 1e-6) << "control " << i;
+  EXPECT_NEAR(warm.cost, ceres.cost, 1e-4 * ceres.cost);
+  o.start_u.clear();
+  const IpoptResult cold = solve_with_ipopt(pb, o);
+  ASSERT_EQ(cold.u.size(), ceres.u.size());
+  for (double v : cold.u) EXPECT_NEAR(v, 0.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace evade::planning
