@@ -197,6 +197,31 @@ bool Tracker::explained(const GridView& g, const std::vector<int32_t>& cells) co
   return true;
 }
 
+std::vector<Ellipse> Tracker::held_ellipses(const GridView& g, const std::vector<int32_t>& cells) const {
+  // each owner's last shape about its predicted centre, both axes grown to
+  // reach the cells nearest to it: together they still cover the cluster
+  std::vector<Ellipse> out;
+  for (int t : owners_) {
+    const Track& tr = tracks_[size_t(t)];
+    out.push_back(tr.history.back());
+    out.back().cx = tr.px;
+    out.back().cy = tr.py;
+  }
+  const double half_diagonal = g.resolution * std::sqrt(0.5);
+  for (int32_t i : cells) {
+    const Vec2 c = cell_centre(g, i);
+    size_t best = 0;
+    double best_d = 1e300;
+    for (size_t k = 0; k < out.size(); ++k) {
+      const double d = std::hypot(c.x - out[k].cx, c.y - out[k].cy);
+      if (d < best_d) best_d = d, best = k;
+    }
+    out[best].a = std::max(out[best].a, best_d + half_diagonal);
+    out[best].b = std::max(out[best].b, best_d + half_diagonal);
+  }
+  return out;
+}
+
 void Tracker::add_owned(const Detection& d, int owner) {
   detections_.push_back(d);
   detections_.back().track = owner;
@@ -225,14 +250,13 @@ void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) 
   owners_ = all_owners;
   if (p_.merge.hold_motion && owners_move_apart() && explained(g, cells)) {
     ++stats_.merges_held;
-    for (int t : owners_) {
-      Detection held;
-      held.ellipse = tracks_[size_t(t)].history.back();
-      held.ellipse.cx = tracks_[size_t(t)].px;
-      held.ellipse.cy = tracks_[size_t(t)].py;
-      held.num_cells = int(cells.size());
-      held.merged = true;
-      add_owned(held, t);
+    const std::vector<Ellipse> held = held_ellipses(g, cells);
+    for (size_t k = 0; k < owners_.size(); ++k) {
+      Detection d;
+      d.ellipse = held[k];
+      d.num_cells = int(cells.size());
+      d.merged = true;
+      add_owned(d, owners_[k]);
     }
     return;
   }

@@ -210,6 +210,7 @@ class Tracker {
   bool partition(const GridView& grid, const std::vector<int32_t>& cells);  // owners_ -> parts_
   bool explained(const GridView& grid, const std::vector<int32_t>& cells) const;
   void add_owned(const Detection& d, int owner);
+  std::vector<Ellipse> held_ellipses(const GridView& grid, const std::vector<int32_t>& cells) const;  // per owner
 
   TrackerParams p_;
   GridDbscan dbscan_;

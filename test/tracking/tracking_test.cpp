@@ -417,7 +417,8 @@ TEST(Tracker, WalkersPassingThroughEachOtherKeepBothIdentities) {
   // Two walkers (0.25 m radius) head-on at 1.2 m/s, 0.1 m apart across:
   // for about 0.6 s DBSCAN sees one cluster that no cut can share out.
   // Each track moves on as predicted through it, both are published in
-  // every frame, and each leaves with its own walker.
+  // every frame (together covering the cluster), and each leaves with its
+  // own walker.
   Tracker t(params());
   int64_t ida = -1, idb = -1;
   for (int f = 0; f <= 50; ++f) {
@@ -427,6 +428,12 @@ TEST(Tracker, WalkersPassingThroughEachOtherKeepBothIdentities) {
     s.disc(xb, -0.05, 0.25);
     const auto& obs = t.update(s.view(2'000'000 + f * 100'000));
     ASSERT_EQ(obs.size(), 2u) << "frame " << f;
+    for (int i = 0; i < s.w * s.h; ++i) {  // the published ellipses still cover every cell's centre
+      if (!s.cells[size_t(i)]) continue;
+      const Vec2 c{s.origin_x + (i % s.w + 0.5) * s.res, s.origin_y + (i / s.w + 0.5) * s.res};
+      EXPECT_TRUE(ellipse_level(obs[0].ellipse, c) <= 1.0 || ellipse_level(obs[1].ellipse, c) <= 1.0)
+          << "frame " << f << " cell " << i;
+    }
     if (std::fabs(xa - xb) < 1.0) continue;  // overlapping: which is nearer is moot
     const auto* a = nearest(obs, xa, 0.05);
     const auto* b = nearest(obs, xb, -0.05);
