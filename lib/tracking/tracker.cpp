@@ -120,7 +120,7 @@ void Tracker::find_owners(const GridView& g, const std::vector<int32_t>& cells) 
   for (size_t t = 0; t < tracks_.size(); ++t) {
     const Track& tr = tracks_[t];
     if (tr.hits < p_.merge.min_track_frames || tr.claimed) continue;
-    if (gap_seconds(g.utime, tr.measured_utime) > p_.merge.max_hold_s) continue;
+    if (p_.merge.hold_owners && gap_seconds(g.utime, tr.measured_utime) > p_.merge.max_hold_s) continue;
     for (int32_t i : cells) {
       const Vec2 c = cell_centre(g, i);
       if ((c.x - tr.px) * (c.x - tr.px) + (c.y - tr.py) * (c.y - tr.py) <= reach2) {
@@ -242,13 +242,18 @@ void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) 
   keep_separated_owners();
   if (grown && owners_move_apart() && partition(g, cells)) {
     ++stats_.merges_split;
-    for (size_t k = 0; k < parts_.size(); ++k) add_owned(make_detection(g, parts_[k]), owners_[k]);
+    for (size_t k = 0; k < parts_.size(); ++k) {
+      if (p_.merge.hold_owners)
+        add_owned(make_detection(g, parts_[k]), owners_[k]);
+      else
+        add_detection(g, parts_[k]);
+    }
     return;
   }
   // Inseparable (they overlap) but moving relative to each other: the
   // merged centre is none of theirs, so each owner moves on as predicted.
   owners_ = all_owners;
-  if (p_.merge.hold_motion && owners_move_apart() && explained(g, cells)) {
+  if (p_.merge.hold_owners && owners_move_apart() && explained(g, cells)) {
     ++stats_.merges_held;
     const std::vector<Ellipse> held = held_ellipses(g, cells);
     for (size_t k = 0; k < owners_.size(); ++k) {
@@ -260,6 +265,9 @@ void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) 
     }
     return;
   }
+  // One detection; without hold_owners, if it grew, the track it is
+  // matched to moves on as predicted.
+  whole.merged = grown && p_.merge.hold_motion && !p_.merge.hold_owners;
   detections_.push_back(whole);
 }
 

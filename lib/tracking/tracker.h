@@ -23,10 +23,11 @@ enum class ThetaVariation { kRaw, kBoundary };
 // cluster. With `split`, a cluster that holds the predicted centres of two
 // or more confirmed tracks and is longer than any of them was is cut into
 // one part per track, each cell going to the nearest predicted centre. One
-// whose owners overlap (cannot be cut) but move relative to each other is
-// explained by its owners' motion (`hold_motion`): each owner is its own
-// detection at its predicted centre, with its last shape. Either way each
-// detection is bound to its owner.
+// whose owners overlap (cannot be cut) but move relative to each other is,
+// with `hold_owners`, explained by its owners' motion: each owner is its
+// own detection at its predicted centre, and every detection made for an
+// owner (held or cut) is bound to it. Without it (the default), the track
+// matched to such a grown cluster moves on as predicted (`hold_motion`).
 struct MergeSplitParams {
   bool split = true;
   int min_track_frames = 5;             // a track counts once matched in this many frames
@@ -34,8 +35,9 @@ struct MergeSplitParams {
   double min_separation_m = 0.4;        // owners' predicted centres at least this far apart (else the older one counts)
   double min_growth_m = 0.1;            // the cluster's semi-major axis exceeds every owner's last one by this
   double min_relative_speed_mps = 0.3;  // and two of them move apart at least this fast (not one rigid body)
-  bool hold_motion = true;              // a cluster that cannot be cut: each owner moves on as predicted
-  double max_hold_s = 0.5;              // a track unmeasured for longer owns no cells
+  bool hold_motion = true;              // a grown cluster that cannot be cut: its track moves on as predicted
+  bool hold_owners = false;             // instead: every owner moves on as predicted, its detection bound to it
+  double max_hold_s = 0.5;              // with hold_owners: a track unmeasured for longer owns no cells
 
   template <class V>
   void fields(V& v) {
@@ -46,6 +48,7 @@ struct MergeSplitParams {
     v.field("min_growth_m", min_growth_m, config::between(0.0, 10.0));
     v.field("min_relative_speed_mps", min_relative_speed_mps, config::between(0.0, 100.0));
     v.field("hold_motion", hold_motion);
+    v.field("hold_owners", hold_owners);
     v.field("max_hold_s", max_hold_s, config::between(0.0, 60.0));
   }
 };

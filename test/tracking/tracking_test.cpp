@@ -419,7 +419,9 @@ TEST(Tracker, WalkersPassingThroughEachOtherKeepBothIdentities) {
   // Each track moves on as predicted through it, both are published in
   // every frame (together covering the cluster), and each leaves with its
   // own walker.
-  Tracker t(params());
+  auto p = params();
+  p.merge.hold_owners = true;
+  Tracker t(p);
   int64_t ida = -1, idb = -1;
   for (int f = 0; f <= 50; ++f) {
     const double time = f * 0.1, xa = -3.0 + 1.2 * time, xb = 3.0 - 1.2 * time;
