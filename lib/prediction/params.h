@@ -155,30 +155,6 @@ struct LimitParams {
   }
 };
 
-// A mover's cluster can split (a bicycle's front and side seen apart, a
-// rider and a wheel): the tracker keeps the old id on one piece and gives
-// the others new ids. A new track would start at rest, so the main body of
-// a fast mover could be presented to the planner as a static obstacle
-// until its filter converges (over 1 s for a 1.8 m/s e-bike in an
-// electromobile run). A new track born inside an established mover's
-// ellipse (plus a margin) starts with that mover's velocity and
-// acceleration instead, with extra velocity uncertainty so that a static
-// object that merely appeared beside a mover is corrected within frames.
-struct FragmentParams {
-  double min_parent_speed_mps = 0.3;  // only tracks at least this fast pass their motion on
-  double margin_m = 0.3;              // born within the parent's semi-major axis + this of its centre
-  double extra_speed_std_mps = 0.3;   // added (in quadrature) to the parent's velocity std per axis
-  bool enabled = false;               // off in config/robot.yaml: it no longer changes a perception figure
-
-  template <class V>
-  void fields(V& v) {
-    v.field("enabled", enabled);
-    v.field("min_parent_speed_mps", min_parent_speed_mps, config::between(0.0, 100.0));
-    v.field("margin_m", margin_m, config::between(0.0, 10.0));
-    v.field("extra_speed_std_mps", extra_speed_std_mps, config::between(0.0, 100.0));
-  }
-};
-
 struct PredictorParams {
   int prediction_steps = 25;     // N (planner horizon); k = 0..N are published
   double prediction_dt_s = 0.1;  // planner step
@@ -191,7 +167,6 @@ struct PredictorParams {
   FilterParams filter;
   ManeuverParams maneuver;
   StationaryParams stationary;
-  FragmentParams fragment;
   AdaptiveNoiseParams adaptive_noise;
   UncertaintyParams uncertainty;
   LimitParams limits;
@@ -211,7 +186,6 @@ struct PredictorParams {
     v.section("stationary", stationary);
     v.rule(!stationary.enabled || maneuver.enabled, "stationary.enabled",
            "the stationary mode needs maneuver.enabled (a start from rest is a manoeuvre)");
-    v.section("fragment", fragment);
     v.section("adaptive_noise", adaptive_noise);
     v.section("uncertainty", uncertainty);
     v.section("limits", limits);

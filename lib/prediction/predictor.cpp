@@ -54,9 +54,6 @@ bool Predictor::process(const evade::obstacle_list_t& in, evade::prediction_list
   last_utime_ = in.utime;
   update_seen(in, dt, &st);
   coast_missing(in.utime, dt, &st);
-  // Every established track is now at this frame's time (updated or
-  // coasted): new ones born inside a mover take its motion.
-  if (params_->fragment.enabled) inherit_fragments(&st);
 
   out->utime = in.utime;
   out->dt = params_->prediction_dt_s;
@@ -170,39 +167,6 @@ bool Predictor::hidden_at(int64_t id, int64_t utime) const {
   const State& st = tracks_.at(id).state();
   return keep_hidden(p, *hidden_regions_, z->second.x, z->second.y, std::max(z->second.a, z->second.b),
                      std::hypot(st(kVx), st(kVy)), unseen_s, horizon_s);
-}
-
-void Predictor::inherit_fragments(FrameStats* st) {
-  const double extra_var = params_->fragment.extra_speed_std_mps * params_->fragment.extra_speed_std_mps;
-  for (int64_t id : created_) {
-    TrackFilter& child = tracks_.at(id);
-    if (const TrackFilter* parent = fragment_parent(id, child)) {
-      child.inherit_motion(*parent, extra_var);
-      ++st->inherited;
-    }
-  }
-}
-
-const TrackFilter* Predictor::fragment_parent(int64_t id, const TrackFilter& child) const {
-  const FragmentParams& fp = params_->fragment;
-  const TrackFilter* best = nullptr;
-  double best_d = 0;
-  int64_t best_id = 0;
-  for (const auto& [pid, parent] : tracks_) {
-    if (pid == id || std::find(created_.begin(), created_.end(), pid) != created_.end()) continue;
-    if (parent.updates() + 1 < params_->coast_min_frames) continue;  // its velocity is not known yet
-    const State& s = parent.state();
-    if (std::hypot(s(kVx), s(kVy)) < fp.min_parent_speed_mps) continue;
-    const double d = std::hypot(child.state()(kX) - s(kX), child.state()(kY) - s(kY));
-    if (d > std::max(s(kA), s(kB)) + fp.margin_m) continue;
-    // nearest; ties by id, so the result does not depend on the hash map's order
-    if (!best || d < best_d || (d == best_d && pid < best_id)) {
-      best = &parent;
-      best_d = d;
-      best_id = pid;
-    }
-  }
-  return best;
 }
 
 void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::track_prediction_t* out) const {

@@ -24,7 +24,6 @@ struct FrameStats {
   int updated = 0;         // existing tracks updated
   int malformed = 0;       // obstacles skipped (non-finite, out of range, bad axes, duplicate id)
   int diverged = 0;        // tracks whose filter went non-finite: restarted from the measurement
-  int inherited = 0;       // new tracks that took an established mover's motion (FragmentParams)
   bool gap_reset = false;  // frame gap above max_frame_gap_s: all tracks restarted
 };
 
@@ -66,14 +65,9 @@ class Predictor {
   bool hidden_at(int64_t id, int64_t utime) const;
 
   // One frame: measurement updates of the listed tracks (order_, created_),
-  // coasting or dropping of the missing ones (coasting_), fragments.
+  // coasting or dropping of the missing ones (coasting_).
   void update_seen(const evade::obstacle_list_t& in, double dt, FrameStats* stats);
   void coast_missing(int64_t utime, double dt, FrameStats* stats);
-  void inherit_fragments(FrameStats* stats);
-
-  // FragmentParams: the established mover, if any, whose ellipse (plus the
-  // margin) contains the new track's centre; the nearest one.
-  const TrackFilter* fragment_parent(int64_t id, const TrackFilter& child) const;
   int64_t last_utime_ = -1;
 };
 

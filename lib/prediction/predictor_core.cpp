@@ -23,7 +23,6 @@ void PredictorCore::on_obstacles(const evade::obstacle_list_t& msg) {
   if (st.malformed) count("malformed_obstacles", st.malformed);
   if (st.gap_reset) count("frame_gap_resets");
   if (st.diverged) count("diverged_tracks");
-  if (st.inherited) count("tracks_inherited_motion", st.inherited);
   publish(kPredictionsChannel, out_);
 }
 

@@ -132,23 +132,6 @@ TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : 
   updates_ = 0;
 }
 
-void TrackFilter::inherit_motion(const TrackFilter& parent, double extra_speed_var) {
-  for (int j = 0; j < num_modes_; ++j) {
-    if (j == kStationary) continue;  // holds still by definition
-    Mode& m = modes_[j];
-    m.x.segment<4>(kVx) = parent.x_.segment<4>(kVx);
-    // no correlation with this track's own position and shape yet
-    m.P.block<4, kStateSize>(kVx, 0).setZero();
-    m.P.block<kStateSize, 4>(0, kVx).setZero();
-    m.P.block<4, 4>(kVx, kVx) = parent.P_.block<4, 4>(kVx, kVx);
-    m.P(kVx, kVx) += extra_speed_var;
-    m.P(kVy, kVy) += extra_speed_var;
-  }
-  // a piece of the mover moves as it does: its mode probabilities too
-  for (int j = 0; j < num_modes_; ++j) mu_[j] = parent.mu_[j];
-  combine();
-}
-
 namespace {
 
 // a - b with the orientation difference taken pi-periodically.

@@ -67,12 +67,6 @@ class TrackFilter {
   // acceleration zero with a wide covariance (no spike from one noisy difference).
   TrackFilter(const PredictorParams& params, const Measurement& z);
 
-  // A fragment of `parent` (see FragmentParams): this new track takes the
-  // parent's velocity and acceleration and their covariance, the velocity
-  // variance raised by extra_speed_var (m^2/s^2) per axis, and its IMM mode
-  // probabilities; position and shape stay its own.
-  void inherit_motion(const TrackFilter& parent, double extra_speed_var);
-
   // Time update by dt seconds (with the IMM: mixing, then each mode's A and Q).
   void predict(double dt);
   // Measurement update with the MBE (with the IMM: each mode, then the mode probabilities).

@@ -113,12 +113,14 @@ Vec2 cell_centre(const GridView& g, int32_t i) {
 }  // namespace
 
 void Tracker::find_owners(const GridView& g, const std::vector<int32_t>& cells) {
-  // confirmed tracks whose predicted centre lies within merge_reach_m of a cell
+  // confirmed tracks, measured within max_hold_s and owning no other
+  // cluster, whose predicted centre lies within reach_m of a cell
   owners_.clear();
   const double reach2 = p_.merge.reach_m * p_.merge.reach_m;
   for (size_t t = 0; t < tracks_.size(); ++t) {
     const Track& tr = tracks_[t];
-    if (tr.hits < p_.merge.min_track_frames) continue;
+    if (tr.hits < p_.merge.min_track_frames || tr.claimed) continue;
+    if (p_.merge.hold_owners && gap_seconds(g.utime, tr.measured_utime) > p_.merge.max_hold_s) continue;
     for (int32_t i : cells) {
       const Vec2 c = cell_centre(g, i);
       if ((c.x - tr.px) * (c.x - tr.px) + (c.y - tr.py) * (c.y - tr.py) <= reach2) {
@@ -180,6 +182,52 @@ bool Tracker::partition(const GridView& g, const std::vector<int32_t>& cells) {
   return false;
 }
 
+bool Tracker::explained(const GridView& g, const std::vector<int32_t>& cells) const {
+  // every cell lies within reach_m of its nearest owner's body (its last
+  // semi-major axis about its predicted centre): nothing else is in the cluster
+  for (int32_t i : cells) {
+    const Vec2 c = cell_centre(g, i);
+    bool near = false;
+    for (int t : owners_) {
+      const Track& tr = tracks_[size_t(t)];
+      near = near || std::hypot(c.x - tr.px, c.y - tr.py) <= tr.history.back().a + p_.merge.reach_m;
+    }
+    if (!near) return false;
+  }
+  return true;
+}
+
+std::vector<Ellipse> Tracker::held_ellipses(const GridView& g, const std::vector<int32_t>& cells) const {
+  // each owner's last shape about its predicted centre, both axes grown to
+  // reach the cells nearest to it: together they still cover the cluster
+  std::vector<Ellipse> out;
+  for (int t : owners_) {
+    const Track& tr = tracks_[size_t(t)];
+    out.push_back(tr.history.back());
+    out.back().cx = tr.px;
+    out.back().cy = tr.py;
+  }
+  const double half_diagonal = g.resolution * std::sqrt(0.5);
+  for (int32_t i : cells) {
+    const Vec2 c = cell_centre(g, i);
+    size_t best = 0;
+    double best_d = 1e300;
+    for (size_t k = 0; k < out.size(); ++k) {
+      const double d = std::hypot(c.x - out[k].cx, c.y - out[k].cy);
+      if (d < best_d) best_d = d, best = k;
+    }
+    out[best].a = std::max(out[best].a, best_d + half_diagonal);
+    out[best].b = std::max(out[best].b, best_d + half_diagonal);
+  }
+  return out;
+}
+
+void Tracker::add_owned(const Detection& d, int owner) {
+  detections_.push_back(d);
+  detections_.back().track = owner;
+  tracks_[size_t(owner)].claimed = true;
+}
+
 void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) {
   if (!p_.merge.split) return add_detection(g, cells);
   find_owners(g, cells);
@@ -190,16 +238,37 @@ void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) 
   double owner_a = 0.0;
   for (int t : owners_) owner_a = std::max(owner_a, tracks_[size_t(t)].history.back().a);
   const bool grown = whole.ellipse.a >= owner_a + p_.merge.min_growth_m;
+  const std::vector<int> all_owners = owners_;
   keep_separated_owners();
   if (grown && owners_move_apart() && partition(g, cells)) {
     ++stats_.merges_split;
-    for (const auto& part : parts_) add_detection(g, part);
+    for (size_t k = 0; k < parts_.size(); ++k) {
+      if (p_.merge.hold_owners)
+        add_owned(make_detection(g, parts_[k]), owners_[k]);
+      else
+        add_detection(g, parts_[k]);
+    }
     return;
   }
-  // Inseparable (the two overlap): the track it is matched to keeps its own motion.
-  whole.merged = grown && p_.merge.hold_motion;
+  // Inseparable (they overlap) but moving relative to each other: the
+  // merged centre is none of theirs, so each owner moves on as predicted.
+  owners_ = all_owners;
+  if (p_.merge.hold_owners && owners_move_apart() && explained(g, cells)) {
+    ++stats_.merges_held;
+    const std::vector<Ellipse> held = held_ellipses(g, cells);
+    for (size_t k = 0; k < owners_.size(); ++k) {
+      Detection d;
+      d.ellipse = held[k];
+      d.num_cells = int(cells.size());
+      d.merged = true;
+      add_owned(d, owners_[k]);
+    }
+    return;
+  }
+  // One detection; without hold_owners, if it grew, the track it is
+  // matched to moves on as predicted.
+  whole.merged = grown && p_.merge.hold_motion && !p_.merge.hold_owners;
   detections_.push_back(whole);
-  stats_.merges_held += detections_.back().merged;
 }
 
 void Tracker::detect(const GridView& g) {
@@ -247,6 +316,7 @@ void Tracker::detect(const GridView& g) {
 
 void Tracker::predict_tracks(int64_t utime) {
   for (Track& tr : tracks_) {
+    tr.claimed = false;
     const double gap_s = gap_seconds(utime, tr.last_seen_utime);
     tr.predicted = p_.predict_with_velocity && tr.has_velocity && gap_s <= p_.max_prediction_gap_s;
     tr.px = tr.cx + (tr.predicted ? tr.vx * gap_s : 0.0);
@@ -263,6 +333,12 @@ std::vector<int> Tracker::associate() {
   for (int t = 0; t < nt; ++t) {
     const Track& tr = tracks_[size_t(t)];
     for (int d = 0; d < nd; ++d) {
+      const int bound = detections_[size_t(d)].track;
+      if (bound >= 0 || tr.claimed) {  // a detection bound to its owner pairs with it alone
+        dist[size_t(t) * nd + d] = bound == t ? 0.0 : kGated;
+        cost[size_t(t) * nd + d] = bound == t ? 0.0 : kGated;
+        continue;
+      }
       const Ellipse& e = detections_[size_t(d)].ellipse;
       // The nearer of the predicted and the last centre: a velocity estimate
       // corrupted by a partial occlusion (the visible cells, hence the
@@ -320,7 +396,7 @@ void Tracker::correct_tracks(const GridView& g, const std::vector<int>& det_trac
     Track& tr = tracks_[size_t(t)];
     const Ellipse& e = detections_[d].ellipse;
     if (detections_[d].merged) {
-      // the merged centre is neither object's: the track moves on as predicted
+      // a held owner: its detection is its predicted ellipse
       tr.cx = tr.px;
       tr.cy = tr.py;
       tr.last_seen_utime = g.utime;
@@ -332,6 +408,7 @@ void Tracker::correct_tracks(const GridView& g, const std::vector<int>& det_trac
     tr.cx = e.cx;
     tr.cy = e.cy;
     tr.last_seen_utime = g.utime;
+    tr.measured_utime = g.utime;
     tr.missed = 0;
     ++tr.hits;
     tr.history.push_back(e);
@@ -394,6 +471,7 @@ void Tracker::emit(const GridView& g, const std::vector<int>& det_track, const s
       nt.cx = det.ellipse.cx;
       nt.cy = det.ellipse.cy;
       nt.last_seen_utime = g.utime;
+      nt.measured_utime = g.utime;
       nt.history.push_back(det.ellipse);
       tracks_.push_back(std::move(nt));
       ++stats_.tracks_born;

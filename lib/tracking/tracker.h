@@ -22,7 +22,12 @@ enum class ThetaVariation { kRaw, kBoundary };
 // Two tracked objects that come within eps of each other form one DBSCAN
 // cluster. With `split`, a cluster that holds the predicted centres of two
 // or more confirmed tracks and is longer than any of them was is cut into
-// one part per track, each cell going to the nearest predicted centre.
+// one part per track, each cell going to the nearest predicted centre. One
+// whose owners overlap (cannot be cut) but move relative to each other is,
+// with `hold_owners`, explained by its owners' motion: each owner is its
+// own detection at its predicted centre, and every detection made for an
+// owner (held or cut) is bound to it. Without it (the default), the track
+// matched to such a grown cluster moves on as predicted (`hold_motion`).
 struct MergeSplitParams {
   bool split = true;
   int min_track_frames = 5;             // a track counts once matched in this many frames
@@ -31,6 +36,8 @@ struct MergeSplitParams {
   double min_growth_m = 0.1;            // the cluster's semi-major axis exceeds every owner's last one by this
   double min_relative_speed_mps = 0.3;  // and two of them move apart at least this fast (not one rigid body)
   bool hold_motion = true;              // a grown cluster that cannot be cut: its track moves on as predicted
+  bool hold_owners = false;             // instead: every owner moves on as predicted, its detection bound to it
+  double max_hold_s = 0.5;              // with hold_owners: a track unmeasured for longer owns no cells
 
   template <class V>
   void fields(V& v) {
@@ -41,6 +48,8 @@ struct MergeSplitParams {
     v.field("min_growth_m", min_growth_m, config::between(0.0, 10.0));
     v.field("min_relative_speed_mps", min_relative_speed_mps, config::between(0.0, 100.0));
     v.field("hold_motion", hold_motion);
+    v.field("hold_owners", hold_owners);
+    v.field("max_hold_s", max_hold_s, config::between(0.0, 60.0));
   }
 };
 
@@ -114,7 +123,8 @@ struct GridView {
 struct Detection {
   Ellipse ellipse;
   int num_cells = 0;
-  bool merged = false;  // two tracks' objects that could not be cut apart (MergeSplitParams::hold_motion)
+  bool merged = false;  // an owner's predicted ellipse, no measurement (MergeSplitParams::hold_motion)
+  int track = -1;       // the owner it is bound to (index into the track table), -1: associated by cost
 };
 
 struct TrackedObstacle {
@@ -136,7 +146,7 @@ struct TrackerStats {
   int64_t over_track_limit = 0;
   int64_t time_reset = 0;
   int64_t merges_split = 0;  // clusters cut into one part per owning track
-  int64_t merges_held = 0;   // merged clusters that could not be cut (their track moved on as predicted)
+  int64_t merges_held = 0;   // merged clusters that could not be cut (their owners moved on as predicted)
 };
 
 // Shape-variation indicator (paper Xi_eta): sum over the window of
@@ -170,12 +180,14 @@ class Tracker {
     double vx = 0, vy = 0;
     bool has_velocity = false;
     int64_t last_seen_utime;
+    int64_t measured_utime;  // last frame with a measurement (not a held prediction)
     int missed = 0;
     int age = 0;
     int hits = 1;                 // frames it was matched in (birth included)
     double px = 0, py = 0;        // this frame's predicted centre
     bool predicted = false;       // px, py extrapolated with the velocity
     bool seen = false;            // matched in this frame
+    bool claimed = false;         // owns a cluster's cells in this frame
     std::deque<Ellipse> history;  // last m ellipses
     std::deque<Fix> fixes;        // last velocity_window_frames centres since the last long gap
   };
@@ -199,6 +211,9 @@ class Tracker {
   void keep_separated_owners();
   bool owners_move_apart() const;
   bool partition(const GridView& grid, const std::vector<int32_t>& cells);  // owners_ -> parts_
+  bool explained(const GridView& grid, const std::vector<int32_t>& cells) const;
+  void add_owned(const Detection& d, int owner);
+  std::vector<Ellipse> held_ellipses(const GridView& grid, const std::vector<int32_t>& cells) const;  // per owner
 
   TrackerParams p_;
   GridDbscan dbscan_;

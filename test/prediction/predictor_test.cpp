@@ -512,67 +512,6 @@ TEST(Predictor, AMoverMissedForAFewFramesKeepsItsVelocity) {
   EXPECT_LT(dropping_after, 0.3);  // restarted at rest
 }
 
-// An e-bike at 1.8 m/s (id 1) splits: the tracker keeps id 1 on its front
-// and gives the body a new id (2) 0.5 m behind. Started at rest, id 2 would
-// show the planner a static obstacle where a fast mover is. With
-// `fragment` it takes id 1's motion; a track born away from any mover (3,
-// 3 m off) and one born beside a static obstacle (5, 0.3 m from 4) still
-// start at rest. A static object that appears beside the mover (6) takes
-// its velocity but is back near rest within 0.5 s.
-TEST(Predictor, ANewTrackBornInsideAMoverTakesItsMotion) {
-  struct Seen {
-    double body_vx = 99, far_vx = 99, beside_static_vx = 99, static_piece_speed_after = 99,
-           static_piece_vx_at_birth = 99;
-  };
-  auto run = [](bool enabled) {
-    PredictorParams params = default_params();
-    params.fragment.enabled = enabled;
-    Predictor p(params);
-    evade::prediction_list_t out;
-    FrameStats st;
-    Seen seen;
-    auto vx_of = [&](int64_t id) {
-      for (const auto& t : out.tracks)
-        if (t.id == id) return t.vx;
-      return 99.0;
-    };
-    const double v = -1.8;
-    for (int i = 0; i <= 25; ++i) {
-      const int64_t t = 1'000'000 + i * 100'000;
-      const double x = 10.0 + v * 0.1 * i;
-      std::vector<evade::obstacle_t> obs = {ob(1, x, 0.4), ob(4, -5.0, 3.0)};
-      if (i >= 15) obs.push_back(ob(2, x + 0.5, 0.4));
-      if (i >= 15) obs.push_back(ob(3, x, 3.4));
-      if (i >= 15) obs.push_back(ob(5, -5.0, 3.3));
-      if (i >= 20) obs.push_back(ob(6, 6.4, 0.1));  // where the mover is at i = 20, and it stays there
-      EXPECT_TRUE(p.process(list(t, obs), &out, &st));
-      if (i == 15) {
-        seen.body_vx = vx_of(2);
-        seen.far_vx = vx_of(3);
-        seen.beside_static_vx = vx_of(5);
-        EXPECT_EQ(st.inherited, enabled ? 1 : 0);
-      }
-      if (i == 20) seen.static_piece_vx_at_birth = vx_of(6);
-      if (i == 25) {
-        for (const auto& tr : out.tracks)
-          if (tr.id == 6) seen.static_piece_speed_after = std::hypot(tr.vx, tr.vy);
-      }
-    }
-    return seen;
-  };
-  const Seen with = run(true), without = run(false);
-  std::printf(
-      "[figures] body of a 1.8 m/s mover born as a new id: vx %.2f m/s (without: %.2f); static object born "
-      "beside it: vx %.2f at birth, speed %.2f m/s 0.5 s later\n",
-      with.body_vx, without.body_vx, with.static_piece_vx_at_birth, with.static_piece_speed_after);
-  EXPECT_NEAR(with.body_vx, -1.8, 0.1);
-  EXPECT_NEAR(without.body_vx, 0.0, 1e-9);
-  EXPECT_NEAR(with.far_vx, 0.0, 1e-9);
-  EXPECT_NEAR(with.beside_static_vx, 0.0, 1e-9);
-  EXPECT_LT(with.static_piece_vx_at_birth, -1.0);  // inside the mover's ellipse when it appeared
-  EXPECT_LT(with.static_piece_speed_after, 0.3);
-}
-
 TEST(Predictor, StaleAndMalformedInputIsSkipped) {
   Predictor p(default_params());
   evade::prediction_list_t out;

@@ -413,6 +413,41 @@ TEST(Tracker, AMergedClusterIsCutIntoOneDetectionPerTrack) {
   EXPECT_EQ(run_crossing(0.5, true), 0);
 }
 
+TEST(Tracker, WalkersPassingThroughEachOtherKeepBothIdentities) {
+  // Two walkers (0.25 m radius) head-on at 1.2 m/s, 0.1 m apart across:
+  // for about 0.6 s DBSCAN sees one cluster that no cut can share out.
+  // Each track moves on as predicted through it, both are published in
+  // every frame (together covering the cluster), and each leaves with its
+  // own walker.
+  auto p = params();
+  p.merge.hold_owners = true;
+  Tracker t(p);
+  int64_t ida = -1, idb = -1;
+  for (int f = 0; f <= 50; ++f) {
+    const double time = f * 0.1, xa = -3.0 + 1.2 * time, xb = 3.0 - 1.2 * time;
+    Scene s;
+    s.disc(xa, 0.05, 0.25);
+    s.disc(xb, -0.05, 0.25);
+    const auto& obs = t.update(s.view(2'000'000 + f * 100'000));
+    ASSERT_EQ(obs.size(), 2u) << "frame " << f;
+    for (int i = 0; i < s.w * s.h; ++i) {  // the published ellipses still cover every cell's centre
+      if (!s.cells[size_t(i)]) continue;
+      const Vec2 c{s.origin_x + (i % s.w + 0.5) * s.res, s.origin_y + (i / s.w + 0.5) * s.res};
+      EXPECT_TRUE(ellipse_level(obs[0].ellipse, c) <= 1.0 || ellipse_level(obs[1].ellipse, c) <= 1.0)
+          << "frame " << f << " cell " << i;
+    }
+    if (std::fabs(xa - xb) < 1.0) continue;  // overlapping: which is nearer is moot
+    const auto* a = nearest(obs, xa, 0.05);
+    const auto* b = nearest(obs, xb, -0.05);
+    EXPECT_NEAR(a->ellipse.cx, xa, 0.1) << "frame " << f;
+    if (ida < 0) ida = a->id, idb = b->id;
+    EXPECT_EQ(a->id, ida) << "frame " << f;
+    EXPECT_EQ(b->id, idb) << "frame " << f;
+  }
+  EXPECT_EQ(t.next_id(), 3);  // no other id was ever handed out
+  EXPECT_GT(t.stats().merges_held, 0);
+}
+
 TEST(Tracker, OneObjectSeenInTwoPiecesIsNotCutWhenWholeAgain) {
   // a disc seen as two halves (a column of cells missing) long enough for
   // both halves to be confirmed tracks, then whole: one detection, the
