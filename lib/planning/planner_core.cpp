@@ -440,7 +440,11 @@ int8_t PlannerCore::paper_fallback(const Problem& pb, const evade::odometry_t& o
 }
 
 void PlannerCore::finish_cycle(const evade::odometry_t& odom, int8_t status, const Problem& pb,
-                               const std::vector<double>& u, const SolveResult& res, double solve_us, int iterations) {
+                               const std::vector<double>& u_in, const SolveResult& res, double solve_us,
+                               int iterations) {
+  std::vector<double> u = u_in;
+  const bool is_blocked = blocked(odom, false);
+  if (escape_from_structure(pb, odom, is_blocked, &u)) count("escape_turn_blocked");
   if (status == evade::plan_t::STATUS_OK) {
     feasible_u_ = u;
     feasible_utime_ = odom.utime;
@@ -451,7 +455,7 @@ void PlannerCore::finish_cycle(const evade::odometry_t& odom, int8_t status, con
   prev_penalty_ = status == evade::plan_t::STATUS_OK ? res.penalty : 0.0;
   prev_ids_.clear();
   for (const auto& o : pb.obstacles) prev_ids_.push_back(o.id);
-  if (blocked(odom, false)) {
+  if (is_blocked) {
     count("blocked");
     status = evade::plan_t::STATUS_BLOCKED;
   }
@@ -641,6 +645,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
   for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
   candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
   double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
+  bool best_into = true;  // into static structure's margin (structure_intrusion): only if every plan is
   const Candidate* chosen = &candidates.back();
   std::vector<double> states(3 * (N + 1));
   for (auto& c : candidates) {
@@ -650,7 +655,9 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
     const double h = min_barrier(pb, states, 1);
     const double shortfall = barrier_shortfall(pb, states);
     const double tie = p_.solver.constraint_tolerance;
-    if (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9)) {
+    const bool into = structure_intrusion(pb, states) > tie;
+    if (into != best_into ? !into : (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9))) {
+      best_into = into;
       best_h = h;
       best_shortfall = shortfall;
       chosen = &c;
