@@ -156,9 +156,10 @@ class PlannerCore : public bus::Core {
   // way out of the structure: the heading to the reference's end brought
   // within escape.cone_half_angle of grad h of the field. The short way
   // round, or the long way when the short one swings the footprint into
-  // something; either must meet every constraint of pb. The turn goes on
-  // in the next cycles, the same way round, until the robot faces the way
-  // out. True when *u was replaced.
+  // something: the turn must meet the movers' constraints and the rate
+  // limits and enter the structure's margin by at most 0.01 m. It goes on
+  // in the next cycles (first the way round it took) until the robot faces
+  // the way out. True when *u was replaced.
   bool escape_from_structure(const Problem& pb, const evade::odometry_t& odom, bool is_blocked, std::vector<double>* u);
   int escape_side_ = 0;  // the way round of the last cycle's such turn (+1 left, -1 right; 0 none)
   // Braking at the limits while turning by yaw_by (rad) at the limits, no further.
