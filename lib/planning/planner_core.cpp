@@ -385,7 +385,11 @@ int8_t PlannerCore::paper_fallback(const Problem& pb, const evade::odometry_t& o
 }
 
 void PlannerCore::finish_cycle(const evade::odometry_t& odom, int8_t status, const Problem& pb,
-                               const std::vector<double>& u, const SolveResult& res, double solve_us, int iterations) {
+                               const std::vector<double>& u_in, const SolveResult& res, double solve_us,
+                               int iterations) {
+  std::vector<double> u = u_in;
+  const bool is_blocked = blocked(odom, false);
+  if (escape_from_structure(pb, odom, is_blocked, &u)) count("escape_turn_blocked");
   if (status == evade::plan_t::STATUS_OK) {
     feasible_u_ = u;
     feasible_utime_ = odom.utime;
@@ -396,7 +400,7 @@ void PlannerCore::finish_cycle(const evade::odometry_t& odom, int8_t status, con
   prev_penalty_ = status == evade::plan_t::STATUS_OK ? res.penalty : 0.0;
   prev_ids_.clear();
   for (const auto& o : pb.obstacles) prev_ids_.push_back(o.id);
-  if (blocked(odom, false)) {
+  if (is_blocked) {
     count("blocked");
     status = evade::plan_t::STATUS_BLOCKED;
   }

@@ -13,6 +13,7 @@
 #include "planning/fallback.h"
 #include "planning/manoeuvres.h"
 #include "planning/planner_core.h"
+#include "planning/static_structure.h"
 
 namespace evade::planning {
 namespace {
@@ -157,6 +158,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
   for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
   candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
   double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
+  bool best_into = true;  // into static structure's margin (structure_intrusion): only if every plan is
   const Candidate* chosen = &candidates.back();
   std::vector<double> states(3 * (N + 1));
   for (auto& c : candidates) {
@@ -166,7 +168,9 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
     const double h = min_barrier(pb, states, 1);
     const double shortfall = barrier_shortfall(pb, states);
     const double tie = p_.solver.constraint_tolerance;
-    if (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9)) {
+    const bool into = structure_intrusion(pb, states) > tie;
+    if (into != best_into ? !into : (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9))) {
+      best_into = into;
       best_h = h;
       best_shortfall = shortfall;
       chosen = &c;

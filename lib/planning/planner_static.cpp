@@ -1,6 +1,9 @@
 // PlannerCore's static structure (static_structure.h), kept apart from the
 // planning itself: the elevation maps' arrival and the field of each cycle.
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "evade/grid_map_t.hpp"
 #include "planning/input_checks.h"
@@ -10,6 +13,21 @@ namespace evade::planning {
 namespace {
 
 bool uses_field(const ModeSpec& m, const PlannerParams& p) { return m.evade_layers && p.static_field.enabled; }
+
+// A barrier constraint's slack (h_k+1 - decay h_k, m) at most this is active.
+constexpr double kHeldSlack = 1e-3;
+// How far (m) a turn out of BLOCKED may take the footprint into the
+// structure's margin (static_field.d_safe_m, 0.03 m by default).
+constexpr double kEscapeIntoMarginM = 0.01;
+
+// The smallest slack of o's D-CBF constraint over a rollout's states.
+double field_slack(const Problem& pb, const ObstacleTrack& o, const std::vector<double>& states) {
+  double slack = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < pb.N; ++k)
+    slack = std::min(
+        slack, barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h - o.decay * barrier_at(pb, o, k, &states[3 * k]).h);
+  return slack;
+}
 
 }  // namespace
 
@@ -54,6 +72,62 @@ void PlannerCore::update_static_field(const evade::odometry_t& odom) {
   }
   count("static_field");
   detour_.set_field(static_.field(), p_.footprint.radius);
+}
+
+bool PlannerCore::escape_from_structure(const Problem& pb, const evade::odometry_t& odom, bool is_blocked,
+                                        std::vector<double>* u) {
+  const int side_before = escape_side_;
+  escape_side_ = 0;
+  if (!is_blocked || !uses_field(mode_, p_) || !p_.escape.enabled || pb.ref_x.empty()) return false;
+  const auto field =
+      std::find_if(pb.obstacles.begin(), pb.obstacles.end(), [](const ObstacleTrack& o) { return o.field; });
+  if (field == pb.obstacles.end()) return false;
+  const int N = pb.N;
+  std::vector<double> states(3 * (N + 1));
+  rollout(pb, u->data(), states.data());
+  if (std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m) return false;
+  // held by the wall (once the turn has begun, it goes on while the solver would turn back)
+  if (!side_before && !(field_slack(pb, *field, states) <= kHeldSlack)) return false;
+  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
+  const BarrierValue h = barrier_at(pb, *field, 0, start);
+  const double out = std::atan2(h.gy, h.gx);
+  const double to_ref = std::atan2(pb.ref_y[N] - pb.y0, pb.ref_x[N] - pb.x0);
+  const double cone = p_.escape.cone_half_angle_rad;
+  const double err = wrap_angle(out + std::clamp(wrap_angle(to_ref - out), -cone, cone) - pb.yaw0);
+  if (std::fabs(err) < 0.5 * p_.limits.omega_max * p_.dt_s) return false;  // facing the way out
+  const int first = side_before ? side_before : (err > 0 ? 1 : -1);
+  // the movers' constraints (and the rate limits) met; the structure's
+  // margin entered by at most kEscapeIntoMarginM (at h near 0 its D-CBF
+  // leaves no room for the footprint's corners to swing)
+  Problem movers = pb;
+  movers.obstacles.erase(movers.obstacles.begin() + (field - pb.obstacles.begin()));
+  for (int side : {first, -first}) {
+    const double left = side * err > 0 ? std::fabs(err) : 2 * M_PI - std::fabs(err);
+    std::vector<double> turn = turn_on_the_spot(side * left, odom);
+    rollout(pb, turn.data(), states.data());
+    if (!(max_violation(movers, turn.data()) <= p_.solver.constraint_tolerance) ||
+        !(structure_intrusion(pb, states) <= kEscapeIntoMarginM))
+      continue;
+    *u = turn;
+    escape_side_ = side;
+    return true;
+  }
+  return false;
+}
+
+std::vector<double> PlannerCore::turn_on_the_spot(double yaw_by, const evade::odometry_t& odom) const {
+  const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
+  const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
+  std::vector<double> u = braking_controls(v0, w0);
+  double omega = w0;
+  for (int k = 0; k < p_.horizon_steps; ++k) {
+    const double want = std::clamp(yaw_by / p_.dt_s, -p_.limits.omega_max, p_.limits.omega_max);
+    const double dw = p_.limits.alpha * p_.dt_s;
+    omega = std::clamp(want, omega - dw, omega + dw);
+    u[2 * k + 1] = omega;
+    yaw_by -= omega * p_.dt_s;
+  }
+  return u;
 }
 
 }  // namespace evade::planning

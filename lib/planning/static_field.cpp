@@ -86,8 +86,10 @@ std::vector<double> squared_distance_2d(const std::vector<char>& site, int width
 struct StaticField::Impl {
   double ox = 0, oy = 0, res = 0;
   int width = 0, height = 0;
-  std::vector<double> values;  // signed distance at cell centres, row-major
-  std::vector<float> extent;   // per static cell: its patch's longest bounding-box side (m); 0 elsewhere
+  std::vector<double> values;   // signed distance at cell centres, row-major
+  std::vector<float> extent;    // per static cell: its patch's longest bounding-box side (m); 0 elsewhere
+  std::vector<char> obstacle;   // the map's obstacle cells, row-major
+  std::vector<char> structure;  // the static (structure) cells, row-major
   ceres::Grid2D<double, 1> grid;
   ceres::BiCubicInterpolator<ceres::Grid2D<double, 1>> interp;
   Impl(double ox_, double oy_, double res_, std::vector<double> v, int w, int h)
@@ -134,20 +136,24 @@ std::vector<float> patch_extents(const std::vector<char>& site, int W, int H) {
   return out;
 }
 
-// The largest patch extent (m) of `extent` (per cell, row-major W x H,
-// origin ox, oy, cell res) at a cell whose centre is inside e.
-double largest_in(const std::vector<float>& extent, int W, int H, double ox, double oy, double res, const Ellipse& e) {
+// Calls visit(i) for each cell i (row-major W x H, origin ox, oy, cell
+// res) whose centre is inside e.
+template <class Visit>
+void cells_in(int W, int H, double ox, double oy, double res, const Ellipse& e, Visit visit) {
   const double reach = std::max(e.a, e.b);
   const int c0 = std::max(0, static_cast<int>(std::floor((e.x - reach - ox) / res)));
   const int c1 = std::min(W - 1, static_cast<int>(std::floor((e.x + reach - ox) / res)));
   const int r0 = std::max(0, static_cast<int>(std::floor((e.y - reach - oy) / res)));
   const int r1 = std::min(H - 1, static_cast<int>(std::floor((e.y + reach - oy) / res)));
-  double best = 0;
   for (int r = r0; r <= r1; ++r)
-    for (int c = c0; c <= c1; ++c) {
-      const double x = extent[static_cast<size_t>(r) * W + c];
-      if (x > best && e.contains(ox + (c + 0.5) * res, oy + (r + 0.5) * res, 0.0)) best = x;
-    }
+    for (int c = c0; c <= c1; ++c)
+      if (e.contains(ox + (c + 0.5) * res, oy + (r + 0.5) * res, 0.0)) visit(static_cast<size_t>(r) * W + c);
+}
+
+// The largest patch extent (m) of `extent` (per cell) at a cell inside e.
+double largest_in(const std::vector<float>& extent, int W, int H, double ox, double oy, double res, const Ellipse& e) {
+  double best = 0;
+  cells_in(W, H, ox, oy, res, e, [&](size_t i) { best = std::max(best, static_cast<double>(extent[i])); });
   return best;
 }
 
@@ -198,6 +204,10 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
   auto out = std::make_shared<StaticField>();
   auto impl = std::make_shared<Impl>(map.origin[0], map.origin[1], res, std::move(signed_d), W, H);
   impl->extent = std::move(extent);
+  impl->obstacle.resize(site.size());
+  for (int r = 0; r < H; ++r)
+    for (int c = 0; c < W; ++c) impl->obstacle[static_cast<size_t>(r) * W + c] = map.obstacle[r][c] != 0;
+  impl->structure = std::move(site);
   out->impl_ = std::move(impl);
   out->static_cells_ = n;
   out->d_safe_ = p.d_safe_m;
@@ -219,6 +229,22 @@ double StaticField::structure_extent(const Ellipse& e) const {
   return largest_in(m.extent, m.width, m.height, m.ox, m.oy, m.res, e);
 }
 
+StaticField::Own StaticField::own_cells(const Ellipse& e) const {
+  const Impl& m = *impl_;
+  int cells = 0, structure = 0, r0 = m.height, r1 = -1, c0 = m.width, c1 = -1;
+  cells_in(m.width, m.height, m.ox, m.oy, m.res, e, [&](size_t i) {
+    cells += m.obstacle[i];
+    if (!m.structure[i]) return;
+    ++structure;
+    const int r = static_cast<int>(i) / m.width, c = static_cast<int>(i) % m.width;
+    r0 = std::min(r0, r), r1 = std::max(r1, r), c0 = std::min(c0, c), c1 = std::max(c1, c);
+  });
+  Own out;
+  if (cells > 0) out.structure_share = static_cast<double>(structure) / cells;
+  if (structure > 0) out.structure_extent_m = std::max(r1 - r0 + 1, c1 - c0 + 1) * m.res;
+  return out;
+}
+
 BarrierValue StaticField::footprint_barrier(double px, double py, double yaw, const Footprint& fp) const {
   const double cy = std::cos(yaw), sy = std::sin(yaw);
   BarrierValue best;
@@ -238,8 +264,8 @@ BarrierValue static_field_barrier(const StaticField& f, double px, double py, do
   return f.footprint_barrier(px, py, yaw, fp);
 }
 
-bool is_static_track(const evade::track_prediction_t& t, double age_s, const StaticFieldParams& p) {
-  return std::hypot(t.vx, t.vy) <= p.max_speed_mps && age_s >= p.min_track_age_s;
+bool is_slow_track(const evade::track_prediction_t& t, const StaticFieldParams& p) {
+  return std::hypot(t.vx, t.vy) <= p.max_speed_mps;
 }
 
 ObstacleTrack field_track(std::shared_ptr<const StaticField> field, double x0, double y0, int N, double decay) {

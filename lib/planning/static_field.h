@@ -6,17 +6,17 @@
 // bounding ellipses (split into tiles when large); an ellipse round a
 // door's edge, grown by d_safe, closes the gap. Here the planner reads
 // ELEVATION_MAP and builds, each cycle, the Euclidean distance transform
-// of the obstacle cells, less the cells of the moving tracks: a cell
-// inside a moving track's current ellipse grown by `mover_margin_m` is not
-// static (unless it lies inside the ellipse of a static track that holds
-// structure without the movers' cells: a wall a walker passes keeps its
-// cells), nor is a cell of an 8-connected patch shorter than
-// `min_structure_m` (a person, a bin, a mover's stray cells: structure is
-// walls, door frames, parked cars). A track is static when it is slower
-// than `max_speed_mps` and tracked at least `min_track_age_s`; static
-// tracks whose ellipse holds structure leave the ellipse constraints
-// (their cells are in the field), the others keep their predicted
-// ellipses (static_structure.h). The field enters the MPC as one more
+// of the obstacle cells, less the cells of the moving tracks (faster than
+// `max_speed_mps`): a cell inside a moving track's current ellipse grown
+// by `mover_margin_m` is not static (unless it lies inside the ellipse of
+// a slow track that holds structure without the movers' cells: a wall a
+// walker passes keeps its cells), nor is a cell of an 8-connected patch
+// shorter than `min_structure_m` (a person, a bin, a mover's stray cells:
+// structure is walls, door frames, parked cars). A slow, observed track
+// whose cells are mostly structure (`min_structure_share`; tracked less
+// than `min_track_age_s`, they must also span `min_structure_m`) leaves
+// the ellipse constraints (its cells are in the field), the others keep
+// their predicted ellipses (static_structure.h). The field enters the MPC as one more
 // obstacle (ObstacleTrack::field) with the mode's CBF decay: h is the
 // smallest over the footprint's discs of the field at the disc's centre
 // less the disc's radius and `d_safe_m`.
@@ -45,12 +45,13 @@ namespace evade::planning {
 struct StaticFieldParams {
   bool enabled = false;          // mode evade: static structure by the map's cells, not by ellipses
   double d_safe_m = 0.03;        // margin between the footprint's discs and static cells
-  double max_speed_mps = 0.2;    // a track slower than this...
-  double min_track_age_s = 1.0;  // ...and tracked this long is static
+  double max_speed_mps = 0.2;    // a track faster than this moves: its cells are not static
+  double min_track_age_s = 1.0;  // a slow track younger than this stands for its cells only if they are structure alone
   double mover_margin_m = 0.2;   // cells within a moving track's current ellipse grown by this are not static
   double map_max_age_s = 0.3;    // a map older than this before the cycle's odometry is not used
   double max_distance_m = 3.0;   // the field is cut at this distance (beyond it the constraint is inactive)
   double min_structure_m = 1.0;  // static cells count only in a connected patch at least this long (structure)
+  double min_structure_share = 0.5;  // a slow track with this share of structure among its cells stands for them
   template <class V>
   void fields(V& v) {
     v.field("enabled", enabled);
@@ -61,6 +62,7 @@ struct StaticFieldParams {
     v.field("map_max_age_s", map_max_age_s, config::between(0.0, 60.0));
     v.field("max_distance_m", max_distance_m, config::between(0.1, 100.0));
     v.field("min_structure_m", min_structure_m, config::between(0.0, 100.0));
+    v.field("min_structure_share", min_structure_share, config::between(0.0, 1.0));
   }
 };
 
@@ -85,6 +87,15 @@ class StaticField {
   // patch of static cells that has a cell inside e (0 when none has: every
   // patch in the field is at least min_structure_m).
   double structure_extent(const Ellipse& e) const;
+  // The map's obstacle cells whose centre is inside e (a track's own
+  // cells): the share of them that are structure cells (0 when there are
+  // none), and the longest side (m) of the bounding box of those structure
+  // cells (0 when none).
+  struct Own {
+    double structure_share = 0;
+    double structure_extent_m = 0;
+  };
+  Own own_cells(const Ellipse& e) const;
   int static_cells() const { return static_cells_; }
   double d_safe() const { return d_safe_; }
 
@@ -104,10 +115,10 @@ void squared_distance_1d(const std::vector<double>& f, std::vector<double>* out)
 // is none).
 std::vector<double> squared_distance_2d(const std::vector<char>& site, int width, int height);
 
-// A track may be static: slower than max_speed_mps and tracked
-// min_track_age_s (StaticStructure adds: observed now, and structure in
-// its ellipse).
-bool is_static_track(const evade::track_prediction_t& t, double age_s, const StaticFieldParams& p);
+// A track is slow (not moving) at most max_speed_mps: its cells stay in
+// the map (StaticStructure adds, to stand for them: observed now, and
+// min_structure_share of structure among the cells in its ellipse).
+bool is_slow_track(const evade::track_prediction_t& t, const StaticFieldParams& p);
 
 // The obstacle track that carries the field into the problem (id
 // kStaticFieldId; its ellipse arrays hold the robot's start, axes 0).

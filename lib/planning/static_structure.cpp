@@ -9,6 +9,16 @@
 
 namespace evade::planning {
 
+double structure_intrusion(const Problem& pb, const std::vector<double>& states) {
+  double worst = 0.0;
+  for (const ObstacleTrack& o : pb.obstacles) {
+    if (!o.field) continue;
+    const double floor = std::min(0.0, barrier_at(pb, o, 0, &states[0]).h);
+    for (int k = 1; k <= pb.N; ++k) worst = std::max(worst, floor - barrier_at(pb, o, k, &states[3 * k]).h);
+  }
+  return worst;
+}
+
 void StaticStructure::keep_map(const evade::grid_map_t& m) {
   maps_.push_back(m);
   while (maps_.size() > kMapsKept) maps_.pop_front();
@@ -27,11 +37,9 @@ const evade::grid_map_t* StaticStructure::nearest_map(int64_t utime) const {
   return map;
 }
 
-bool StaticStructure::static_now(const evade::track_prediction_t& t, const Inputs& in) const {
-  if (!is_static_track(t, in.track_age_s ? in.track_age_s(t.id) : 0.0, p_)) return false;
-  if (!in.observed) return false;
-  return std::any_of(in.observed->obstacles.begin(), in.observed->obstacles.end(),
-                     [&](const evade::obstacle_t& o) { return o.id == t.id; });
+bool StaticStructure::observed(int64_t id, const Inputs& in) {
+  return in.observed && std::any_of(in.observed->obstacles.begin(), in.observed->obstacles.end(),
+                                    [&](const evade::obstacle_t& o) { return o.id == id; });
 }
 
 StaticStructure::Update StaticStructure::update(const Inputs& in) {
@@ -40,26 +48,42 @@ StaticStructure::Update StaticStructure::update(const Inputs& in) {
   // the map of the scan the predictions come from (else the nearest in time)
   const evade::grid_map_t* map = nearest_map(in.predictions ? in.predictions->utime : in.odometry_utime);
   if (!map || age_us(in.odometry_utime, map->utime) > std::llround(p_.map_max_age_s * 1e6)) return Update::kStale;
+  // Static by the map, not by the track: only a track that moves takes its
+  // cells out of the map. A slow one's cells stay whatever its age (a wall's
+  // tile listed under a new id is still wall); they are structure or not by
+  // the patch they lie in.
   std::vector<Ellipse> movers, keep;
   std::vector<int64_t> ids;
+  std::vector<double> ages;
   if (in.predictions) {
     const double shift_s = (map->utime - in.predictions->utime) * 1e-6;
     for (const auto& t : in.predictions->tracks) {
       if (!valid_track(t)) continue;
-      const bool still = static_now(t, in);
-      const Ellipse e{t.x[0] + (still ? 0.0 : t.vx * shift_s), t.y[0] + (still ? 0.0 : t.vy * shift_s), t.a[0], t.b[0],
-                      t.theta[0]};
-      (still ? keep : movers).push_back(e);
-      if (still) ids.push_back(t.id);
+      if (!is_slow_track(t, p_)) {
+        movers.push_back({t.x[0] + t.vx * shift_s, t.y[0] + t.vy * shift_s, t.a[0], t.b[0], t.theta[0]});
+      } else if (observed(t.id, in)) {  // a coasting track's cells may be hidden
+        keep.push_back({t.x[0], t.y[0], t.a[0], t.b[0], t.theta[0]});
+        ids.push_back(t.id);
+        ages.push_back(in.track_age_s ? in.track_age_s(t.id) : 0.0);
+      }
     }
   }
   field_ = StaticField::build(*map, movers, keep, p_);
   if (!field_) return Update::kInvalid;
-  // a static track stands for its cells only where this map holds some of
-  // a structure patch in its ellipse (else, hidden, missing from this scan
-  // or standing alone, its ellipse stays)
-  for (size_t i = 0; i < ids.size(); ++i)
-    if (field_->structure_extent(keep[i]) > 0.0) static_ids_.push_back(ids[i]);
+  // A slow, observed track stands for its cells when its own cells are
+  // structure: most of the obstacle cells in its ellipse (a wall's tile,
+  // even the short piece at a door's edge). A person or a bin beside a
+  // wall, whose ellipse takes in some of the wall's cells, keeps its
+  // ellipse: most of its cells are its own, no structure. A new track
+  // reads slow while its speed is unknown: it stands for its cells only
+  // when they are structure by themselves (a wall's tile under a new id,
+  // not a walker that has just come up beside a wall or another walker).
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const StaticField::Own own = field_->own_cells(keep[i]);
+    const bool known = ages[i] >= p_.min_track_age_s;
+    if (own.structure_share >= p_.min_structure_share && (known || own.structure_extent_m >= p_.min_structure_m - 1e-6))
+      static_ids_.push_back(ids[i]);
+  }
   std::sort(static_ids_.begin(), static_ids_.end());
   return Update::kBuilt;
 }

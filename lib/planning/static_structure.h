@@ -4,17 +4,20 @@
 //
 // Each cycle `update` builds the field from the kept map nearest in time to
 // the predictions: its static cells are the map's obstacle cells outside
-// every moving track's ellipse (grown by mover_margin_m) that lie in an
-// 8-connected patch of static cells at least min_structure_m long (walls,
-// door frames, parked cars; StaticFieldParams). A smaller patch (a person,
-// a bin, a post, a mover's cells outside its ellipse, a walker not yet
-// tracked) is no structure: whatever of it is tracked stays its ellipse.
-// A
-// track is static when it is slow and tracked long enough
-// (is_static_track) and in the last OBSTACLES (a coasting track's cells may
-// be hidden); a static track whose ellipse holds cells of a structure patch
-// `stands_for` by them: it leaves the ellipse constraints (`apply`) and the
-// detour grid, which read the field instead.
+// every moving track's ellipse (faster than max_speed_mps; grown by
+// mover_margin_m) that lie in an 8-connected patch of static cells at
+// least min_structure_m long (walls, door frames, parked cars;
+// StaticFieldParams). Static by the map, not by the track: a slow track's
+// cells stay whatever its age (a wall's tile under a new id is still
+// wall). A smaller patch (a person, a bin, a post, a mover's cells outside
+// its ellipse) is no structure: whatever of it is tracked stays its
+// ellipse. A slow track in the last OBSTACLES (a coasting track's cells
+// may be hidden) whose own cells are structure (at least
+// min_structure_share of the obstacle cells in its ellipse; tracked less
+// than min_track_age_s, whose speed is not known yet, they must also span
+// min_structure_m: no person) `stands_for` by them: it leaves the ellipse constraints (`apply`) and the detour
+// grid, which read the field instead. A person standing against a wall,
+// whose ellipse takes in some of the wall's cells, keeps its ellipse.
 //
 // No clock and no bus: the planner core gates the maps' arrival and counts
 // what `update` returns.
@@ -33,6 +36,13 @@
 #include "planning/static_field.h"
 
 namespace evade::planning {
+
+// How far a plan's rollout (`states`, 3 (N + 1)) takes the footprint into
+// the static field's margin beyond where it starts: over the field
+// obstacles of pb, max(0, min(h_0, 0) - h_k), largest over k >= 1 (0 without
+// a field). A recovery plan that drives into a wall to get away from a
+// walker trades a contact of its own making for one that may not come.
+double structure_intrusion(const Problem& pb, const std::vector<double>& states);
 
 class StaticStructure {
  public:
@@ -75,7 +85,7 @@ class StaticStructure {
 
  private:
   const evade::grid_map_t* nearest_map(int64_t utime) const;
-  bool static_now(const evade::track_prediction_t& t, const Inputs& in) const;
+  static bool observed(int64_t id, const Inputs& in);
 
   StaticFieldParams p_;
   std::deque<evade::grid_map_t> maps_;

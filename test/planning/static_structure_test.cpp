@@ -149,22 +149,60 @@ TEST(StaticStructure, AWalkerStandingBesideAnotherIsNoStructureButAWallAWalkerPa
   EXPECT_LT(distance_at(s, 3.05, -3.0), 0.0);  // the wall beside the walker is still wall
 }
 
-TEST(StaticStructure, AStaticTrackNotObservedNowKeepsItsEllipse) {
+TEST(StaticStructure, AWallsCellsStayStructureWhateverTrackClaimsThem) {
   StaticStructure s{StaticFieldParams{}};
   s.keep_map(map_of({kWall}, kT0));
   Scene sc;
   sc.predictions.utime = kT0;
   sc.add(1, kWallTile, 0.0, /*seen=*/false);  // coasting: its cells may be hidden
   ASSERT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
-  EXPECT_FALSE(s.stands_for(1));
-  // slow but listed for less than min_track_age_s: not static either
-  Scene young;
-  young.predictions.utime = kT0;
-  young.add(1, kWallTile, 0.0);
-  StaticStructure::Inputs in = young.inputs(kT0);
-  in.track_age_s = [](int64_t) { return 0.5; };
-  ASSERT_EQ(s.update(in), StaticStructure::Update::kBuilt);
-  EXPECT_FALSE(s.stands_for(1));
+  EXPECT_FALSE(s.stands_for(1));               // its ellipse stays
+  EXPECT_LT(distance_at(s, 3.1, 0.0), -0.04);  // but the wall's cells are in the field
+  // the wall cut into tiles, each under a new id (listed 0.5 s) that reads
+  // slow: the wall's cells stay, and a tile whose own cells are structure
+  // by themselves (1.5 m of wall) is its cells at once; the short piece at
+  // the wall's end (0.3 m), as a walker come up against the wall would
+  // be, keeps its ellipse until its speed is known
+  Scene tiles;
+  tiles.predictions.utime = kT0;
+  tiles.add(7, {3.1, -0.75, 0.75, 0.15, M_PI / 2}, 0.0);
+  tiles.add(8, {3.1, 0.75, 0.75, 0.15, M_PI / 2}, 0.0);
+  tiles.add(9, {3.1, 5.85, 0.2, 0.15, M_PI / 2}, 0.0);
+  StaticStructure::Inputs young = tiles.inputs(kT0);
+  young.track_age_s = [](int64_t) { return 0.5; };
+  ASSERT_EQ(s.update(young), StaticStructure::Update::kBuilt);
+  EXPECT_TRUE(s.stands_for(7));
+  EXPECT_TRUE(s.stands_for(8));
+  EXPECT_FALSE(s.stands_for(9));
+  EXPECT_LT(distance_at(s, 3.1, 0.0), -0.04);
+  EXPECT_LT(distance_at(s, 3.1, 5.85), -0.04);
+  ASSERT_EQ(s.update(tiles.inputs(kT0)), StaticStructure::Update::kBuilt);  // listed 5 s
+  EXPECT_TRUE(s.stands_for(9));
+  // a tile that reads fast for a moment is a mover: its ellipse, not its
+  // cells (the rest of the wall stays)
+  tiles.predictions.tracks[1] = track(8, {3.1, 0.75, 0.75, 0.15, M_PI / 2}, 0.5);
+  ASSERT_EQ(s.update(tiles.inputs(kT0)), StaticStructure::Update::kBuilt);
+  EXPECT_FALSE(s.stands_for(8));
+  EXPECT_GT(distance_at(s, 3.1, 0.75), 0.0);
+  EXPECT_LT(distance_at(s, 3.1, -2.0), -0.04);
+}
+
+TEST(StaticStructure, APersonStandingBesideAWallKeepsItsEllipse) {
+  StaticStructure s{StaticFieldParams{}};
+  // a person 0.2 m from the wall, standing, tracked: its ellipse (grown
+  // towards the robot as the tracker's near-side shift does) takes in
+  // some of the wall's cells, but most of its cells are its own
+  const Box person{2.4, 2.8, -0.2, 0.2};
+  s.keep_map(map_of({kWall, person}, kT0));
+  Scene sc;
+  sc.predictions.utime = kT0;
+  sc.add(1, kWallTile, 0.0);
+  sc.add(2, {2.75, 0.0, 0.45, 0.3, 0.0}, 0.0);
+  ASSERT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
+  EXPECT_TRUE(s.stands_for(1));
+  EXPECT_FALSE(s.stands_for(2));
+  EXPECT_GT(distance_at(s, 2.6, 0.0), 0.1);  // its cells are no structure either
+  EXPECT_LT(distance_at(s, 3.1, 0.0), -0.04);
 }
 
 TEST(StaticStructure, AStaleMapGivesNoFieldAndLeavesTheProblemAlone) {
@@ -209,6 +247,30 @@ TEST(StaticStructure, TheFieldIsFromTheKeptMapNearestThePredictions) {
   sc.predictions.utime = kT0 + 300'000;
   ASSERT_EQ(s.update(sc.inputs(kT0 + 300'000)), StaticStructure::Update::kBuilt);
   EXPECT_NEAR(distance_at(s, 5.5, 0.05), 0.5, 0.02);
+}
+
+TEST(StaticStructure, APlanIntoTheWallsMarginIntrudesOneAlongItDoesNot) {
+  StaticStructure s{StaticFieldParams{}};
+  s.keep_map(map_of({kWall}, kT0));
+  Scene sc;
+  sc.predictions.utime = kT0;
+  ASSERT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
+  Problem pb;
+  pb.N = 3;
+  pb.footprint.radius = 0.2;
+  s.apply(2.5, 0.0, 0.9, &pb);
+  ASSERT_EQ(pb.obstacles.size(), 1u);
+  // the wall's face at x 3.0: h = 3.0 - x - 0.2 - d_safe (0.03)
+  const std::vector<double> into{2.5, 0.0, 0.0, 2.7, 0.0, 0.0, 2.9, 0.0, 0.0, 3.0, 0.0, 0.0};
+  EXPECT_NEAR(structure_intrusion(pb, into), 0.2 + 0.03, 0.02);
+  const std::vector<double> along{2.5, 0.0, 0.0, 2.5, 0.3, 0.0, 2.5, 0.6, 0.0, 2.5, 0.9, 0.0};
+  EXPECT_EQ(structure_intrusion(pb, along), 0.0);
+  // from inside the margin (h_0 < 0), only going further in counts
+  const std::vector<double> stay{2.8, 0.0, 0.0, 2.8, 0.2, 0.0, 2.8, 0.4, 0.0, 2.85, 0.4, 0.0};
+  EXPECT_NEAR(structure_intrusion(pb, stay), 0.05, 0.02);
+  // no field in the problem: nothing to intrude into
+  pb.obstacles.clear();
+  EXPECT_EQ(structure_intrusion(pb, into), 0.0);
 }
 
 }  // namespace
