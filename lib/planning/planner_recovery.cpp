@@ -147,6 +147,9 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
   // shortfall alone (the worst step of the D-CBF chain) preferred
   // standing in an oncoming e-bike's way, deep inside its ellipse, to a
   // dash aside that falls further short at its first steps.
+  // With the static field in the problem, a plan that takes the robot
+  // deeper into structure's margin ranks below every plan that does not
+  // (a dash into a wall is a contact of the robot's own making).
   struct Candidate {
     std::vector<double> u;
     int8_t status;
