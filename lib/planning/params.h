@@ -73,7 +73,7 @@ struct PlannerSolverParams : SolverOptions {
   // (max_total_iterations each). The restarts leave the relaxed solve its
   // budget when it applies. Counted in iterations, not time, so that a
   // replay plans exactly as the live run did.
-  int max_cycle_iterations = 250;
+  int max_cycle_iterations = 900;
   bool warm_multipliers = false;  // the last cycle's multipliers start the solve (else estimate_multipliers)
   template <class V>
   void fields(V& v) {

@@ -276,9 +276,6 @@ TEST(PlannerCore, ASymmetricHeadOnIsPassedOnOneSideWithoutAlternating) {
 TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
   PlannerParams p = default_params();
   p.detour.oncoming_sweep_s = 0.0;  // the MPC's own reaction: the swept mover would detour the robot before it
-  // room for the hard solve, the restarts and the relaxed solve in one cycle:
-  // with the default budget the chain's later steps are cut short
-  p.solver.max_cycle_iterations = 900;
   const std::vector<SimObstacle> scene{{3.5, 1.1, 0.0, 0.0, 0.3, 0.25}, {9.0, 0.05, -1.0, 0.0, 0.3}};
   PlannerParams one_solve = p;
   one_solve.guidance.enabled = false;  // the recovery chain alone, as the fallback runs it
