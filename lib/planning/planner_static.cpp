@@ -2,7 +2,6 @@
 // planning itself: the elevation maps' arrival and the field of each cycle.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include "evade/grid_map_t.hpp"
@@ -19,15 +18,6 @@ constexpr double kHeldSlack = 1e-3;
 // How far (m) a turn out of BLOCKED may take the footprint into the
 // structure's margin (static_field.d_safe_m, 0.03 m by default).
 constexpr double kEscapeIntoMarginM = 0.01;
-
-// The smallest slack of o's D-CBF constraint over a rollout's states.
-double field_slack(const Problem& pb, const ObstacleTrack& o, const std::vector<double>& states) {
-  double slack = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < pb.N; ++k)
-    slack = std::min(
-        slack, barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h - o.decay * barrier_at(pb, o, k, &states[3 * k]).h);
-  return slack;
-}
 
 }  // namespace
 
@@ -87,7 +77,7 @@ bool PlannerCore::escape_from_structure(const Problem& pb, const evade::odometry
   rollout(pb, u->data(), states.data());
   if (std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m) return false;
   // held by the wall (once the turn has begun, it goes on while the solver would turn back)
-  if (!side_before && !(field_slack(pb, *field, states) <= kHeldSlack)) return false;
+  if (!side_before && !(barrier_slack(pb, *field, states) <= kHeldSlack)) return false;
   const double start[3] = {pb.x0, pb.y0, pb.yaw0};
   const BarrierValue h = barrier_at(pb, *field, 0, start);
   const double out = std::atan2(h.gy, h.gx);

@@ -269,6 +269,7 @@ void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) 
   // matched to moves on as predicted.
   whole.merged = grown && p_.merge.hold_motion && !p_.merge.hold_owners;
   detections_.push_back(whole);
+  stats_.merges_held += whole.merged;
 }
 
 void Tracker::detect(const GridView& g) {
