@@ -6,7 +6,8 @@
 # with perception on host A and planner and base_driver on host B, the
 # planner's commands and plans crossing the link to the logger on A, the
 # planner planning from A's predictions, no process finding its bus
-# exposed, the hosts' clock offset in the planner's HEALTH (one machine:
+# exposed, the planner holding the route before the scene's clock starts
+# (no PLAN after the first SIM_TRUTH says NO_ROUTE), the hosts' clock offset in the planner's HEALTH (one machine:
 # near zero), and both namespaces gone afterwards.
 set -euo pipefail
 SRC=$(realpath "$1"); OUT=$2
@@ -44,6 +45,13 @@ echo "logger on A: $cmds CMD_VEL signed by the planner, $plans PLAN, $from_predi
 [ "$cmds" -gt 100 ] || fail "only $cmds CMD_VEL from the planner crossed the link"
 [ "$from_predictions" -gt 100 ] || fail "only $from_predictions plans made from predictions"
 ! grep -l "warning: the LCM bus" "$OUT"/logs/*.log || fail "a process found its bus exposed"
+
+# The simulator starts once the planner has the route (run_scenario waits
+# on the planner's HEALTH), as every core has it at t = 0 in lockstep.
+no_route=$("$BIN/lcmlog-export" "$OUT/run.lcmlog" --channel SIM_TRUTH --channel PLAN |
+  awk '/"channel":"SIM_TRUTH"/ { sim = 1 } sim && /"channel":"PLAN"/ && /"status":4,/ { n++ } END { print n + 0 }')
+echo "plans saying NO_ROUTE after the simulator started: $no_route"
+[ "$no_route" = 0 ] || fail "$no_route plans without a route after the scene began"
 
 # The clock offset between the hosts (one machine: one clock).
 health=$("$BIN/lcmlog-export" "$OUT/run.lcmlog" --channel HEALTH | grep '"name":"planner"' | tail -1)

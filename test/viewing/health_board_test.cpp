@@ -146,20 +146,52 @@ TEST(HealthBoard, KeepsTheNewestHeartbeatPerProcess) {
 }
 
 TEST(HealthBoard, ConfigIsReadStrictly) {
-  const auto ok =
-      evade::config::load_string("stale_after_s: 1.5\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\n", "t.yaml");
+  const auto ok = evade::config::load_string(
+      "stale_after_s: 1.5\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\nwait_timeout_s: 4.0\n", "t.yaml");
   const auto p = HealthBoardParams::from_config(ok);
   EXPECT_EQ(p.stale_after_s, 1.5);
   EXPECT_EQ(p.once_listen_s, 2.0);
+  EXPECT_EQ(p.wait_timeout_s, 4.0);
   const auto extra = evade::config::load_string(
-      "stale_after_s: 1.5\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\nstale_s: 1\n", "t.yaml");
+      "stale_after_s: 1.5\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\nwait_timeout_s: 4.0\nstale_s: 1\n", "t.yaml");
   EXPECT_THROW(HealthBoardParams::from_config(extra), evade::config::ConfigError);
-  const auto bad =
-      evade::config::load_string("stale_after_s: -1\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\n", "t.yaml");
+  const auto bad = evade::config::load_string(
+      "stale_after_s: -1\nonce_listen_s: 2.0\nrefresh_period_s: 0.5\nwait_timeout_s: 4.0\n", "t.yaml");
   EXPECT_THROW(HealthBoardParams::from_config(bad), evade::config::ConfigError);
   // robot.yaml's section loads
   const auto root = evade::config::load_robot_config(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
   EXPECT_NO_THROW(HealthBoardParams::from_config(root.section("health_board")));
+}
+
+TEST(HealthBoard, AnInputCountsAsReceivedOnlyOnceItsProcessReportsAMessageOnIt) {
+  using evade::health::InputWanted;
+  HealthBoard board;
+  const std::vector<InputWanted> wanted = {{"planner", "ROUTE"}, {"tracker", "ELEVATION_MAP"}};
+  EXPECT_EQ(inputs_not_received(board, wanted), (std::vector<std::string>{"planner:ROUTE", "tracker:ELEVATION_MAP"}));
+  auto planner = beat("planner", 10.0, 1.0, 1.0);
+  add_input(&planner, "ROUTE", -1);
+  planner.inputs.back().received = 0;  // subscribed, nothing yet
+  add_input(&planner, "ODOMETRY", 1000);
+  board.add(planner, 1 * kSec);
+  auto tracker = beat("tracker", 10.0, 1.0, 1.0);
+  add_input(&tracker, "ELEVATION_MAP", 1000);
+  board.add(tracker, 1 * kSec);
+  EXPECT_EQ(inputs_not_received(board, wanted), (std::vector<std::string>{"planner:ROUTE"}));
+  planner.inputs[0].received = 1;
+  board.add(planner, 2 * kSec);
+  EXPECT_TRUE(inputs_not_received(board, wanted).empty());
+}
+
+TEST(HealthBoard, AWantedInputIsProcessColonChannel) {
+  evade::health::InputWanted w;
+  std::string why;
+  ASSERT_TRUE(parse_input_wanted("planner:ROUTE", &w, &why));
+  EXPECT_EQ(w.process, "planner");
+  EXPECT_EQ(w.channel, "ROUTE");
+  for (const char* bad : {"planner", ":ROUTE", "planner:", "a:b:c"}) {
+    EXPECT_FALSE(parse_input_wanted(bad, &w, &why)) << bad;
+    EXPECT_NE(why.find(bad), std::string::npos) << why;
+  }
 }
 
 }  // namespace

@@ -58,6 +58,7 @@ std::string config_with(const std::string& stale, const std::string& listen) {
   };
   replace("stale_after_s: 2.5", "stale_after_s: " + stale);
   replace("once_listen_s: 3.0", "once_listen_s: " + listen);
+  replace("wait_timeout_s: 10.0", "wait_timeout_s: 2.5");
   const std::string path = ::testing::TempDir() + "health_once_" + std::to_string(::getpid()) + ".yaml";
   std::ofstream(path) << text;
   return path;
@@ -118,6 +119,23 @@ TEST_F(HealthOnce, AProcessThatStopsBeatingIsStale) {
   const std::string text = slurp(out);
   EXPECT_NE(text.find("route"), std::string::npos) << text;
   EXPECT_NE(text.find("STALE"), std::string::npos) << text;
+}
+
+// `health --wait-received PROCESS:CHANNEL` (what tools/run_scenario waits
+// on before it starts the simulator): route reads ROUTE, its own included.
+TEST_F(HealthOnce, WaitingForAnInputThatArrivesEndsWithZero) {
+  const std::string out = ::testing::TempDir() + "health_wait_" + std::to_string(::getpid()) + ".txt";
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(wait_status(spawn({bin("health"), "--wait-received", "route:ROUTE", "--config", config_}, out)), 0);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(2400));
+}
+
+TEST_F(HealthOnce, WaitingForAnInputThatNeverArrivesTimesOutWithOne) {
+  // route has no ODOMETRY input, and nobody runs a planner.
+  EXPECT_EQ(wait_status(spawn({bin("health"), "--wait-received", "route:ODOMETRY", "--config", config_})), 1);
+  EXPECT_EQ(wait_status(spawn({bin("health"), "--wait-received", "planner:ROUTE", "--config", config_})), 1);
+  // Malformed: a usage error, at once.
+  EXPECT_EQ(wait_status(spawn({bin("health"), "--wait-received", "route", "--config", config_})), 2);
 }
 
 }  // namespace

@@ -87,6 +87,29 @@ Verdict judge(const HealthBoard& board, const std::vector<std::string>& expected
   return v;
 }
 
+bool parse_input_wanted(const std::string& text, InputWanted* out, std::string* why) {
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size() ||
+      text.find(':', colon + 1) != std::string::npos) {
+    *why = "'" + text + "' is not PROCESS:CHANNEL";
+    return false;
+  }
+  *out = InputWanted{text.substr(0, colon), text.substr(colon + 1)};
+  return true;
+}
+
+std::vector<std::string> inputs_not_received(const HealthBoard& board, const std::vector<InputWanted>& wanted) {
+  std::vector<std::string> out;
+  for (const auto& w : wanted) {
+    auto it = board.processes().find(w.process);
+    bool got = false;
+    if (it != board.processes().end())
+      for (const auto& in : it->second.msg.inputs) got |= (in.channel == w.channel && in.received > 0);
+    if (!got) out.push_back(w.process + ":" + w.channel);
+  }
+  return out;
+}
+
 std::vector<std::string> render_table(const HealthBoard& board, const std::vector<std::string>& expected, int64_t now,
                                       const HealthBoardParams& p, bool colour) {
   std::vector<std::string> out;

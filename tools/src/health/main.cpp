@@ -5,9 +5,17 @@
 //   health --once [--expect a,b,c]   listen health_board.once_listen_s, print
 //                                    once; exit 1 when a process is stale or
 //                                    an expected one was never heard, else 0
+//   health --wait-received P:C[,P:C]  listen until process P's HEALTH counts
+//                                    a message received on its input C (for
+//                                    each), exit 0; exit 1 after
+//                                    health_board.wait_timeout_s. A launcher
+//                                    starts what depends on it afterwards
+//                                    (tools/run_scenario: the simulator once
+//                                    the planner has its ROUTE).
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
@@ -51,6 +59,31 @@ void print(const Listener& l, const std::vector<std::string>& expected, const ev
   std::fflush(stdout);
 }
 
+// Listens until every wanted input has arrived (0) or the timeout (1).
+int wait_received(lcm::LCM& lcm, Listener& listener, const std::vector<std::string>& texts,
+                  const evade::health::HealthBoardParams& p) {
+  std::vector<evade::health::InputWanted> wanted;
+  for (const auto& t : texts) {
+    evade::health::InputWanted w;
+    std::string why;
+    if (!evade::health::parse_input_wanted(t, &w, &why)) {
+      std::fprintf(stderr, "%s: --wait-received: %s\n", kName, why.c_str());
+      return 2;
+    }
+    wanted.push_back(w);
+  }
+  const int64_t until = evade::bus::wall_utime() + int64_t(p.wait_timeout_s * 1e6);
+  const auto& stop = evade::bus::stop_on_signals();
+  std::vector<std::string> left = inputs_not_received(listener.board, wanted);
+  while (!left.empty() && !stop.load() && evade::bus::wall_utime() < until) {
+    listen_until(lcm, std::min(until, evade::bus::wall_utime() + 100'000));
+    left = inputs_not_received(listener.board, wanted);
+  }
+  for (const auto& w : left)
+    std::fprintf(stderr, "%s: %s not received within %.1f s\n", kName, w.c_str(), p.wait_timeout_s);
+  return left.empty() ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -62,6 +95,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> expected;
   app.add_flag("--once", once, "listen once_listen_s, print once, exit 1 if stale or missing");
   app.add_option("--expect", expected, "processes that must be heard (comma-separated)")->delimiter(',');
+  std::vector<std::string> wait_for;
+  app.add_option("--wait-received", wait_for,
+                 "PROCESS:CHANNEL,...: exit 0 once each process's HEALTH counts a message on that input, "
+                 "1 after health_board.wait_timeout_s")
+      ->delimiter(',');
   app.add_flag("--no-colour", no_colour, "no ANSI colours (default: colours on a terminal)");
   CLI11_PARSE(app, argc, argv);
 
@@ -84,6 +122,7 @@ int main(int argc, char** argv) {
   lcm.subscribe(kHealthChannel, &Listener::on, &listener);
   const bool colour = !no_colour && ::isatty(STDOUT_FILENO);
 
+  if (!wait_for.empty()) return wait_received(lcm, listener, wait_for, params);
   if (once) {
     listen_until(lcm, evade::bus::wall_utime() + int64_t(params.once_listen_s * 1e6));
     print(listener, expected, params, colour, false);
