@@ -209,6 +209,42 @@ void add_displacement(const std::vector<double>& err, double dt, double horizon_
   ++d->n;
 }
 
+// Sums for the walkers' error decomposition (PerceptionMetrics).
+struct WalkerSources {
+  double centre = 0.0, radial = 0.0, velocity = 0.0, cv_truth = 0.0;
+  int64_t n = 0, n_cv = 0;
+  std::optional<double> mean(double sum, int64_t count) const {
+    return count ? std::optional<double>(sum / count) : std::nullopt;
+  }
+};
+
+// One walker prediction's step-0 centre and velocity errors, and the 1 s ADE
+// of extrapolating its true centre and velocity at constant velocity.
+void add_walker_sources(const evade::prediction_list_t& list, const evade::track_prediction_t& tp, size_t object,
+                        const Snapshot& now, const Timeline& tl, WalkerSources* w) {
+  const auto& o = now.obstacles[object];
+  const Vec2 c = now.to_odom({o.x, o.y});
+  const Vec2 robot = now.to_odom({now.robot_world.x, now.robot_world.y});
+  const double rot = now.robot_odom.yaw - now.robot_world.yaw;
+  const double vx = std::cos(rot) * o.vx - std::sin(rot) * o.vy, vy = std::sin(rot) * o.vx + std::cos(rot) * o.vy;
+  const double dx = tp.x[0] - c.x, dy = tp.y[0] - c.y;
+  const double range = std::hypot(c.x - robot.x, c.y - robot.y);
+  w->centre += std::hypot(dx, dy);
+  if (range > 1e-9) w->radial += (dx * (c.x - robot.x) + dy * (c.y - robot.y)) / range;
+  w->velocity += std::hypot(tp.vx - vx, tp.vy - vy);
+  ++w->n;
+  const int k1 = static_cast<int>(std::lround(1.0 / list.dt));
+  double sum = 0.0;
+  for (int k = 1; k <= k1; ++k) {
+    Snapshot s;
+    if (!tl.at(list.utime + std::llround(k * list.dt * 1e6), &s) || object >= s.obstacles.size()) return;
+    const Vec2 truth = s.to_odom({s.obstacles[object].x, s.obstacles[object].y});
+    sum += std::hypot(c.x + vx * k * list.dt - truth.x, c.y + vy * k * list.dt - truth.y);
+  }
+  w->cv_truth += sum / k1;
+  ++w->n_cv;
+}
+
 bool is_walker(const evade::sim_obstacle_t& o, const PerceptionParams& p) {
   return o.shape == "cylinder" && o.radius <= p.walker_max_radius_m && std::hypot(o.vx, o.vy) <= p.walker_max_speed_mps;
 }
@@ -225,6 +261,7 @@ PerceptionMetrics compute_perception(const std::vector<bus::LogEvent>& events, c
   m.mot = mot.totals();
   m.untruthful_frames = pass.untruthful;
   Displacement d1, d25, walker1;
+  WalkerSources sources;
   for (const auto& list : d.predictions) {
     auto frame = pass.frames.find(list.utime);
     if (frame == pass.frames.end()) continue;
@@ -254,7 +291,9 @@ PerceptionMetrics compute_perception(const std::vector<bus::LogEvent>& events, c
       ++m.predictions;
       add_displacement(err, list.dt, 1.0, &d1);
       add_displacement(err, list.dt, 2.5, &d25);
-      if (is_walker(now.obstacles[match->second], p)) add_displacement(err, list.dt, 1.0, &walker1);
+      if (!is_walker(now.obstacles[match->second], p)) continue;
+      add_displacement(err, list.dt, 1.0, &walker1);
+      add_walker_sources(list, tp, match->second, now, tl, &sources);
     }
   }
   m.ade_1s_m = d1.ade();
@@ -263,6 +302,10 @@ PerceptionMetrics compute_perception(const std::vector<bus::LogEvent>& events, c
   m.fde_2_5s_m = d25.fde();
   m.walker_ade_1s_m = walker1.ade();
   m.walker_predictions = walker1.n;
+  m.walker_centre_error_m = sources.mean(sources.centre, sources.n);
+  m.walker_centre_radial_m = sources.mean(sources.radial, sources.n);
+  m.walker_velocity_error_mps = sources.mean(sources.velocity, sources.n);
+  m.walker_ade_1s_cv_truth_m = sources.mean(sources.cv_truth, sources.n_cv);
   return m;
 }
 
@@ -316,7 +359,10 @@ std::string perception_json(const PerceptionMetrics& m, const PerceptionParams& 
     << ",\n  \"ade_1s_m\": " << num(m.ade_1s_m) << ",\n  \"fde_1s_m\": " << num(m.fde_1s_m)
     << ",\n  \"ade_2_5s_m\": " << num(m.ade_2_5s_m) << ",\n  \"fde_2_5s_m\": " << num(m.fde_2_5s_m)
     << ",\n  \"walker_ade_1s_m\": " << num(m.walker_ade_1s_m) << ",\n  \"walker_predictions\": " << m.walker_predictions
-    << ",\n  \"step_dt_s\": " << num(m.dt_s)
+    << ",\n  \"walker_centre_error_m\": " << num(m.walker_centre_error_m)
+    << ",\n  \"walker_centre_radial_m\": " << num(m.walker_centre_radial_m)
+    << ",\n  \"walker_velocity_error_mps\": " << num(m.walker_velocity_error_mps)
+    << ",\n  \"walker_ade_1s_cv_truth_m\": " << num(m.walker_ade_1s_cv_truth_m) << ",\n  \"step_dt_s\": " << num(m.dt_s)
     << ",\n  \"coverage\": " << array(m.steps, [](const StepScore& s) { return ratio(s.inside, s.n); })
     << ",\n  \"coverage_n\": " << array(m.steps, [](const StepScore& s) { return std::to_string(s.n); })
     << ",\n  \"coverage_inside\": " << array(m.steps, [](const StepScore& s) { return std::to_string(s.inside); })
@@ -357,7 +403,11 @@ const char* perception_rules() {
   object's true centre at utime + k * dt. ade_Ts_m: mean over predictions of the mean
   error over steps 1..T/dt; fde_Ts_m: the error at step T/dt (T = 1 s, 2.5 s);
   walker_ade_1s_m: the same for cylinders no wider than walker_max_radius_m moving no
-  faster than walker_max_speed_mps.
+  faster than walker_max_speed_mps. Where the walkers' error comes from, over the same
+  predictions: walker_centre_error_m (step 0), walker_centre_radial_m (its component
+  along robot -> walker; negative: towards the robot), walker_velocity_error_mps (the
+  published velocity against the true one), walker_ade_1s_cv_truth_m (the 1 s ADE of the
+  true centre extrapolated at the true velocity: what scripted turns cost).
 - Calibration: coverage[k] = fraction of true centres inside the published (inflated)
   ellipse at step k, over tracks at least min_track_age_s old (first OBSTACLES
   appearance); coverage_all: every track; coverage_min_2_5s: the worst step in

@@ -54,6 +54,14 @@ struct PerceptionMetrics {
   // horizon is shorter.
   std::optional<double> ade_1s_m, fde_1s_m, ade_2_5s_m, fde_2_5s_m, walker_ade_1s_m;
   int64_t walker_predictions = 0;
+  // Where the walkers' error comes from (the same predictions as
+  // walker_ade_1s_m): the step-0 centre error, its component along the
+  // robot -> walker direction (negative: towards the robot), the published
+  // velocity's error, and the 1 s ADE of a constant-velocity extrapolation
+  // of the true centre and velocity (what scripted turns and speed changes
+  // cost a predictor that knew the state exactly).
+  std::optional<double> walker_centre_error_m, walker_centre_radial_m, walker_velocity_error_mps,
+      walker_ade_1s_cv_truth_m;
   int64_t untruthful_frames = 0;  // OBSTACLES with no SIM_TRUTH around their time
 };
 

@@ -103,8 +103,9 @@ TEST(ReturnCounter, CountsPerRevolutionAndForgetsSkippedOnes) {
 
 // A log: an obstacle walking along x at 1 m/s, the robot at rest at the
 // origin, a tracker that sees it 0.1 m behind, a predictor that extrapolates
-// the true velocity from there with a 0.3 m ellipse.
-std::vector<bus::LogEvent> walking_log(double ellipse_m) {
+// the true velocity from there with a 0.3 m ellipse, publishing
+// `track_vx` as the track's velocity.
+std::vector<bus::LogEvent> walking_log(double ellipse_m, double track_vx = 1.0) {
   std::vector<bus::LogEvent> ev;
   const int64_t t0 = 1'000'000'000;
   for (int k = 0; k <= 100; ++k) {  // 5 s of truth at 20 Hz
@@ -143,6 +144,7 @@ std::vector<bus::LogEvent> walking_log(double ellipse_m) {
     evade::track_prediction_t tp{};
     tp.id = 3;
     tp.horizon = 26;
+    tp.vx = track_vx;
     for (int i = 0; i < 26; ++i) {
       tp.x.push_back(ob.x + 0.1 * i);
       tp.y.push_back(2.0);
@@ -178,6 +180,21 @@ TEST(PerceptionMetrics, ConstantOffsetGivesItsErrorsAndCoverageFollowsTheEllipse
   PerceptionMetrics tight = compute_perception(walking_log(0.05), params());
   EXPECT_EQ(tight.steps[25].inside, 0);  // 0.1 m off, 0.05 m ellipse
   EXPECT_NEAR(tight.steps[0].area_sum_m2 / tight.steps[0].n_all, M_PI * 0.05 * 0.05, 1e-12);
+}
+
+TEST(PerceptionMetrics, AWalkersErrorIsSplitIntoCentreVelocityAndScriptedMotion) {
+  // Seen 0.1 m behind (-x) from the origin while at (1..3, 2): partly
+  // towards the robot; published 0.8 m/s against the true 1 m/s; it walks
+  // straight, so the true state extrapolated has no error.
+  PerceptionMetrics m = compute_perception(walking_log(0.3, 0.8), params());
+  ASSERT_TRUE(m.walker_centre_error_m && m.walker_centre_radial_m && m.walker_velocity_error_mps &&
+              m.walker_ade_1s_cv_truth_m);
+  EXPECT_NEAR(*m.walker_centre_error_m, 0.1, 1e-9);
+  EXPECT_LT(*m.walker_centre_radial_m, -0.02);
+  EXPECT_GT(*m.walker_centre_radial_m, -0.1);
+  EXPECT_NEAR(*m.walker_velocity_error_mps, 0.2, 1e-9);
+  EXPECT_NEAR(*m.walker_ade_1s_cv_truth_m, 0.0, 1e-9);
+  EXPECT_NEAR(*compute_perception(walking_log(0.3, 1.0), params()).walker_velocity_error_mps, 0.0, 1e-9);
 }
 
 TEST(PerceptionMetrics, AnObjectOutOfRangeOrUnseenIsNotScored) {
