@@ -84,6 +84,7 @@ struct SolverOptions {
   Fallback fallback = Fallback::kChain;            // mode evade, nothing meets the constraints (fallback.h)
   double fallback_gamma = 1.0;                     // own_motion links: the robot may close by this times h a step
   double fallback_penetration_weight = 1e4;        // 1/m^2: own_motion's cost of depth within d_safe (per step)
+  bool fallback_true_extent = true;                // own_motion: against the ellipses less their inflation (sigma)
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
 
@@ -218,6 +219,7 @@ void SolverOptions::fields(V& v) {
            config::Choices<Fallback>{{"chain", Fallback::kChain}, {"own_motion", Fallback::kOwnMotion}});
   v.field("fallback_gamma", fallback_gamma, config::between(1e-6, 1.0));
   v.field("fallback_penetration_weight", fallback_penetration_weight, config::between(0.0, 1e9));
+  v.field("fallback_true_extent", fallback_true_extent);
   v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
 }

@@ -6,11 +6,24 @@
 #include "planning/manoeuvres.h"
 
 namespace evade::planning {
+
+void remove_inflation(ObstacleTrack* o) {
+  if (o->sigma.size() != o->a.size()) return;
+  for (size_t k = 0; k < o->a.size(); ++k) {
+    // a degenerate ellipse (1 mm) at the least, never larger than given
+    o->a[k] = std::min(o->a[k], std::max(o->a[k] - o->sigma[k], 1e-3));
+    o->b[k] = std::min(o->b[k], std::max(o->b[k] - o->sigma[k], 1e-3));
+  }
+}
+
 Problem fallback_problem(const Problem& pb, const std::vector<double>& brake_u, const SolverOptions& opts) {
   Problem out = pb;
   out.own_motion = true;
   out.penetration_weight = opts.fallback_penetration_weight;
-  for (ObstacleTrack& o : out.obstacles) o.decay = 1.0 - opts.fallback_gamma;
+  for (ObstacleTrack& o : out.obstacles) {
+    o.decay = 1.0 - opts.fallback_gamma;
+    if (opts.fallback_true_extent) remove_inflation(&o);
+  }
   out.relax.assign(out.num_constraints(), 0.0);
   std::vector<double> states, g;
   evaluate_constraints(out, brake_u.data(), &states, &g);

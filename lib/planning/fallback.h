@@ -17,6 +17,11 @@
 // over obstacles and steps, so that of the plans that do not close in, the
 // one that gets out of the obstacles' way wins over standing in it, and
 // reversing is one of them where the robot's limits allow it (v_min < 0).
+// Links and depth are taken against each obstacle's own extent (its ellipse
+// less the uncertainty inflation the predictor added, along the predicted
+// centres; fallback_true_extent): the inflation, up to 0.5 m a side by the
+// horizon's end, would otherwise cover a robot in a crowd or a corridor
+// wherever it stood, and the depth would not tell a way aside from standing.
 #pragma once
 
 #include <vector>
@@ -26,10 +31,16 @@
 
 namespace evade::planning {
 
+// o's ellipses less their uncertainty inflation (ObstacleTrack::sigma, added
+// to both axes by the predictor): the obstacle's own extent along its
+// predicted centres. Unchanged without sigma.
+void remove_inflation(ObstacleTrack* o);
+
 // The fallback's problem for pb: own-motion links (decay 1 -
 // opts.fallback_gamma) relaxed by braking's shortfall (`brake_u`: braking at
 // the limits, as plan controls), the penetration term weighted
-// opts.fallback_penetration_weight.
+// opts.fallback_penetration_weight; with opts.fallback_true_extent, against
+// each obstacle's ellipses less their inflation (remove_inflation).
 Problem fallback_problem(const Problem& pb, const std::vector<double>& brake_u, const SolverOptions& opts);
 
 // Starts of the fallback's solve: `warm_u` (the previous plan shifted, so
