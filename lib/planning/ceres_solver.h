@@ -85,6 +85,7 @@ struct SolverOptions {
   double fallback_gamma = 1.0;                     // own_motion links: the robot may close by this times h a step
   double fallback_penetration_weight = 1e4;        // 1/m^2: own_motion's cost of depth within d_safe (per step)
   bool fallback_true_extent = true;                // own_motion: against the ellipses less their inflation (sigma)
+  bool fallback_brake_while_closing = true;        // own_motion: no faster than braking while braking closes in
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
 
@@ -220,6 +221,7 @@ void SolverOptions::fields(V& v) {
   v.field("fallback_gamma", fallback_gamma, config::between(1e-6, 1.0));
   v.field("fallback_penetration_weight", fallback_penetration_weight, config::between(0.0, 1e9));
   v.field("fallback_true_extent", fallback_true_extent);
+  v.field("fallback_brake_while_closing", fallback_brake_while_closing);
   v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
 }

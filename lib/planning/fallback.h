@@ -13,7 +13,11 @@
 // velocity towards the obstacle at contact) in the planner's terms. Braking
 // at the limits is made feasible by relaxing each link by what braking
 // itself misses of it (a robot already moving at the obstacle cannot stop at
-// once). The cost is the MPC's plus the squared depth within d_safe summed
+// once); that allowance is braking's alone: up to the last step at which
+// braking's own motion closes on an obstacle, no plan is faster than braking
+// (fallback_brake_while_closing; the plan may steer), since otherwise a plan
+// turning aside at speed spends it, cycle after cycle, and meets the
+// obstacle still moving towards it. The cost is the MPC's plus the squared depth within d_safe summed
 // over obstacles and steps, so that of the plans that do not close in, the
 // one that gets out of the obstacles' way wins over standing in it, and
 // reversing is one of them where the robot's limits allow it (v_min < 0).
@@ -40,14 +44,17 @@ void remove_inflation(ObstacleTrack* o);
 // opts.fallback_gamma) relaxed by braking's shortfall (`brake_u`: braking at
 // the limits, as plan controls), the penetration term weighted
 // opts.fallback_penetration_weight; with opts.fallback_true_extent, against
-// each obstacle's ellipses less their inflation (remove_inflation).
+// each obstacle's ellipses less their inflation (remove_inflation); with
+// opts.fallback_brake_while_closing, v_cap at braking's speed up to the last
+// step at which braking misses a link by more than constraint_tolerance.
 Problem fallback_problem(const Problem& pb, const std::vector<double>& brake_u, const SolverOptions& opts);
 
 // Starts of the fallback's solve: `warm_u` (the previous plan shifted, so
 // that a way out under way goes on), braking, and a dash to either side
 // (accelerating at the limit while turning at the limit for half the
 // horizon; from rest this turns first); backing straight off too when
-// v_min < 0.
+// v_min < 0. Projected onto pb's limits (the fallback problem's v_cap
+// included).
 std::vector<std::vector<double>> fallback_starts(const Problem& pb, const std::vector<double>& warm_u,
                                                  const std::vector<double>& brake_u);
 
