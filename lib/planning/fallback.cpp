@@ -22,7 +22,7 @@ Problem fallback_problem(const Problem& pb, const std::vector<double>& brake_u, 
   out.penetration_weight = opts.fallback_penetration_weight;
   for (ObstacleTrack& o : out.obstacles) {
     o.decay = 1.0 - opts.fallback_gamma;
-    if (opts.fallback_true_extent) remove_inflation(&o);
+    if (opts.fallback_true_extent && settled_obstacle(pb, o, opts)) remove_inflation(&o);
   }
   out.relax.assign(out.num_constraints(), 0.0);
   std::vector<double> states, g;

@@ -21,11 +21,12 @@
 // over obstacles and steps, so that of the plans that do not close in, the
 // one that gets out of the obstacles' way wins over standing in it, and
 // reversing is one of them where the robot's limits allow it (v_min < 0).
-// Links and depth are taken against each obstacle's own extent (its ellipse
-// less the uncertainty inflation the predictor added, along the predicted
-// centres; fallback_true_extent): the inflation, up to 0.5 m a side by the
-// horizon's end, would otherwise cover a robot in a crowd or a corridor
-// wherever it stood, and the depth would not tell a way aside from standing.
+// Links and depth are taken against a settled obstacle's own extent (its
+// ellipse less the uncertainty inflation the predictor added;
+// fallback_true_extent; settled_obstacle: slow and tracked a while): that
+// inflation, up to 0.5 m a side by the horizon's end, would otherwise cover a
+// robot between two walls wherever it stood, and only standing would meet
+// the links. A mover keeps its inflated ellipse: where it goes is uncertain.
 #pragma once
 
 #include <vector>
@@ -44,7 +45,7 @@ void remove_inflation(ObstacleTrack* o);
 // opts.fallback_gamma) relaxed by braking's shortfall (`brake_u`: braking at
 // the limits, as plan controls), the penetration term weighted
 // opts.fallback_penetration_weight; with opts.fallback_true_extent, against
-// each obstacle's ellipses less their inflation (remove_inflation); with
+// each settled obstacle's ellipses less their inflation (remove_inflation); with
 // opts.fallback_brake_while_closing, v_cap at braking's speed up to the last
 // step at which braking misses a link by more than constraint_tolerance.
 Problem fallback_problem(const Problem& pb, const std::vector<double>& brake_u, const SolverOptions& opts);

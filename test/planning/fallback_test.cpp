@@ -149,9 +149,11 @@ Problem corridor_walker() {
   Problem pb = straight_problem(0, 0, 0, 0.4, 0.8);
   pb.footprint = Footprint::covering(0.93, 0.70, 3);
   pb.d_safe = 0.15;
-  for (double y : {1.2, -1.2})
+  for (double y : {1.2, -1.2}) {
     pb.obstacles.push_back(
         inflated(moving_obstacle(1, 1.5, y, 0, 0, 4.0, 0.1, 0.0, kDecay, pb.N, pb.dt), 0.2, 0.5, 10));
+    pb.obstacles.back().age_s = 5.0;  // settled
+  }
   pb.obstacles.push_back(
       inflated(moving_obstacle(2, 3.5, 0.4, -1.0, 0, 0.25, 0.25, 0.0, kDecay, pb.N, pb.dt), 0.1, 0.5, 10));
   return pb;
@@ -160,8 +162,8 @@ Problem corridor_walker() {
 TEST(Fallback, InACorridorWhoseInflatedWallsCoverTheRobotItGetsOutOfAWalkersWay) {
   // the inflation covers the robot wherever it stands between the walls by
   // the horizon's end: judged by the inflated ellipses no way aside closes
-  // less on them than standing; judged by each obstacle's own extent the
-  // robot moves right, away from the walker's line
+  // less on them than standing; judged by the walls' own extent the robot
+  // moves right, away from the walker's line (whose ellipse stays inflated)
   const Problem pb = corridor_walker();
   SolverOptions opts;
   const CeresMpcSolver solver(opts);
@@ -178,7 +180,7 @@ TEST(Fallback, InACorridorWhoseInflatedWallsCoverTheRobotItGetsOutOfAWalkersWay)
   // it gets aside without entering a wall's own extent's d_safe
   Problem own_extent = pb;
   for (ObstacleTrack& o : own_extent.obstacles) remove_inflation(&o);
-  own_extent.obstacles.pop_back();  // the walls
+  own_extent.obstacles.pop_back();  // the walls alone
   EXPECT_GE(min_barrier(own_extent, own.states, 1), -opts.constraint_tolerance);
 }
 
