@@ -1,5 +1,5 @@
 // Mode evade's one fallback (issue 18 item 3; planner.solver.fallback:
-// own_motion, off by default: docs/experiments/2026-11-28-headon.md): when
+// own_motion, off by default: docs/experiments/2026-11-28-headon-2.md): when
 // no plan meets every D-CBF constraint of the cycle's problem, the plan sent
 // is the solution of one relaxed problem, and braking when that solve finds
 // none.
