@@ -1039,9 +1039,14 @@ SolveResult CeresMpcSolver::solve(const Problem& pb, const std::vector<double>& 
   return res;
 }
 
+bool settled_obstacle(const Problem& pb, const ObstacleTrack& o, const SolverOptions& opts) {
+  if (o.x.empty() || o.y.empty()) return false;
+  const double speed = std::hypot(o.x.back() - o.x.front(), o.y.back() - o.y.front()) / (pb.N * pb.dt);
+  return speed <= opts.relax_max_obstacle_speed_mps && o.age_s >= opts.relax_min_track_age_s;
+}
+
 std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& opts) {
   std::vector<double> relax(pb.num_constraints(), 0.0);
-  const double horizon_s = pb.N * pb.dt;
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
     if (o.x.empty() || o.y.empty()) continue;
@@ -1050,8 +1055,7 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
     const double h0 = barrier_at(pb, o, 0, start).h;
     // Start inside d_safe: h' = h - h(X_0) meets the D-CBF from where it is.
     const double inside = h0 < 0 ? -(1.0 - o.decay) * h0 : 0.0;
-    const double speed = std::hypot(o.x.back() - o.x.front(), o.y.back() - o.y.front()) / horizon_s;
-    const bool settled = speed <= opts.relax_max_obstacle_speed_mps && o.age_s >= opts.relax_min_track_age_s;
+    const bool settled = settled_obstacle(pb, o, opts);
     // Nearly static: its predicted ellipses around the current centre.
     ObstacleTrack held;
     if (settled) {

@@ -84,6 +84,8 @@ struct SolverOptions {
   Fallback fallback = Fallback::kChain;            // mode evade, nothing meets the constraints (fallback.h)
   double fallback_gamma = 1.0;                     // own_motion links: the robot may close by this times h a step
   double fallback_penetration_weight = 1e4;        // 1/m^2: own_motion's cost of depth within d_safe (per step)
+  bool fallback_true_extent = true;                // own_motion: settled obstacles without their inflation (sigma)
+  bool fallback_brake_while_closing = true;        // own_motion: no faster than braking while braking closes in
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
 
@@ -154,6 +156,10 @@ bool evaluate_inner_residuals(const Problem& pb, const double* u, const std::vec
 // All zero when neither applies; standing still meets the relaxed problem.
 std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& opts);
 
+// Whether o is settled: predicted slower than relax_max_obstacle_speed_mps
+// (mean over the horizon) and tracked for relax_min_track_age_s.
+bool settled_obstacle(const Problem& pb, const ObstacleTrack& o, const SolverOptions& opts);
+
 // Fills r's cost, max_violation, min_barrier, finite and feasible from
 // r->u against pb (states rolled out again).
 void evaluate_result(const Problem& pb, const SolverOptions& opts, SolveResult* r);
@@ -218,6 +224,8 @@ void SolverOptions::fields(V& v) {
            config::Choices<Fallback>{{"chain", Fallback::kChain}, {"own_motion", Fallback::kOwnMotion}});
   v.field("fallback_gamma", fallback_gamma, config::between(1e-6, 1.0));
   v.field("fallback_penetration_weight", fallback_penetration_weight, config::between(0.0, 1e9));
+  v.field("fallback_true_extent", fallback_true_extent);
+  v.field("fallback_brake_while_closing", fallback_brake_while_closing);
   v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
 }

@@ -49,6 +49,8 @@ ObstacleTrack align_track(const evade::track_prediction_t& t, double pred_dt, do
     o.a.push_back(t.a[shape]);
     o.b.push_back(t.b[shape]);
     o.theta.push_back(t.theta[shape]);
+    const double sigma = t.sigma.size() == t.a.size() ? t.sigma[shape] : 0.0;
+    o.sigma.push_back(std::isfinite(sigma) && sigma > 0 ? sigma : 0.0);
   }
   return o;
 }

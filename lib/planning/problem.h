@@ -67,6 +67,7 @@ class StaticField;  // static_field.h
 struct ObstacleTrack {
   int64_t id = 0;
   std::vector<double> x, y, a, b, theta;     // N + 1 each
+  std::vector<double> sigma;                 // N + 1: the inflation in a and b (predictions), else empty
   double decay = 0.0;                        // 1 - gamma (CBF) or 0 (distance)
   double age_s = 0.0;                        // since the planner first saw the track (solve_elastic)
   std::shared_ptr<const StaticField> field;  // static structure (static_field.h), else null

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "planning/ceres_solver.h"
 #include "planning/problem.h"
@@ -92,6 +94,106 @@ TEST(Fallback, GettingOutOfAWalkersWayBeatsStandingInIt) {
   EXPECT_GT(std::fabs(r.states[3 * pb.N + 1]), 0.3);  // aside
   const Problem relaxed = fallback_problem(pb, brake, solver.options());
   EXPECT_LE(max_violation(relaxed, r.u.data()), solver.options().constraint_tolerance);
+}
+
+TEST(Fallback, WhileBrakingClosesOnABikeNoPlanIsFasterThanBraking) {
+  // braking from 0.8 m/s still closes on a bike (0.3 m in radius) coming
+  // at 4.5 m/s 0.25 m left of the path, 2 m ahead: the links are relaxed by
+  // what braking misses of them, and a plan that turns aside at speed would
+  // spend that allowance and meet the bike still moving; the fallback's plan
+  // brakes as hard, and may steer
+  Problem pb = straight_problem(0, 0, 0, 0.8, 0.8);
+  pb.footprint = Footprint::covering(0.42, 0.31, 3);  // robot.yaml's robot
+  pb.d_safe = 0.15;
+  pb.obstacles.push_back(moving_obstacle(1, 2.0, 0.25, -4.5, 0.0, 0.3, 0.3, 0.0, kDecay, pb.N, pb.dt));
+  SolverOptions opts;
+  const std::vector<double> brake = braking(pb);
+  const Problem relaxed = fallback_problem(pb, brake, opts);
+  int capped = 0;  // the steps up to the last at which braking closes in
+  while (capped < static_cast<int>(relaxed.v_cap.size()) && relaxed.v_cap[capped] < relaxed.lim.v_max) ++capped;
+  ASSERT_GT(capped, 0);
+  const SolveResult r = solve_fallback(CeresMpcSolver(opts), pb, constant(pb, 0.8, 0.0), brake);
+  ASSERT_TRUE(r.feasible);
+  double faster = 0.0;
+  for (int k = 0; k < capped; ++k) faster = std::max(faster, r.u[2 * k] - brake[2 * k]);
+  EXPECT_LE(faster, 1e-9);
+  // without the cap the plan keeps more speed than braking
+  opts.fallback_brake_while_closing = false;
+  ASSERT_TRUE(fallback_problem(pb, brake, opts).v_cap.empty());
+  const SolveResult free = solve_fallback(CeresMpcSolver(opts), pb, constant(pb, 0.8, 0.0), brake);
+  ASSERT_TRUE(free.feasible);
+  double faster_free = 0.0;
+  for (int k = 0; k < capped; ++k) faster_free = std::max(faster_free, free.u[2 * k] - brake[2 * k]);
+  std::printf("[figures] bike: %d steps capped, most above braking's speed %.3f m/s, %.3f m/s uncapped\n", capped,
+              faster, faster_free);
+  EXPECT_GT(faster_free, 0.1);
+}
+
+// obstacle o inflated as the predictor does: sigma added to both axes,
+// growing linearly from sigma0 at k = 0 to sigma_n at step n_grow, then held.
+ObstacleTrack inflated(ObstacleTrack o, double sigma0, double sigma_n, int n_grow) {
+  for (size_t k = 0; k < o.a.size(); ++k) {
+    const double s = sigma0 + (sigma_n - sigma0) * std::min(1.0, static_cast<double>(k) / n_grow);
+    o.sigma.push_back(s);
+    o.a[k] += s;
+    o.b[k] += s;
+  }
+  return o;
+}
+
+// A Scout-sized robot (0.93 x 0.70 m) at 0.4 m/s in a 2.2 m corridor (two
+// walls 0.2 m thick, each ellipse inflated by 0.2 m now and 0.5 m within a
+// second, as the predictor does a static track; settled), a walker 0.25 m in
+// radius (not settled: its ellipse as given) coming at 1 m/s 0.4 m left of
+// the centre line.
+Problem corridor_walker() {
+  Problem pb = straight_problem(0, 0, 0, 0.4, 0.8);
+  pb.footprint = Footprint::covering(0.93, 0.70, 3);
+  pb.d_safe = 0.15;
+  for (double y : {1.2, -1.2}) {
+    pb.obstacles.push_back(
+        inflated(moving_obstacle(1, 1.5, y, 0, 0, 4.0, 0.1, 0.0, kDecay, pb.N, pb.dt), 0.2, 0.5, 10));
+    pb.obstacles.back().age_s = 5.0;  // settled
+  }
+  pb.obstacles.push_back(moving_obstacle(2, 3.5, 0.4, -1.0, 0, 0.25, 0.25, 0.0, kDecay, pb.N, pb.dt));
+  return pb;
+}
+
+TEST(Fallback, InACorridorWhoseInflatedWallsCoverTheRobotItGetsOutOfAWalkersWay) {
+  // the inflation covers the robot wherever it stands between the walls by
+  // the horizon's end: judged by the inflated ellipses no way aside closes
+  // less on them than standing; judged by the walls' own extent the robot
+  // moves right, away from the walker's line (whose ellipse stays inflated)
+  const Problem pb = corridor_walker();
+  SolverOptions opts;
+  const CeresMpcSolver solver(opts);
+  ASSERT_FALSE(solver.solve(pb, constant(pb, 0.4, 0.0)).feasible);  // the premise
+  const std::vector<double> brake = braking(pb);
+  const SolveResult own = solve_fallback(solver, pb, constant(pb, 0.4, 0.0), brake);
+  opts.fallback_true_extent = false;
+  const SolveResult inflated_only = solve_fallback(CeresMpcSolver(opts), pb, constant(pb, 0.4, 0.0), brake);
+  ASSERT_TRUE(own.feasible);
+  const double y_own = own.states[3 * pb.N + 1], y_inflated = inflated_only.states[3 * pb.N + 1];
+  std::printf("[figures] corridor: y at the horizon's end %.3f m (own extent), %.3f m (inflated)\n", y_own, y_inflated);
+  EXPECT_LT(y_own, -0.15);
+  EXPECT_GT(y_inflated, y_own + 0.1);
+  // it gets aside without entering a wall's own extent's d_safe
+  Problem own_extent = pb;
+  for (ObstacleTrack& o : own_extent.obstacles) remove_inflation(&o);
+  own_extent.obstacles.pop_back();  // the walls alone
+  EXPECT_GE(min_barrier(own_extent, own.states, 1), -opts.constraint_tolerance);
+}
+
+TEST(Fallback, RemovingTheInflationLeavesTheObstaclesOwnEllipse) {
+  ObstacleTrack o = inflated(moving_obstacle(1, 1.0, 0.0, 0, 0, 0.4, 0.2, 0.0, kDecay, 25, 0.1), 0.1, 0.5, 10);
+  remove_inflation(&o);
+  for (size_t k = 0; k < o.a.size(); ++k) {
+    EXPECT_NEAR(o.a[k], 0.4, 1e-12);
+    EXPECT_NEAR(o.b[k], 0.2, 1e-12);
+  }
+  ObstacleTrack bare = moving_obstacle(1, 1.0, 0.0, 0, 0, 0.4, 0.2, 0.0, kDecay, 25, 0.1);  // no sigma: unchanged
+  remove_inflation(&bare);
+  EXPECT_EQ(bare.a[25], 0.4);
 }
 
 TEST(Fallback, OwnMotionAndPenetrationJacobiansMatchFiniteDifferences) {
