@@ -21,9 +21,11 @@ void PlannerCore::plan_with_guidance(const Problem& pb, const std::vector<double
   int8_t status = o.status;
   int iterations = o.iterations;
   if (!o.feasible && p_.guidance.fallback == GuidanceParams::Fallback::kRecovery) {
-    // evade's recovery (solver.fallback's strategy), from the least
-    // violating local solve, with the iterations the local solves left
-    // (local_solves_budget)
+    // evade's recovery (solver.fallback's strategy), from the solve of the
+    // previous plan as without guidance (the least violating one changes
+    // class from cycle to cycle: the robot wavered between sides), with the
+    // iterations the local solves left (local_solves_budget)
+    res = o.previous;
     status = recover(pb, warm_u, odom, v0, w0, &res, &u, &iterations);
   } else if (!o.feasible) {
     count("solver_infeasible");

@@ -26,6 +26,7 @@ struct TopologyOutcome {
   bool feasible = false;        // some local solve met every constraint (the chosen one)
   int8_t status = 0;            // evade::plan_t STATUS_OK, STATUS_RECOVERING (least violating) or STATUS_STOPPING
   SolveResult result;           // the chosen solve, else the least violating one (empty if no solve was finite)
+  SolveResult previous;         // the solve from the previous plan (the one solve of a cycle without guidance)
   int iterations = 0;           // Ceres iterations of every solve
   int critical_iterations = 0;  // ... on the busiest thread
   int classes = 0;              // guidance classes found
