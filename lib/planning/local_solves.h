@@ -25,19 +25,25 @@ struct SolveStart {
 // How many of `wanted` solves a cycle budget runs: one iteration each at
 // least (the first start first), at least one solve.
 int solves_within(int cycle_budget, int wanted);
-// Each of `solves` solves' iterations: an equal share of the cycle's
-// budget, at most one solve's (max_total), at least 1.
-int per_solve_budget(int cycle_budget, int max_total, int solves);
+// Each of `solves` solves' iterations, fixed before solving. The first
+// (the previous plan's, the one solve of a cycle without guidance) gets
+// what a solve gets without guidance, one solve's budget (max_total),
+// leaving at least 1 to each other; the others share the rest equally,
+// each at most max_total, at least 1.
+std::vector<int> split_budget(int cycle_budget, int max_total, int solves);
 
-// Solves pb from every start (through its guide problem, if any) with opts
-// (max_total_iterations already the per-solve budget) on
-// min(threads, starts) threads; results in start order, iterations those
-// of both stages.
+// The thread of each solve: in order, the one with the fewest iterations
+// assigned so far (ties to the lower thread), of min(threads, solves).
+std::vector<int> assign_threads(const std::vector<int>& budgets, int threads);
+
+// Solves pb from every start (through its guide problem, if any) with opts,
+// start i within budgets[i] iterations on thread assign_threads(budgets,
+// threads)[i]; results in start order, iterations those of both stages.
 std::vector<SolveResult> solve_side_by_side(const Problem& pb, const std::vector<SolveStart>& starts,
-                                            const SolverOptions& opts, int threads);
+                                            const SolverOptions& opts, const std::vector<int>& budgets, int threads);
 
-// The Ceres iterations on the busiest thread (solve i on thread i mod
-// threads): what the cycle's compute time follows.
-int critical_iterations(const std::vector<SolveResult>& results, int threads);
+// The Ceres iterations on the busiest thread (solve i on thread[i]): what
+// the cycle's compute time follows.
+int critical_iterations(const std::vector<SolveResult>& results, const std::vector<int>& thread);
 
 }  // namespace evade::planning

@@ -19,12 +19,18 @@ void PlannerCore::plan_with_guidance(const Problem& pb, const std::vector<double
   SolveResult res = o.result;
   std::vector<double> u = o.u;
   int8_t status = o.status;
-  int iterations = o.iterations;
+  int recovery_iterations = 0;
   if (!o.feasible && p_.guidance.fallback == GuidanceParams::Fallback::kRecovery) {
-    // evade's recovery (solver.fallback's strategy), from the least
-    // violating local solve, with the iterations the local solves left
-    // (local_solves_budget)
-    status = recover(pb, warm_u, odom, v0, w0, &res, &u, &iterations);
+    // evade's recovery (solver.fallback's strategy) as without guidance:
+    // from the solve of the previous plan, with what that solve left of
+    // the cycle's budget (the ways ran beside it, on the other threads).
+    // From the least violating solve, with what all of them left, the
+    // robot wavered between sides (its class changes from cycle to cycle)
+    // and lost the swerve restarts.
+    res = o.previous;
+    int spent = o.previous.iterations;
+    status = recover(pb, warm_u, odom, v0, w0, &res, &u, &spent);
+    recovery_iterations = spent - o.previous.iterations;
   } else if (!o.feasible) {
     count("solver_infeasible");
     count(status == evade::plan_t::STATUS_STOPPING ? "stopping" : "least_violating");
@@ -32,8 +38,8 @@ void PlannerCore::plan_with_guidance(const Problem& pb, const std::vector<double
   const double measured_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
   // PLAN.iterations and the compute time follow the busiest thread's
   // iterations, then the recovery's; HEALTH counts every solve's
-  const int charged = o.critical_iterations + (iterations - o.iterations);
-  count("solver_iterations", iterations);
+  const int charged = o.critical_iterations + recovery_iterations;
+  count("solver_iterations", o.iterations + recovery_iterations);
   const double solve_us = solve_time_model_ ? solve_time_model_(charged, measured_us) : measured_us;
   finish_cycle(odom, status, pb, u, res, solve_us, charged);
 }

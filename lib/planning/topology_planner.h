@@ -26,6 +26,7 @@ struct TopologyOutcome {
   bool feasible = false;        // some local solve met every constraint (the chosen one)
   int8_t status = 0;            // evade::plan_t STATUS_OK, STATUS_RECOVERING (least violating) or STATUS_STOPPING
   SolveResult result;           // the chosen solve, else the least violating one (empty if no solve was finite)
+  SolveResult previous;         // the solve from the previous plan (the one solve of a cycle without guidance)
   int iterations = 0;           // Ceres iterations of every solve
   int critical_iterations = 0;  // ... on the busiest thread
   int classes = 0;              // guidance classes found
@@ -34,8 +35,10 @@ struct TopologyOutcome {
 };
 
 // The local solves' share of a cycle's Ceres iterations (cycle_budget):
-// all of them, less one solve's (max_total) kept for the recovery chain
-// when that is the fallback; at least 1.
+// all of them, less one solve's (max_total) when the recovery chain is
+// the fallback; at least 1. The previous plan's solve takes one solve's
+// budget of it, the ways share the rest (split_budget); the recovery gets
+// what the previous plan's solve left of the cycle, as without guidance.
 int local_solves_budget(const GuidanceParams& g, int max_total, int cycle_budget);
 
 class TopologyPlanner {

@@ -152,33 +152,45 @@ TEST(Guidance, ASolveFromEachWayEndsInItsClass) {
 
 TEST(LocalSolves, ResultsDoNotDependOnTheNumberOfThreads) {
   const Problem pb = bench_problem(8);
-  std::vector<SolveStart> starts;
+  std::vector<SolveStart> starts{{std::vector<double>(2 * pb.N, 0.5)}};
   for (const GuidancePath& w : find_guidance(pb, params())) starts.push_back({controls_along(pb, w)});
-  starts.push_back({std::vector<double>(2 * pb.N, 0.5)});
-  SolverOptions o;
-  o.max_total_iterations = per_solve_budget(900, 300, static_cast<int>(starts.size()));
-  const auto one = solve_side_by_side(pb, starts, o, 1);
+  const std::vector<int> budgets = split_budget(600, 300, static_cast<int>(starts.size()));
+  const SolverOptions o;
+  const auto one = solve_side_by_side(pb, starts, o, budgets, 1);
   for (int threads : {2, 3, 8}) {
     for (int repeat = 0; repeat < 3; ++repeat) {
-      const auto many = solve_side_by_side(pb, starts, o, threads);
+      const auto many = solve_side_by_side(pb, starts, o, budgets, threads);
       ASSERT_EQ(many.size(), one.size());
       for (size_t i = 0; i < one.size(); ++i) {
         EXPECT_EQ(many[i].u, one[i].u) << "solve " << i << " threads " << threads;
         EXPECT_EQ(many[i].iterations, one[i].iterations);
+        EXPECT_LE(many[i].iterations, budgets[i]) << "solve " << i;
       }
     }
   }
 }
 
-TEST(LocalSolves, TheBudgetIsSplitBeforeSolvingAndCharged) {
-  EXPECT_EQ(per_solve_budget(900, 300, 5), 180);
-  EXPECT_EQ(per_solve_budget(900, 300, 2), 300);
-  EXPECT_EQ(per_solve_budget(3, 300, 5), 1);
+TEST(LocalSolves, ThePreviousPlanKeepsOneSolvesBudgetTheWaysShareTheRest) {
+  // the previous plan's solve gets what the one solve of a cycle without
+  // guidance gets; the ways share what is left
+  EXPECT_EQ(split_budget(600, 300, 5), (std::vector<int>{300, 75, 75, 75, 75}));
+  EXPECT_EQ(split_budget(600, 300, 3), (std::vector<int>{300, 150, 150}));
+  EXPECT_EQ(split_budget(900, 300, 2), (std::vector<int>{300, 300}));  // each at most one solve's
+  EXPECT_EQ(split_budget(600, 300, 1), (std::vector<int>{300}));
+  EXPECT_EQ(split_budget(3, 300, 3), (std::vector<int>{1, 1, 1}));  // at least 1 each
+}
+
+TEST(LocalSolves, ThreadsAreBalancedBeforeSolvingAndTheBusiestIsCharged) {
+  // the previous plan's solve on one thread, the ways on the other
+  const std::vector<int> t = assign_threads({300, 75, 75, 75, 75}, 2);
+  EXPECT_EQ(t, (std::vector<int>{0, 1, 1, 1, 1}));
+  EXPECT_EQ(assign_threads({10, 10, 10}, 8), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(assign_threads({10, 10, 10}, 1), (std::vector<int>{0, 0, 0}));
   std::vector<SolveResult> r(5);
   for (int i = 0; i < 5; ++i) r[i].iterations = 10 * (i + 1);  // 10 20 30 40 50
-  EXPECT_EQ(critical_iterations(r, 1), 150);
-  EXPECT_EQ(critical_iterations(r, 2), 90);  // 10 + 30 + 50
-  EXPECT_EQ(critical_iterations(r, 8), 50);
+  EXPECT_EQ(critical_iterations(r, {0, 0, 0, 0, 0}), 150);
+  EXPECT_EQ(critical_iterations(r, t), 140);  // 20 + 30 + 40 + 50
+  EXPECT_EQ(critical_iterations(r, {0, 1, 2, 3, 4}), 50);
 }
 
 Candidate candidate(double cost, bool feasible, int label, double violation = 0.0) {
@@ -252,6 +264,13 @@ TEST(TopologyPlanner, NothingFeasibleFallsBackToTheLeastViolatingPlan) {
   std::vector<double> b = brake;
   project_controls(pb, &b);
   EXPECT_LE(max_violation(pb, o.u.data()), max_violation(pb, b.data()) + 1e-12);
+  // the solve from the previous plan, within one solve's budget, is handed
+  // on for the recovery (planner_guidance.cpp), whichever violates least
+  SolverOptions one = s;
+  one.max_total_iterations = split_budget(900, s.max_total_iterations, o.solves)[0];
+  const SolveResult alone = CeresMpcSolver(one).solve(pb, warm);
+  EXPECT_EQ(o.previous.u, alone.u);
+  EXPECT_EQ(o.previous.iterations, alone.iterations);
 }
 
 }  // namespace
