@@ -245,11 +245,6 @@ StaticField::Own StaticField::own_cells(const Ellipse& e) const {
   return out;
 }
 
-bool StaticField::structure_cell(int r, int c) const {
-  const Impl& m = *impl_;
-  return r >= 0 && r < m.height && c >= 0 && c < m.width && m.structure[static_cast<size_t>(r) * m.width + c];
-}
-
 BarrierValue StaticField::footprint_barrier(double px, double py, double yaw, const Footprint& fp) const {
   const double cy = std::cos(yaw), sy = std::sin(yaw);
   BarrierValue best;

@@ -52,8 +52,6 @@ struct StaticFieldParams {
   double max_distance_m = 3.0;   // the field is cut at this distance (beyond it the constraint is inactive)
   double min_structure_m = 1.0;  // static cells count only in a connected patch at least this long (structure)
   double min_structure_share = 0.5;  // a slow track with this share of structure among its cells stands for them
-  double cell_memory_s =
-      20.0;  // a structure cell the map has no data for stays static this long (a free reading clears it)
   template <class V>
   void fields(V& v) {
     v.field("enabled", enabled);
@@ -65,7 +63,6 @@ struct StaticFieldParams {
     v.field("max_distance_m", max_distance_m, config::between(0.1, 100.0));
     v.field("min_structure_m", min_structure_m, config::between(0.0, 100.0));
     v.field("min_structure_share", min_structure_share, config::between(0.0, 1.0));
-    v.field("cell_memory_s", cell_memory_s, config::between(0.0, 3600.0));
   }
 };
 
@@ -99,8 +96,6 @@ class StaticField {
     double structure_extent_m = 0;
   };
   Own own_cells(const Ellipse& e) const;
-  // Whether the map's cell (row r, column c) is a static structure cell.
-  bool structure_cell(int r, int c) const;
   int static_cells() const { return static_cells_; }
   double d_safe() const { return d_safe_; }
 

@@ -8,16 +8,6 @@
 #include "planning/obstacles.h"
 
 namespace evade::planning {
-namespace {
-
-// The odometry-frame index of the map's cell (r, c), packed in one key.
-int64_t cell_key(const evade::grid_map_t& m, int r, int c) {
-  const int64_t ix = std::llround(m.origin[0] / m.resolution - 0.5) + c;
-  const int64_t iy = std::llround(m.origin[1] / m.resolution - 0.5) + r;
-  return (ix << 32) ^ (iy & 0xffffffff);
-}
-
-}  // namespace
 
 double structure_intrusion(const Problem& pb, const std::vector<double>& states) {
   double worst = 0.0;
@@ -50,7 +40,6 @@ void StaticStructure::keep_map(const evade::grid_map_t& m) {
 
 void StaticStructure::clear() {
   maps_.clear();
-  remembered_.clear();
   field_.reset();
   static_ids_.clear();
 }
@@ -60,37 +49,6 @@ const evade::grid_map_t* StaticStructure::nearest_map(int64_t utime) const {
   for (const auto& m : maps_)
     if (!map || std::llabs(m.utime - utime) < std::llabs(map->utime - utime)) map = &m;
   return map;
-}
-
-evade::grid_map_t StaticStructure::with_remembered(const evade::grid_map_t& map) {
-  const int64_t max_age_us = std::llround(p_.cell_memory_s * 1e6);
-  for (auto it = remembered_.begin(); it != remembered_.end();)
-    it = age_us(map.utime, it->second) > max_age_us ? remembered_.erase(it) : std::next(it);
-  evade::grid_map_t out = map;
-  if (remembered_.empty() || map.resolution <= 0 || map.obstacle.size() != static_cast<size_t>(map.height) ||
-      map.elevation.size() != static_cast<size_t>(map.height))
-    return out;
-  for (int r = 0; r < map.height; ++r) {
-    if (map.obstacle[r].size() != static_cast<size_t>(map.width) || map.elevation[r].size() != map.obstacle[r].size())
-      continue;
-    for (int c = 0; c < map.width; ++c) {
-      if (map.obstacle[r][c] != 0) continue;
-      const auto it = remembered_.find(cell_key(map, r, c));
-      if (it == remembered_.end()) continue;
-      if (std::isfinite(map.elevation[r][c]))
-        remembered_.erase(it);  // read free: seen through
-      else
-        out.obstacle[r][c] = 1;
-    }
-  }
-  return out;
-}
-
-void StaticStructure::remember(const evade::grid_map_t& map) {
-  if (!field_ || p_.cell_memory_s <= 0) return;
-  for (int r = 0; r < map.height; ++r)
-    for (int c = 0; c < map.width; ++c)
-      if (map.obstacle[r][c] != 0 && field_->structure_cell(r, c)) remembered_[cell_key(map, r, c)] = map.utime;
 }
 
 bool StaticStructure::observed(int64_t id, const Inputs& in) {
@@ -124,9 +82,8 @@ StaticStructure::Update StaticStructure::update(const Inputs& in) {
       }
     }
   }
-  field_ = StaticField::build(with_remembered(*map), movers, keep, p_);
+  field_ = StaticField::build(*map, movers, keep, p_);
   if (!field_) return Update::kInvalid;
-  remember(*map);
   // A slow, observed track stands for its cells when its own cells are
   // structure: most of the obstacle cells in its ellipse (a wall's tile,
   // even the short piece at a door's edge). A person or a bin beside a

@@ -18,11 +18,6 @@
 // min_structure_m: no person) `stands_for` by them: it leaves the ellipse constraints (`apply`) and the detour
 // grid, which read the field instead. A person standing against a wall,
 // whose ellipse takes in some of the wall's cells, keeps its ellipse.
-// Structure cells are remembered (by their place in the odometry frame):
-// a cell of the last field's structure that the map now has no data for
-// (too near the LiDAR, which returns nothing from a face at close range,
-// or hidden) stays an obstacle cell for cell_memory_s after it was last
-// read as one, until a map reads it free.
 //
 // No clock and no bus: the planner core gates the maps' arrival and counts
 // what `update` returns.
@@ -32,7 +27,6 @@
 #include <deque>
 #include <functional>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
 #include "evade/grid_map_t.hpp"
@@ -100,17 +94,11 @@ class StaticStructure {
  private:
   const evade::grid_map_t* nearest_map(int64_t utime) const;
   static bool observed(int64_t id, const Inputs& in);
-  // `map` with the remembered structure cells it has no data for as
-  // obstacle cells; forgets those it reads free and those too old.
-  evade::grid_map_t with_remembered(const evade::grid_map_t& map);
-  // Remembers the field's structure cells that `map` reads as obstacles.
-  void remember(const evade::grid_map_t& map);
 
   StaticFieldParams p_;
   std::deque<evade::grid_map_t> maps_;
   std::shared_ptr<const StaticField> field_;
-  std::vector<int64_t> static_ids_;                  // sorted
-  std::unordered_map<int64_t, int64_t> remembered_;  // structure cell (packed odometry-frame index) -> utime last read
+  std::vector<int64_t> static_ids_;  // sorted
 };
 
 }  // namespace evade::planning

@@ -273,42 +273,6 @@ TEST(StaticStructure, APlanIntoTheWallsMarginIntrudesOneAlongItDoesNot) {
   EXPECT_EQ(structure_intrusion(pb, into), 0.0);
 }
 
-// The map with every cell a box overlaps read as no data (NaN, no
-// obstacle): what a LiDAR too near a face returns from it.
-evade::grid_map_t without_data(evade::grid_map_t m, const Box& b) {
-  const evade::grid_map_t cut = map_of({b}, m.utime);
-  for (int r = 0; r < m.height; ++r)
-    for (int c = 0; c < m.width; ++c)
-      if (cut.obstacle[r][c]) m.obstacle[r][c] = 0, m.elevation[r][c] = std::nanf("");
-  return m;
-}
-
-TEST(StaticStructure, AWallsCellsStayWhileTheMapHasNoDataForThemTillReadFree) {
-  StaticFieldParams p;
-  p.cell_memory_s = 5.0;
-  StaticStructure s{p};
-  Scene sc;
-  const auto step = [&](const evade::grid_map_t& m) {
-    s.keep_map(m);
-    sc.predictions.utime = m.utime;
-    EXPECT_EQ(s.update(sc.inputs(m.utime)), StaticStructure::Update::kBuilt);
-  };
-  step(map_of({kWall}, kT0));
-  EXPECT_NEAR(distance_at(s, 2.5, 0.05), 0.5, 0.02);
-  // the wall's face before the robot (y -1 to 1) has no data now: still wall
-  const Box face{3.0, 3.2, -1.0, 1.0};
-  step(without_data(map_of({kWall}, kT0 + 1'000'000), face));
-  EXPECT_NEAR(distance_at(s, 2.5, 0.05), 0.5, 0.02);
-  // no longer than cell_memory_s after it was last read as an obstacle
-  step(without_data(map_of({kWall}, kT0 + 5'900'000), face));
-  EXPECT_GT(distance_at(s, 2.5, 0.05), 0.9);
-  // read free (finite elevation, no obstacle): forgotten at once
-  step(map_of({kWall}, kT0 + 6'200'000));
-  step(map_of({Box{3.0, 3.2, -6.0, -1.0}, Box{3.0, 3.2, 1.0, 6.0}}, kT0 + 6'300'000));
-  step(without_data(map_of({}, kT0 + 6'400'000), face));
-  EXPECT_GT(distance_at(s, 2.5, 0.05), 0.9);
-}
-
 // A walker (a disc of 0.3 m, d_safe 0.3 m: h = distance - 0.6 for the
 // point robot) coming at 1 m/s along x towards a robot at x 1.2.
 Problem walker_coming() {
