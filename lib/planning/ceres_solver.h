@@ -86,6 +86,7 @@ struct SolverOptions {
   double fallback_penetration_weight = 1e4;        // 1/m^2: own_motion's cost of depth within d_safe (per step)
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
+  bool rank_closing = false;  // most_clearance: closing on a mover faster than braking ranks below braking
 
   template <class V>
   void fields(V& v);
@@ -219,6 +220,7 @@ void SolverOptions::fields(V& v) {
   v.field("fallback_gamma", fallback_gamma, config::between(1e-6, 1.0));
   v.field("fallback_penetration_weight", fallback_penetration_weight, config::between(0.0, 1e9));
   v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
+  v.field("rank_closing", rank_closing);
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
 }
 

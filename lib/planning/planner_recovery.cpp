@@ -149,11 +149,12 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
   // dash aside that falls further short at its first steps.
   // With the static field in the problem, a plan that takes the robot
   // deeper into structure's margin ranks below every plan that does not
-  // (a dash into a wall is a contact of the robot's own making); next, a
-  // plan that closes on an obstacle inside its margin faster than braking
-  // does (mover_closing) ranks below braking: driving on towards a walker
-  // coming through a doorway makes the contact the robot's, standing
-  // leaves it the walker's, while a dash aside closes on nothing.
+  // (a dash into a wall is a contact of the robot's own making); next,
+  // with solver.rank_closing, a plan that closes on an obstacle inside its
+  // margin faster than braking does (mover_closing) ranks below braking:
+  // driving on towards a walker coming through a doorway makes the
+  // contact the robot's, standing leaves it the walker's, while a dash
+  // aside closes on nothing.
   struct Candidate {
     std::vector<double> u;
     int8_t status;
@@ -176,7 +177,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
     c.h = min_barrier(pb, states, 1);
     c.shortfall = barrier_shortfall(pb, states);
     c.into = structure_intrusion(pb, states) > tie;
-    closing[i] = mover_closing(pb, states);
+    closing[i] = p_.solver.rank_closing ? mover_closing(pb, states) : 0.0;
   }
   for (size_t i = 0; i < candidates.size(); ++i) candidates[i].closing = closing[i] > closing.back() + tie;
   const Candidate* chosen = nullptr;  // ties: the first in the list
