@@ -88,6 +88,7 @@ struct SolverOptions {
   bool fallback_brake_while_closing = true;        // own_motion: no faster than braking while braking closes in
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
+  bool rank_closing = false;  // most_clearance: closing on a mover faster than braking ranks below braking
 
   template <class V>
   void fields(V& v);
@@ -227,6 +228,7 @@ void SolverOptions::fields(V& v) {
   v.field("fallback_true_extent", fallback_true_extent);
   v.field("fallback_brake_while_closing", fallback_brake_while_closing);
   v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
+  v.field("rank_closing", rank_closing);
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
 }
 

@@ -149,35 +149,46 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
   // dash aside that falls further short at its first steps.
   // With the static field in the problem, a plan that takes the robot
   // deeper into structure's margin ranks below every plan that does not
-  // (a dash into a wall is a contact of the robot's own making).
+  // (a dash into a wall is a contact of the robot's own making); next,
+  // with solver.rank_closing, a plan that closes on an obstacle inside its
+  // margin faster than braking does (mover_closing) ranks below braking:
+  // driving on towards a walker coming through a doorway makes the
+  // contact the robot's, standing leaves it the walker's, while a dash
+  // aside closes on nothing.
   struct Candidate {
     std::vector<double> u;
     int8_t status;
     const char* counter;
+    bool into = false, closing = false;
+    double h = 0.0, shortfall = 0.0;
   };
   std::vector<Candidate> candidates;
   std::vector<double> f;
   if (last_feasible_shifted(odom, &f)) candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
   for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
   candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
-  double best_h = -std::numeric_limits<double>::infinity(), best_shortfall = 0.0;
-  bool best_into = true;  // into static structure's margin (structure_intrusion): only if every plan is
-  const Candidate* chosen = &candidates.back();
-  std::vector<double> states(3 * (N + 1));
-  for (auto& c : candidates) {
+  const double tie = p_.solver.constraint_tolerance;
+  std::vector<double> states(3 * (N + 1)), closing(candidates.size());
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    Candidate& c = candidates[i];
     project_controls(pb, &c.u);  // consistent with the measured speed and the limits
     rollout(pb, c.u.data(), states.data());
     // from k = 1: where the robot is now is the same for every plan
-    const double h = min_barrier(pb, states, 1);
-    const double shortfall = barrier_shortfall(pb, states);
-    const double tie = p_.solver.constraint_tolerance;
-    const bool into = structure_intrusion(pb, states) > tie;
-    if (into != best_into ? !into : (h > best_h + tie || (h > best_h - tie && shortfall < best_shortfall - 1e-9))) {
-      best_into = into;
-      best_h = h;
-      best_shortfall = shortfall;
-      chosen = &c;
-    }
+    c.h = min_barrier(pb, states, 1);
+    c.shortfall = barrier_shortfall(pb, states);
+    c.into = structure_intrusion(pb, states) > tie;
+    closing[i] = p_.solver.rank_closing ? mover_closing(pb, states) : 0.0;
+  }
+  for (size_t i = 0; i < candidates.size(); ++i) candidates[i].closing = closing[i] > closing.back() + tie;
+  const Candidate* chosen = nullptr;  // ties: the first in the list
+  for (const Candidate& c : candidates) {
+    const Candidate* b = chosen;
+    const bool better = !b                  ? true
+                        : c.into != b->into ? !c.into
+                        : c.closing != b->closing
+                            ? !c.closing
+                            : c.h > b->h + tie || (c.h > b->h - tie && c.shortfall < b->shortfall - 1e-9);
+    if (better) chosen = &c;
   }
   *u = chosen->u;
   count(chosen->counter);
