@@ -1081,15 +1081,19 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
 MultiStartResult solve_from_starts(const SolverOptions& opts, const Problem& pb,
                                    std::vector<std::vector<double>> starts, bool least_violating) {
   starts.resize(std::min(starts.size(), static_cast<size_t>(std::max(1, opts.max_total_iterations))));
-  SolverOptions shared = opts;
-  shared.max_total_iterations = std::max(1, opts.max_total_iterations / static_cast<int>(starts.size()));
-  const CeresMpcSolver budgeted(shared);
   MultiStartResult m;
   SolveResult& out = m.best;
   bool out_continues = false;
   int iterations = 0;
   for (size_t s = 0; s < starts.size(); ++s) {
-    SolveResult r = budgeted.solve(pb, starts[s]);
+    // split_budget: an equal share of what is left (a start that converges
+    // early leaves its iterations to the starts after it); else of all
+    SolverOptions shared = opts;
+    const int n = static_cast<int>(starts.size());
+    const int share = opts.split_budget ? (opts.max_total_iterations - iterations) / (n - static_cast<int>(s))
+                                        : opts.max_total_iterations / n;
+    shared.max_total_iterations = std::max(1, share);
+    SolveResult r = CeresMpcSolver(shared).solve(pb, starts[s]);
     iterations += r.iterations;
     if (!r.finite) continue;
     const double to_beat = out_continues ? opts.recovery_switch_ratio * out.cost : out.cost;

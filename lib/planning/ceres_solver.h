@@ -89,6 +89,8 @@ struct SolverOptions {
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
   bool rank_closing = false;  // most_clearance: closing on a mover faster than braking ranks below braking
+  bool split_budget = false;  // a failed hard solve's recovery solve keeps its share of the cycle; starts pass
+                              // unused iterations on (off: the restarts' reserve only, equal shares)
 
   template <class V>
   void fields(V& v);
@@ -170,8 +172,10 @@ void evaluate_result(const Problem& pb, const SolverOptions& opts, SolveResult* 
 void project_controls(const Problem& pb, std::vector<double>* u);
 
 // Solves `pb` from each start in turn on one solve's iteration budget:
-// opts.max_total_iterations split among the starts (a budget smaller than
-// their number keeps the first starts only, one iteration each); this
+// opts.max_total_iterations split among the starts in equal shares (with
+// opts.split_budget each an equal share of what the starts before it
+// left; a budget smaller than their number keeps the first starts only,
+// one iteration each); this
 // runs after the cycle's hard solve has failed, and a cycle that overruns
 // its period reacts late to everything else. The cheapest feasible result
 // wins, but the first start's (the plan grown from the previous one) is
@@ -229,6 +233,7 @@ void SolverOptions::fields(V& v) {
   v.field("fallback_brake_while_closing", fallback_brake_while_closing);
   v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
   v.field("rank_closing", rank_closing);
+  v.field("split_budget", split_budget);
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
 }
 

@@ -70,9 +70,11 @@ struct PlannerSolverParams : SolverOptions {
   // Ceres iterations of one planning cycle, all its solves together (the
   // hard solve, the swerve restarts, the relaxed solve): a cycle in which
   // the hard problem fails otherwise runs up to four solves' budgets
-  // (max_total_iterations each). The restarts leave the relaxed solve its
-  // budget when it applies. Counted in iterations, not time, so that a
-  // replay plans exactly as the live run did.
+  // (max_total_iterations each); the restarts leave the relaxed solve its
+  // budget when it applies. With split_budget, split before solving: a
+  // recovery solve that would follow a failed hard solve keeps its share
+  // from the hard solve and the restarts (PlannerCore::recovery_reserve). Counted in
+  // iterations, not time, so that a replay plans exactly as the live run did.
   int max_cycle_iterations = 900;
   bool warm_multipliers = false;  // the last cycle's multipliers start the solve (else estimate_multipliers)
   template <class V>

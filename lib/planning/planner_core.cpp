@@ -269,7 +269,7 @@ void PlannerCore::plan_cycle(const evade::odometry_t& odom) {
   const auto t0 = std::chrono::steady_clock::now();
   // Controls only: with the previous multipliers (and their penalty) the
   // solves measured slower and costlier in bench_planner, so they start at 0.
-  const std::optional<CeresMpcSolver> solver = budgeted_solver(0);
+  const std::optional<CeresMpcSolver> solver = budgeted_solver(0, mode_.evade_layers ? recovery_reserve(pb) : 0);
   SolveResult res = solver->solve(pb, warm_u, p_.solver.warm_multipliers ? &warm_lambda : nullptr, prev_penalty_);
   int iterations = res.iterations;
   int8_t status = evade::plan_t::STATUS_OK;

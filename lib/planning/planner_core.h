@@ -98,6 +98,16 @@ class PlannerCore : public bus::Core {
   // max_cycle_iterations after `spent`, less `reserve`, at most one solve's
   // budget; none (counted) when nothing is left.
   std::optional<CeresMpcSolver> budgeted_solver(int spent, int reserve = 0);
+  // With solver.split_budget, the cycle's budget split before solving
+  // (mode evade): when a failed hard solve of pb is followed by a recovery
+  // solve (the relaxed problem of `chain` when there is something to relax;
+  // `own_motion`'s fallback always), that solve's share (recovery_share) is
+  // kept from the hard solve and the swerve restarts; else 0.
+  int recovery_reserve(const Problem& pb) const;
+  // What the restarts leave the recovery solve: with split_budget half of
+  // max_cycle_iterations, at most one solve's (max_total_iterations);
+  // without, one solve's.
+  int recovery_share() const;
   // ---- recovery (planner_recovery.cpp), mode evade ----
   // After the hard solve failed (*res): the strategy of solver.fallback.
   // Each sets *u and *res, adds to *iterations and returns the status.

@@ -35,6 +35,19 @@ int8_t PlannerCore::recover(const Problem& pb, const std::vector<double>& warm_u
   return recover_chain(pb, warm_u, odom, v0, w0, res, u, iterations);
 }
 
+int PlannerCore::recovery_share() const {
+  if (!p_.solver.split_budget) return p_.solver.max_total_iterations;
+  return std::min(p_.solver.max_total_iterations, p_.solver.max_cycle_iterations / 2);
+}
+
+int PlannerCore::recovery_reserve(const Problem& pb) const {
+  if (!p_.solver.split_budget) return 0;
+  if (p_.solver.fallback == Fallback::kOwnMotion) return recovery_share();
+  if (pb.obstacles.empty()) return 0;
+  const std::vector<double> relax = barrier_relaxation(pb, p_.solver);
+  return std::any_of(relax.begin(), relax.end(), [](double s) { return s > 0; }) ? recovery_share() : 0;
+}
+
 std::vector<double> PlannerCore::projected_braking(const Problem& pb, double v0, double w0) const {
   std::vector<double> brake = braking_controls(v0, w0);
   project_controls(pb, &brake);
@@ -78,7 +91,7 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
       for (double side : {1.0, -1.0}) candidates.push_back(swerve_controls(pb, side));
     } else {
       // the relaxed solve, when it applies, comes next and keeps its budget
-      swerve_restarts(pb, can_relax ? p_.solver.max_total_iterations : 0, res, iterations, &candidates);
+      swerve_restarts(pb, can_relax ? recovery_share() : 0, res, iterations, &candidates);
     }
   }
   if (res->finite && res->feasible) {
@@ -114,7 +127,7 @@ int8_t PlannerCore::recover_own_motion(const Problem& pb, const std::vector<doub
     count("restart_skipped");  // the fallback decides
   } else {
     // the fallback's solve keeps its budget
-    swerve_restarts(pb, p_.solver.max_total_iterations, res, iterations, nullptr);
+    swerve_restarts(pb, recovery_share(), res, iterations, nullptr);
   }
   if (res->finite && res->feasible) {
     *u = res->u;

@@ -106,6 +106,7 @@ struct RunResult {
   int64_t restarts_skipped = 0;  // HEALTH counter restart_skipped at the end
   int64_t detour_movers = 0;     // HEALTH counter detour_movers at the end
   int64_t detour = 0;            // HEALTH counter detour at the end
+  int64_t most_clearance = 0;    // HEALTH counter most_clearance at the end
   // Contacts (the footprint's discs touching an obstacle): how many 20 ms
   // samples, and the fastest the robot moved towards the obstacle's centre
   // in one of them (the metrics' at-fault rule, closest point by centre).
@@ -158,6 +159,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   out.restarts_skipped = loop.core().counter("restart_skipped");
   out.detour_movers = loop.core().counter("detour_movers");
   out.detour = loop.core().counter("detour");
+  out.most_clearance = loop.core().counter("most_clearance");
   return out;
 }
 
@@ -528,6 +530,27 @@ TEST(PlannerCore, NoCycleSpendsMoreCeresIterationsThanItsBudget) {
     EXPECT_EQ(r.nan, 0);
     for (const auto& pl : r.plan_log) EXPECT_LE(pl.iterations, b) << "budget " << b;
   }
+}
+
+// With solver.split_budget the cycle's budget is split before solving: when a failed hard solve is
+// followed by the relaxed one (here a start inside d_safe), the hard solve
+// leaves it its share (PlannerCore::recovery_reserve). A hard solve that
+// took the whole of a small budget left the relaxed solve nothing, and the
+// cycle sent the unsolved plan with the most clearance.
+TEST(PlannerCore, TheRelaxedSolveKeepsItsShareOfASmallCycleBudget) {
+  const std::vector<SimObstacle> beside = {{0.3, 0.4, 0.0, 0.0, 0.2}};  // the robot starts inside d_safe
+  PlannerParams p = default_params();
+  p.solver.max_cycle_iterations = 60;
+  p.solver.split_budget = true;
+  const RunResult r = run(p, beside, 1.0);
+  ASSERT_FALSE(r.plan_log.empty());
+  int recovering = 0;
+  for (const auto& pl : r.plan_log) {
+    EXPECT_LE(pl.iterations, 60);
+    if (pl.status == evade::plan_t::STATUS_RECOVERING) ++recovering;
+  }
+  ASSERT_GT(recovering, 0) << "the premise: the hard problem fails";
+  EXPECT_EQ(r.most_clearance, 0) << "of " << recovering << " recovering cycles";
 }
 
 TEST(PlannerCore, LogReplayIsDeterministic) {

@@ -389,6 +389,29 @@ TEST(CeresSolver, ProjectionKeepsMoreThanTheSegmentSearch) {
   EXPECT_LT(with_projection.cost, segment_only.cost - 20.0);
 }
 
+// solve_from_starts splits one solve's budget among its starts: with
+// split_budget each gets an equal share of what the starts before it left, so a start that
+// converges at once leaves its iterations to the next (the relaxed solve of
+// a cycle on a small budget ran four starts on a quarter each).
+TEST(CeresSolver, MultiStartPassesUnusedIterationsOn) {
+  const Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
+  const SolveResult solved = CeresMpcSolver(opts()).solve(pb, std::vector<double>(2 * pb.N, 0.0));
+  ASSERT_TRUE(solved.feasible);
+  std::vector<double> poor(2 * pb.N, 0.0);  // turning on the spot all the way
+  for (int k = 0; k < pb.N; ++k) poor[2 * k + 1] = pb.lim.omega_max;
+  const int from_poor = CeresMpcSolver(opts()).solve(pb, poor).iterations;
+  const int budget = 40;
+  ASSERT_GT(from_poor, budget) << "the premise: the poor start needs more than the whole budget";
+  SolverOptions o = opts();
+  o.max_total_iterations = budget;
+  o.split_budget = true;
+  const MultiStartResult m = solve_from_starts(o, pb, {solved.u, poor}, /*least_violating=*/true);
+  ASSERT_TRUE(m.found);
+  const int from_solved = CeresMpcSolver(o).solve(pb, solved.u).iterations;
+  ASSERT_LT(from_solved, budget / 4) << "the premise: the solved start converges at once";
+  EXPECT_EQ(m.best.iterations, budget);  // the second start ran on all that the first left
+}
+
 TEST(CeresSolver, NeverNaNOnDegenerateInput) {
   Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
   // obstacle centred exactly on the robot, zero-size ellipse axes are not allowed; tiny ones are
