@@ -7,7 +7,7 @@ namespace evade::planning {
 
 int solves_within(int cycle_budget, int wanted) { return std::max(1, std::min(wanted, cycle_budget)); }
 
-std::vector<int> split_budget(int cycle_budget, int max_total, int solves) {
+std::vector<int> local_budgets(int cycle_budget, int max_total, int solves) {
   if (solves <= 0) return {};
   std::vector<int> out(solves);
   out[0] = std::max(1, std::min(max_total, cycle_budget - (solves - 1)));

@@ -30,7 +30,7 @@ int solves_within(int cycle_budget, int wanted);
 // what a solve gets without guidance, one solve's budget (max_total),
 // leaving at least 1 to each other; the others share the rest equally,
 // each at most max_total, at least 1.
-std::vector<int> split_budget(int cycle_budget, int max_total, int solves);
+std::vector<int> local_budgets(int cycle_budget, int max_total, int solves);
 
 // The thread of each solve: in order, the one with the fewest iterations
 // assigned so far (ties to the lower thread), of min(threads, solves).

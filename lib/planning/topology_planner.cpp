@@ -23,7 +23,7 @@ TopologyOutcome TopologyPlanner::plan(const Problem& pb, const SolveStart& previ
   for (size_t i = 0; i < ways.size(); ++i) starts.push_back({controls_along(pb, ways[i]), nullptr, 0.0, &guided[i]});
   starts.resize(solves_within(budget_, static_cast<int>(starts.size())));  // the costliest ways go first
   out.solves = static_cast<int>(starts.size());
-  const std::vector<int> budgets = split_budget(budget_, s_.max_total_iterations, out.solves);
+  const std::vector<int> budgets = local_budgets(budget_, s_.max_total_iterations, out.solves);
   const std::vector<SolveResult> results = solve_side_by_side(pb, starts, s_, budgets, g_.threads);
   for (const SolveResult& r : results) out.iterations += r.iterations;
   out.critical_iterations = critical_iterations(results, assign_threads(budgets, g_.threads));

@@ -37,7 +37,7 @@ struct TopologyOutcome {
 // The local solves' share of a cycle's Ceres iterations (cycle_budget):
 // all of them, less one solve's (max_total) when the recovery chain is
 // the fallback; at least 1. The previous plan's solve takes one solve's
-// budget of it, the ways share the rest (split_budget); the recovery gets
+// budget of it, the ways share the rest (local_budgets); the recovery gets
 // what the previous plan's solve left of the cycle, as without guidance.
 int local_solves_budget(const GuidanceParams& g, int max_total, int cycle_budget);
 

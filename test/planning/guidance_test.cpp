@@ -154,7 +154,7 @@ TEST(LocalSolves, ResultsDoNotDependOnTheNumberOfThreads) {
   const Problem pb = bench_problem(8);
   std::vector<SolveStart> starts{{std::vector<double>(2 * pb.N, 0.5)}};
   for (const GuidancePath& w : find_guidance(pb, params())) starts.push_back({controls_along(pb, w)});
-  const std::vector<int> budgets = split_budget(600, 300, static_cast<int>(starts.size()));
+  const std::vector<int> budgets = local_budgets(600, 300, static_cast<int>(starts.size()));
   const SolverOptions o;
   const auto one = solve_side_by_side(pb, starts, o, budgets, 1);
   for (int threads : {2, 3, 8}) {
@@ -173,11 +173,11 @@ TEST(LocalSolves, ResultsDoNotDependOnTheNumberOfThreads) {
 TEST(LocalSolves, ThePreviousPlanKeepsOneSolvesBudgetTheWaysShareTheRest) {
   // the previous plan's solve gets what the one solve of a cycle without
   // guidance gets; the ways share what is left
-  EXPECT_EQ(split_budget(600, 300, 5), (std::vector<int>{300, 75, 75, 75, 75}));
-  EXPECT_EQ(split_budget(600, 300, 3), (std::vector<int>{300, 150, 150}));
-  EXPECT_EQ(split_budget(900, 300, 2), (std::vector<int>{300, 300}));  // each at most one solve's
-  EXPECT_EQ(split_budget(600, 300, 1), (std::vector<int>{300}));
-  EXPECT_EQ(split_budget(3, 300, 3), (std::vector<int>{1, 1, 1}));  // at least 1 each
+  EXPECT_EQ(local_budgets(600, 300, 5), (std::vector<int>{300, 75, 75, 75, 75}));
+  EXPECT_EQ(local_budgets(600, 300, 3), (std::vector<int>{300, 150, 150}));
+  EXPECT_EQ(local_budgets(900, 300, 2), (std::vector<int>{300, 300}));  // each at most one solve's
+  EXPECT_EQ(local_budgets(600, 300, 1), (std::vector<int>{300}));
+  EXPECT_EQ(local_budgets(3, 300, 3), (std::vector<int>{1, 1, 1}));  // at least 1 each
 }
 
 TEST(LocalSolves, ThreadsAreBalancedBeforeSolvingAndTheBusiestIsCharged) {
@@ -267,7 +267,7 @@ TEST(TopologyPlanner, NothingFeasibleFallsBackToTheLeastViolatingPlan) {
   // the solve from the previous plan, within one solve's budget, is handed
   // on for the recovery (planner_guidance.cpp), whichever violates least
   SolverOptions one = s;
-  one.max_total_iterations = split_budget(900, s.max_total_iterations, o.solves)[0];
+  one.max_total_iterations = local_budgets(900, s.max_total_iterations, o.solves)[0];
   const SolveResult alone = CeresMpcSolver(one).solve(pb, warm);
   EXPECT_EQ(o.previous.u, alone.u);
   EXPECT_EQ(o.previous.iterations, alone.iterations);
