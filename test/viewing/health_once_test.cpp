@@ -124,10 +124,8 @@ TEST_F(HealthOnce, AProcessThatStopsBeatingIsStale) {
 // `health --wait-received PROCESS:CHANNEL` (what tools/run_scenario waits
 // on before it starts the simulator): route reads ROUTE, its own included.
 TEST_F(HealthOnce, WaitingForAnInputThatArrivesEndsWithZero) {
-  const std::string out = ::testing::TempDir() + "health_wait_" + std::to_string(::getpid()) + ".txt";
-  const auto t0 = std::chrono::steady_clock::now();
-  EXPECT_EQ(wait_status(spawn({bin("health"), "--wait-received", "route:ROUTE", "--config", config_}, out)), 0);
-  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(2400));
+  // 0, not the timeout's 1 (wait_timeout_s 2.5 here).
+  EXPECT_EQ(wait_status(spawn({bin("health"), "--wait-received", "route:ROUTE", "--config", config_})), 0);
 }
 
 TEST_F(HealthOnce, WaitingForAnInputThatNeverArrivesTimesOutWithOne) {
