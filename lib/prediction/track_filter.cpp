@@ -93,7 +93,22 @@ double adaptive_position_variance(double xi_eta, const AdaptiveNoiseParams& p, d
   return std::pow(p.r_pos_max_m2, k) * std::pow(p.r_pos_min_m2, 1.0 - k);
 }
 
-TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : params_(&params) {
+Eigen::Vector2d aperture_shift(const Measurement& before, const Measurement& after, double min_elongation,
+                               double axis_noise) {
+  const double a = std::max(after.a, after.b), b = std::min(after.a, after.b);
+  if (!(min_elongation > 0.0) || !(a >= min_elongation * b)) return Eigen::Vector2d::Zero();
+  const double theta = after.a >= after.b ? after.theta : after.theta + 0.5 * kPi;
+  const Eigen::Vector2d u(std::cos(theta), std::sin(theta));
+  // before's half-extent along u (its support function)
+  const double phi = theta - before.theta;
+  const double extent = std::hypot(before.a * std::cos(phi), before.b * std::sin(phi));
+  const double ds = u.dot(Eigen::Vector2d(after.x - before.x, after.y - before.y));
+  const double da = std::max(0.0, std::fabs(a - extent) - axis_noise);
+  const double shared = std::copysign(std::max(0.0, std::fabs(ds) - da), ds);
+  return (ds - shared) * u;
+}
+
+TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : params_(&params), last_(z) {
   const FilterParams& f = params.filter;
   x_.setZero();
   x_(kX) = z.x;
@@ -316,8 +331,14 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
   r_diag << info.r_position, info.r_position, f.r_axis_m2, f.r_axis_m2,
       f.r_theta_rad2 + f.r_axis_m2 / (elongation * elongation);
 
+  // What a change of the seen extent explains moves the centre of every
+  // mode as a known offset: not measured as motion.
+  const Eigen::Vector2d seen_shift = aperture_shift(last_, z, f.aperture_min_elongation, f.aperture_axis_noise_m);
+  last_ = z;
   double log_likelihood[kMaxModes] = {0.0, 0.0, 0.0};
   for (int j = 0; j < num_modes_; ++j) {
+    modes_[j].x(kX) += seen_shift.x();
+    modes_[j].x(kY) += seen_shift.y();
     State& x = modes_[j].x;
     Covariance& P = modes_[j].P;
     Eigen::Matrix<double, kMeasSize, 1> innovation;

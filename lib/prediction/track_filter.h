@@ -51,6 +51,19 @@ struct Measurement {
   double tracker_shape_variation = 0;  // the tracker's Xi_eta, used when configured
 };
 
+// Aperture (FilterParams::aperture_*): an elongated MBE seen only in part
+// (an end in a shadow, at the map's edge, at a tile's cut) moves its centre
+// along its major axis whenever the seen part changes. From `before` to
+// `after` its two ends along after's major axis move by ds + da and ds - da
+// (ds: the centre's shift along it; da: the change of the half-extent along
+// it, less `axis_noise` towards zero: the MBE's own jitter); the object
+// moves by what both ends share (the smaller, when they moved the same way;
+// nothing otherwise). Returns the rest of the centre's shift, the part that
+// a change of what is seen explains; zero when `after` is not at least
+// min_elongation times as long as wide, or min_elongation is 0.
+Eigen::Vector2d aperture_shift(const Measurement& before, const Measurement& after, double min_elongation,
+                               double axis_noise);
+
 // What the last update did (for tests and diagnostics).
 struct UpdateInfo {
   double xi_eta = 0;                  // shape variation used
@@ -118,6 +131,7 @@ class TrackFilter {
   State x_;
   Covariance P_;
   std::vector<Shape> window_;  // ring buffer of the last m aligned shapes
+  Measurement last_;           // the previous MBE (aperture_shift)
   size_t window_next_ = 0;
   double last_theta_ = 0;  // orientation of the newest window entry (unwrapped)
   bool use_tracker_variation_ = false;
