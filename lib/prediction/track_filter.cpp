@@ -292,6 +292,18 @@ double TrackFilter::own_shape_variation() const {
   return sum / static_cast<double>(m - 1);
 }
 
+void TrackFilter::record_shape(double a, double b, double theta) {
+  // theta unwrapped against the previous entry so that its mean is meaningful
+  const Shape aligned{a, b, last_theta_ + wrap_half_pi(theta - last_theta_)};
+  last_theta_ = aligned.theta;
+  const size_t m = static_cast<size_t>(params_->adaptive_noise.window_frames);
+  if (window_.size() < m)
+    window_.push_back(aligned);
+  else
+    window_[window_next_] = aligned;
+  window_next_ = (window_next_ + 1) % m;
+}
+
 UpdateInfo TrackFilter::update(const Measurement& z) {
   const FilterParams& f = params_->filter;
   UpdateInfo info;
@@ -313,15 +325,7 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
     info.swapped_axes = true;
   }
 
-  // Shape window, theta unwrapped against the previous entry so that its mean is meaningful.
-  const Shape aligned{ma, mb, last_theta_ + wrap_half_pi(mt - last_theta_)};
-  last_theta_ = aligned.theta;
-  const size_t m = static_cast<size_t>(params_->adaptive_noise.window_frames);
-  if (window_.size() < m)
-    window_.push_back(aligned);
-  else
-    window_[window_next_] = aligned;
-  window_next_ = (window_next_ + 1) % m;
+  record_shape(ma, mb, mt);
 
   info.xi_eta = use_tracker_variation_ ? std::max(0.0, z.tracker_shape_variation) : own_shape_variation();
   info.r_position = adaptive_position_variance(info.xi_eta, params_->adaptive_noise, &info.k);

@@ -117,6 +117,8 @@ class TrackFilter {
     double jerk_psd;
   };
   void combine();
+  // Appends one matched shape to the shape-variation window.
+  void record_shape(double a, double b, double theta);
   Covariance mode_noise(int mode, double dt) const;
   // pi[i][j]: probability of going from mode i to mode j within dt.
   void transitions(double dt, double pi[kMaxModes][kMaxModes]) const;
