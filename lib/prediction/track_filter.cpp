@@ -93,6 +93,16 @@ double adaptive_position_variance(double xi_eta, const AdaptiveNoiseParams& p, d
   return std::pow(p.r_pos_max_m2, k) * std::pow(p.r_pos_min_m2, 1.0 - k);
 }
 
+Measurement as_measurement(const State& x) {
+  Measurement m;
+  m.x = x(kX);
+  m.y = x(kY);
+  m.a = x(kA);
+  m.b = x(kB);
+  m.theta = x(kTheta);
+  return m;
+}
+
 Eigen::Vector2d aperture_shift(const Measurement& before, const Measurement& after, double min_elongation,
                                double axis_noise) {
   const double a = std::max(after.a, after.b), b = std::min(after.a, after.b);
@@ -108,7 +118,7 @@ Eigen::Vector2d aperture_shift(const Measurement& before, const Measurement& aft
   return (ds - shared) * u;
 }
 
-TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : params_(&params), last_(z) {
+TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : params_(&params) {
   const FilterParams& f = params.filter;
   x_.setZero();
   x_(kX) = z.x;
@@ -335,14 +345,12 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
   r_diag << info.r_position, info.r_position, f.r_axis_m2, f.r_axis_m2,
       f.r_theta_rad2 + f.r_axis_m2 / (elongation * elongation);
 
-  // What a change of the seen extent explains moves the centre of every
-  // mode as a known offset: not measured as motion.
-  const Eigen::Vector2d seen_shift = aperture_shift(last_, z, f.aperture_min_elongation, f.aperture_axis_noise_m);
-  last_ = z;
   double log_likelihood[kMaxModes] = {0.0, 0.0, 0.0};
   for (int j = 0; j < num_modes_; ++j) {
-    modes_[j].x(kX) += seen_shift.x();
-    modes_[j].x(kY) += seen_shift.y();
+    // What a change of the seen extent explains moves the mode's centre
+    // as a known offset (never past the measurement): not measured as motion.
+    modes_[j].x.head<2>() +=
+        aperture_shift(as_measurement(modes_[j].x), z, f.aperture_min_elongation, f.aperture_axis_noise_m);
     State& x = modes_[j].x;
     Covariance& P = modes_[j].P;
     Eigen::Matrix<double, kMeasSize, 1> innovation;

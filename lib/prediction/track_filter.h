@@ -63,6 +63,8 @@ struct Measurement {
 // min_elongation times as long as wide, or min_elongation is 0.
 Eigen::Vector2d aperture_shift(const Measurement& before, const Measurement& after, double min_elongation,
                                double axis_noise);
+// The ellipse a state predicts, as a measurement would give it.
+Measurement as_measurement(const State& x);
 
 // What the last update did (for tests and diagnostics).
 struct UpdateInfo {
@@ -133,7 +135,6 @@ class TrackFilter {
   State x_;
   Covariance P_;
   std::vector<Shape> window_;  // ring buffer of the last m aligned shapes
-  Measurement last_;           // the previous MBE (aperture_shift)
   size_t window_next_ = 0;
   double last_theta_ = 0;  // orientation of the newest window entry (unwrapped)
   bool use_tracker_variation_ = false;
