@@ -31,10 +31,10 @@ struct FilterParams {
   double orientation_min_elongation_m = 0.02;
   // Aperture: an elongated MBE (a >= this times b; 0 = off) seen partly (an
   // end in a shadow, at the map's edge, at a tile's cut) moves its centre
-  // along its major axis when the seen part changes. Against each mode's
-  // predicted ellipse, the along-axis shift is motion only as far as both
-  // ends moved the same way; the rest moves the mode's centre as a known
-  // offset before the update (aperture_shift, track_filter.h).
+  // along its major axis when the seen part changes. The stationary mode
+  // explains the along-axis shift its predicted ellipse's ends do not share
+  // by that change, as a known offset before its update (aperture_shift,
+  // track_filter.h); the moving modes measure it as motion.
   double aperture_min_elongation = 0.0;
   // ... and the half-extent's frame-to-frame change counts only beyond this
   // (the MBE's own jitter: a rigid mover's ends jitter too).

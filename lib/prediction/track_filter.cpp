@@ -347,10 +347,12 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
 
   double log_likelihood[kMaxModes] = {0.0, 0.0, 0.0};
   for (int j = 0; j < num_modes_; ++j) {
-    // What a change of the seen extent explains moves the mode's centre
-    // as a known offset (never past the measurement): not measured as motion.
-    modes_[j].x.head<2>() +=
-        aperture_shift(as_measurement(modes_[j].x), z, f.aperture_min_elongation, f.aperture_axis_noise_m);
+    // Standing still, a change of the seen extent explains what the ends do
+    // not share: it moves the centre as a known offset (never past the
+    // measurement). The moving modes measure it as motion.
+    if (j == kStationary)
+      modes_[j].x.head<2>() +=
+          aperture_shift(as_measurement(modes_[j].x), z, f.aperture_min_elongation, f.aperture_axis_noise_m);
     State& x = modes_[j].x;
     Covariance& P = modes_[j].P;
     Eigen::Matrix<double, kMeasSize, 1> innovation;
