@@ -433,5 +433,37 @@ TEST(Filter, ABikeAlongItsAxisKeepsItsSpeed) {
   EXPECT_NEAR(vx[0], vx[1], 0.2);
 }
 
+// A bike riding past at 3 m/s whose seen length grows from 0.4 to 1.6 m as
+// its side comes into view (its far end lags): a mover's ends do not move
+// together either, and the rule, which only the stationary mode applies,
+// leaves the published velocity as it was without it.
+TEST(Filter, ABikeSeenGrowingKeepsItsVelocity) {
+  PredictorParams with = testing::default_params();
+  with.filter.aperture_min_elongation = 2.0;
+  with.filter.aperture_axis_noise_m = 0.05;
+  PredictorParams without = with;
+  without.filter.aperture_min_elongation = 0.0;
+  double vx[2];
+  int i = 0;
+  for (const PredictorParams* p : {&with, &without}) {
+    std::mt19937 rng(9);
+    std::normal_distribution<double> noise(0.0, 0.02);
+    auto seen = [&](double front, double length) {
+      return mbe(front + 0.5 * length + noise(rng), 1.5 + noise(rng), 0.5 * length, 0.15, 0.0);
+    };
+    double front = 8.0, length = 0.4;
+    TrackFilter f(*p, seen(front, length));
+    for (int k = 0; k < 12; ++k) {
+      f.predict(0.1);
+      front -= 0.3;
+      length = std::min(1.6, length + 0.2);
+      f.update(seen(front, length));
+    }
+    vx[i++] = f.state()(kVx);
+  }
+  EXPECT_LT(vx[1], -1.5);
+  EXPECT_NEAR(vx[0], vx[1], 0.05);
+}
+
 }  // namespace
 }  // namespace evade::prediction
