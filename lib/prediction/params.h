@@ -35,7 +35,7 @@ struct FilterParams {
   // explains the along-axis shift its predicted ellipse's ends do not share
   // by that change, as a known offset before its update (aperture_shift,
   // track_filter.h); the moving modes measure it as motion.
-  double aperture_min_elongation = 0.0;
+  double aperture_min_elongation = 2.0;
   // ... and the half-extent's frame-to-frame change counts only beyond this
   // (the MBE's own jitter: a rigid mover's ends jitter too).
   double aperture_axis_noise_m = 0.05;
