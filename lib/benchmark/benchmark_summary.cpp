@@ -185,6 +185,9 @@ std::string summary_json(const std::vector<GroupSummary>& groups) {
       q["fde_2_5s_m"] = opt(p.sum.fde_2_5s_m);
       q["walker_ade_1s_m"] = opt(p.sum.walker_ade_1s_m);
       q["coverage_min_2_5s"] = opt(p.coverage_min(2.5));
+      q["static_track_frames"] = p.sum.static_track_frames;
+      q["static_moving_fraction"] = opt(p.static_moving_fraction());
+      q["static_speed_mean_mps"] = opt(p.static_speed_mean_mps());
       j["perception"] = q;
     }
     arr.push_back(j);
@@ -202,13 +205,14 @@ std::string perception_markdown_table(const std::vector<GroupSummary>& groups) {
     if (s.empty())
       s = "| family | mode | episodes | MOTA | MOTP (m) | id switches /100 track-s | splits /100 objects | ADE 1 s (m) "
           "| "
-          "FDE 2.5 s (m) | walker ADE 1 s (m) | coverage, worst step to 2.5 s "
-          "|\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "FDE 2.5 s (m) | walker ADE 1 s (m) | coverage, worst step to 2.5 s | static moving share | static "
+          "speed (m/s) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     s += "| " + g.family + " | " + g.mode + " | " + std::to_string(p.episodes) + " | " + fmt(p.mota(), "%.3f") + " | " +
          fmt(p.motp_m(), "%.3f") + " | " + fmt(p.id_switches_per_100_track_s(), "%.2f") + " | " +
          fmt(p.sum.objects ? std::optional<double>(100.0 * p.sum.splits / p.sum.objects) : std::nullopt, "%.2f") +
          " | " + fmt(p.sum.ade_1s_m, "%.3f") + " | " + fmt(p.sum.fde_2_5s_m, "%.3f") + " | " +
-         fmt(p.sum.walker_ade_1s_m, "%.3f") + " | " + fmt(p.coverage_min(2.5), "%.3f") + " |\n";
+         fmt(p.sum.walker_ade_1s_m, "%.3f") + " | " + fmt(p.coverage_min(2.5), "%.3f") + " | " +
+         fmt(p.static_moving_fraction(), "%.3f") + " | " + fmt(p.static_speed_mean_mps(), "%.3f") + " |\n";
   }
   return s;
 }
@@ -278,6 +282,16 @@ std::optional<double> PerceptionPool::motp_m() const {
   return sum.centre_error_sum_m / static_cast<double>(sum.matches);
 }
 
+std::optional<double> PerceptionPool::static_moving_fraction() const {
+  if (sum.static_track_frames == 0) return std::nullopt;
+  return double(sum.static_moving_frames) / double(sum.static_track_frames);
+}
+
+std::optional<double> PerceptionPool::static_speed_mean_mps() const {
+  if (sum.static_track_frames == 0) return std::nullopt;
+  return sum.static_speed_sum_mps / double(sum.static_track_frames);
+}
+
 std::optional<double> PerceptionPool::id_switches_per_100_track_s() const {
   if (sum.track_s <= 0.0) return std::nullopt;
   return 100.0 * static_cast<double>(sum.id_switches) / sum.track_s;
@@ -338,6 +352,9 @@ std::optional<PerceptionPool> pool_perception(const std::vector<const Episode*>&
     p.sum.track_s += c.track_s;
     p.sum.predictions += c.predictions;
     p.sum.walker_predictions += c.walker_predictions;
+    p.sum.static_track_frames += c.static_track_frames;
+    p.sum.static_moving_frames += c.static_moving_frames;
+    p.sum.static_speed_sum_mps += c.static_speed_sum_mps;
     ade.add(c.ade_1s_m, c.predictions);
     fde.add(c.fde_2_5s_m, c.predictions);
     walker.add(c.walker_ade_1s_m, c.walker_predictions);

@@ -41,6 +41,10 @@ struct PerceptionPool {
   std::optional<double> motp_m() const;
   std::optional<double> id_switches_per_100_track_s() const;
   std::optional<double> coverage_min(double horizon_s) const;  // worst step in (0, horizon_s]
+  // static structure's false motion: share of its track-frames published
+  // faster than static_max_speed_mps, and their mean published speed
+  std::optional<double> static_moving_fraction() const;
+  std::optional<double> static_speed_mean_mps() const;
 };
 std::optional<PerceptionPool> pool_perception(const std::vector<const Episode*>& rows);
 

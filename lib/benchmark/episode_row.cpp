@@ -66,6 +66,9 @@ const char* const kPerceptionKeys[] = {
     "predictions", "ade_1s_m",        "fde_2_5s_m",     "walker_ade_1s_m", "walker_predictions",
     "step_dt_s",   "coverage_inside", "coverage_n"};
 
+// Optional keys (newer than some rows): copied when present.
+const char* const kPerceptionOptionalKeys[] = {"static_track_frames", "static_moving_frames", "static_speed_mean_mps"};
+
 Json perception_subset(const std::string& text) {
   Json p;
   try {
@@ -75,6 +78,8 @@ Json perception_subset(const std::string& text) {
   }
   Json out = Json::object();
   for (const char* k : kPerceptionKeys) out[k] = need(p, k, " in the perception JSON");
+  for (const char* k : kPerceptionOptionalKeys)
+    if (p.contains(k)) out[k] = p[k];
   return out;
 }
 
@@ -119,6 +124,12 @@ PerceptionCounts parse_perception(const Json& p) {
   c.walker_ade_1s_m = number_or_null(p, "walker_ade_1s_m");
   c.walker_predictions = whole("walker_predictions");
   c.step_dt_s = number_or_null(p, "step_dt_s").value_or(0.0);
+  if (p.contains("static_track_frames")) {
+    c.static_track_frames = whole("static_track_frames");
+    c.static_moving_frames = whole("static_moving_frames");
+    c.static_speed_sum_mps =
+        number_or_null(p, "static_speed_mean_mps").value_or(0.0) * static_cast<double>(c.static_track_frames);
+  }
   c.coverage_inside = counts(p, "coverage_inside");
   c.coverage_n = counts(p, "coverage_n");
   if (c.coverage_inside.size() != c.coverage_n.size())

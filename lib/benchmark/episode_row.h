@@ -31,6 +31,9 @@ struct PerceptionCounts {
   int64_t predictions = 0;  // with a 2.5 s horizon scored: ade/fde weights
   std::optional<double> ade_1s_m, fde_2_5s_m, walker_ade_1s_m;
   int64_t walker_predictions = 0;
+  // static structure's false motion (0 in rows from before these keys)
+  int64_t static_track_frames = 0, static_moving_frames = 0;
+  double static_speed_sum_mps = 0;
   double step_dt_s = 0;
   std::vector<int64_t> coverage_inside, coverage_n;  // per horizon step
 };

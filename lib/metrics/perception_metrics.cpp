@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -249,6 +250,55 @@ bool is_walker(const evade::sim_obstacle_t& o, const PerceptionParams& p) {
   return o.shape == "cylinder" && o.radius <= p.walker_max_radius_m && std::hypot(o.vx, o.vy) <= p.walker_max_speed_mps;
 }
 
+// Static structure published as moving (PerceptionMetrics::static_*).
+struct StaticMotion {
+  int64_t frames = 0, moving = 0;
+  double speed_sum = 0.0;
+  std::set<int64_t> moving_ids;
+};
+
+// Object i has stood still for the last second: no velocity now, and the
+// same place and no velocity a second earlier (when the truth goes back so far).
+bool still(const Snapshot& now, const Snapshot* before, size_t i) {
+  const auto& o = now.obstacles[i];
+  if (o.vx != 0.0 || o.vy != 0.0) return false;
+  if (!before || i >= before->obstacles.size()) return true;
+  const auto& b = before->obstacles[i];
+  return b.vx == 0.0 && b.vy == 0.0 && b.x == o.x && b.y == o.y;
+}
+
+// One prediction list's tracks within range_m whose centre lies within
+// match_gate_m of a still object's shape and farther than that from every
+// moving one; their published speed.
+void add_static_motion(const evade::prediction_list_t& list, const Snapshot& now, const Timeline& tl,
+                       const PerceptionParams& p, StaticMotion* s) {
+  Snapshot before;
+  const bool has_before = tl.at(list.utime - 1000000, &before);
+  std::vector<TrueObject> objects;
+  std::vector<bool> is_still;
+  for (size_t i = 0; i < now.obstacles.size(); ++i) {
+    objects.push_back(true_object(now, i, p));
+    is_still.push_back(still(now, has_before ? &before : nullptr, i));
+  }
+  for (const auto& tp : list.tracks) {
+    if (tp.horizon < 1) continue;
+    const Vec2 c{tp.x[0], tp.y[0]};
+    if (std::hypot(c.x - now.robot_odom.x, c.y - now.robot_odom.y) > p.range_m) continue;
+    double d_still = 1e300, d_moving = 1e300;
+    for (size_t i = 0; i < objects.size(); ++i) {
+      double& d = is_still[i] ? d_still : d_moving;
+      d = std::min(d, objects[i].distance_to(c));
+    }
+    if (d_still > p.match_gate_m || d_moving <= p.match_gate_m) continue;
+    const double v = std::hypot(tp.vx, tp.vy);
+    ++s->frames;
+    s->speed_sum += v;
+    if (v <= p.static_max_speed_mps) continue;
+    ++s->moving;
+    s->moving_ids.insert(tp.id);
+  }
+}
+
 }  // namespace
 
 PerceptionMetrics compute_perception(const std::vector<bus::LogEvent>& events, const PerceptionParams& p,
@@ -262,11 +312,13 @@ PerceptionMetrics compute_perception(const std::vector<bus::LogEvent>& events, c
   m.untruthful_frames = pass.untruthful;
   Displacement d1, d25, walker1;
   WalkerSources sources;
+  StaticMotion static_motion;
   for (const auto& list : d.predictions) {
     auto frame = pass.frames.find(list.utime);
     if (frame == pass.frames.end()) continue;
     Snapshot now;
     if (!tl.at(list.utime, &now)) continue;
+    add_static_motion(list, now, tl, p, &static_motion);
     if (m.dt_s == 0.0) m.dt_s = list.dt;
     for (const auto& tp : list.tracks) {
       auto match = frame->second.find(tp.id);
@@ -306,6 +358,10 @@ PerceptionMetrics compute_perception(const std::vector<bus::LogEvent>& events, c
   m.walker_centre_radial_m = sources.mean(sources.radial, sources.n);
   m.walker_velocity_error_mps = sources.mean(sources.velocity, sources.n);
   m.walker_ade_1s_cv_truth_m = sources.mean(sources.cv_truth, sources.n_cv);
+  m.static_track_frames = static_motion.frames;
+  m.static_moving_frames = static_motion.moving;
+  m.static_moving_tracks = int64_t(static_motion.moving_ids.size());
+  m.static_speed_sum_mps = static_motion.speed_sum;
   return m;
 }
 
@@ -362,7 +418,13 @@ std::string perception_json(const PerceptionMetrics& m, const PerceptionParams& 
     << ",\n  \"walker_centre_error_m\": " << num(m.walker_centre_error_m)
     << ",\n  \"walker_centre_radial_m\": " << num(m.walker_centre_radial_m)
     << ",\n  \"walker_velocity_error_mps\": " << num(m.walker_velocity_error_mps)
-    << ",\n  \"walker_ade_1s_cv_truth_m\": " << num(m.walker_ade_1s_cv_truth_m) << ",\n  \"step_dt_s\": " << num(m.dt_s)
+    << ",\n  \"walker_ade_1s_cv_truth_m\": " << num(m.walker_ade_1s_cv_truth_m)
+    << ",\n  \"static_track_frames\": " << m.static_track_frames
+    << ",\n  \"static_moving_frames\": " << m.static_moving_frames
+    << ",\n  \"static_moving_fraction\": " << ratio(m.static_moving_frames, m.static_track_frames)
+    << ",\n  \"static_speed_mean_mps\": "
+    << (m.static_track_frames ? num(m.static_speed_sum_mps / double(m.static_track_frames)) : std::string("null"))
+    << ",\n  \"static_moving_tracks\": " << m.static_moving_tracks << ",\n  \"step_dt_s\": " << num(m.dt_s)
     << ",\n  \"coverage\": " << array(m.steps, [](const StepScore& s) { return ratio(s.inside, s.n); })
     << ",\n  \"coverage_n\": " << array(m.steps, [](const StepScore& s) { return std::to_string(s.n); })
     << ",\n  \"coverage_inside\": " << array(m.steps, [](const StepScore& s) { return std::to_string(s.inside); })
@@ -373,7 +435,8 @@ std::string perception_json(const PerceptionMetrics& m, const PerceptionParams& 
     << array(m.steps, [](const StepScore& s) { return s.n_all ? num(s.area_sum_m2 / s.n_all) : std::string("null"); })
     << ",\n  \"params\": {\"range_m\": " << num(p.range_m) << ", \"min_returns\": " << p.min_returns
     << ", \"match_gate_m\": " << num(p.match_gate_m) << ", \"max_object_size_m\": " << num(p.max_object_size_m)
-    << ", \"min_track_age_s\": " << num(p.min_track_age_s) << "}\n}\n";
+    << ", \"min_track_age_s\": " << num(p.min_track_age_s)
+    << ", \"static_max_speed_mps\": " << num(p.static_max_speed_mps) << "}\n}\n";
   return o.str();
 }
 
@@ -412,6 +475,14 @@ const char* perception_rules() {
   ellipse at step k, over tracks at least min_track_age_s old (first OBSTACLES
   appearance); coverage_all: every track; coverage_min_2_5s: the worst step in
   (0, 2.5 s]; ellipse_area_m2[k]: mean pi * a * b.
+- Static structure's false motion: every track of every OBSTACLE_PREDICTIONS list
+  (step 0) within range_m of the robot whose centre lies within match_gate_m of the
+  shape of an object that has stood still for the last second (no velocity now, and
+  the same place and no velocity 1 s earlier), walls included, and farther than
+  match_gate_m from every other object: static_track_frames. static_moving_frames:
+  those published faster than static_max_speed_mps (static_moving_fraction their
+  share, static_moving_tracks their distinct ids); static_speed_mean_mps: the mean
+  published speed over all of them.
 )";
 }
 

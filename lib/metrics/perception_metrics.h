@@ -24,6 +24,7 @@ struct PerceptionParams {
   double min_track_age_s = 0.5;       // calibration is judged on tracks at least this old
   double walker_max_radius_m = 0.35;  // a walker: a cylinder no wider ...
   double walker_max_speed_mps = 2.0;  // ... and no faster than this
+  double static_max_speed_mps = 0.3;  // a track on a static object published faster than this moves falsely
 
   template <class V>
   void fields(V& v) {
@@ -34,6 +35,7 @@ struct PerceptionParams {
     v.field("min_track_age_s", min_track_age_s, config::between(0.0, 60.0));
     v.field("walker_max_radius_m", walker_max_radius_m, config::positive());
     v.field("walker_max_speed_mps", walker_max_speed_mps, config::positive());
+    v.field("static_max_speed_mps", static_max_speed_mps, config::positive());
   }
   static PerceptionParams from_config(const config::Node& section);
 };
@@ -63,6 +65,12 @@ struct PerceptionMetrics {
   std::optional<double> walker_centre_error_m, walker_centre_radial_m, walker_velocity_error_mps,
       walker_ade_1s_cv_truth_m;
   int64_t untruthful_frames = 0;  // OBSTACLES with no SIM_TRUTH around their time
+  // False motion of static structure: published tracks (step 0 of the
+  // predictions) on an object that has not moved for a second, with no
+  // moving object near, and how many of them are published faster than
+  // static_max_speed_mps (the ids that ever were: static_moving_tracks).
+  int64_t static_track_frames = 0, static_moving_frames = 0, static_moving_tracks = 0;
+  double static_speed_sum_mps = 0.0;
 };
 
 // Throws std::runtime_error when the log has no SIM_TRUTH.

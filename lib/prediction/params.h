@@ -29,6 +29,16 @@ struct FilterParams {
   // Orientation of a near-circular MBE is noise: its measurement variance
   // grows as (axis std / max(a - b, this))^2.
   double orientation_min_elongation_m = 0.02;
+  // Aperture: an elongated MBE (a >= this times b; 0 = off) seen partly (an
+  // end in a shadow, at the map's edge, at a tile's cut) moves its centre
+  // along its major axis when the seen part changes. The stationary mode
+  // explains the along-axis shift its predicted ellipse's ends do not share
+  // by that change, as a known offset before its update (aperture_shift,
+  // track_filter.h); the moving modes measure it as motion.
+  double aperture_min_elongation = 2.0;
+  // ... and the half-extent's frame-to-frame change counts only beyond this
+  // (the MBE's own jitter: a rigid mover's ends jitter too).
+  double aperture_axis_noise_m = 0.05;
 
   template <class V>
   void fields(V& v) {
@@ -40,6 +50,8 @@ struct FilterParams {
     v.field("r_axis_m2", r_axis_m2, config::positive());
     v.field("r_theta_rad2", r_theta_rad2, config::positive());
     v.field("orientation_min_elongation_m", orientation_min_elongation_m, config::positive());
+    v.field("aperture_min_elongation", aperture_min_elongation, config::between(0.0, 1000.0));
+    v.field("aperture_axis_noise_m", aperture_axis_noise_m, config::between(0.0, 10.0));
   }
 };
 

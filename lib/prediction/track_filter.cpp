@@ -93,6 +93,31 @@ double adaptive_position_variance(double xi_eta, const AdaptiveNoiseParams& p, d
   return std::pow(p.r_pos_max_m2, k) * std::pow(p.r_pos_min_m2, 1.0 - k);
 }
 
+Measurement as_measurement(const State& x) {
+  Measurement m;
+  m.x = x(kX);
+  m.y = x(kY);
+  m.a = x(kA);
+  m.b = x(kB);
+  m.theta = x(kTheta);
+  return m;
+}
+
+Eigen::Vector2d aperture_shift(const Measurement& before, const Measurement& after, double min_elongation,
+                               double axis_noise) {
+  const double a = std::max(after.a, after.b), b = std::min(after.a, after.b);
+  if (!(min_elongation > 0.0) || !(a >= min_elongation * b)) return Eigen::Vector2d::Zero();
+  const double theta = after.a >= after.b ? after.theta : after.theta + 0.5 * kPi;
+  const Eigen::Vector2d u(std::cos(theta), std::sin(theta));
+  // before's half-extent along u (its support function)
+  const double phi = theta - before.theta;
+  const double extent = std::hypot(before.a * std::cos(phi), before.b * std::sin(phi));
+  const double ds = u.dot(Eigen::Vector2d(after.x - before.x, after.y - before.y));
+  const double da = std::max(0.0, std::fabs(a - extent) - axis_noise);
+  const double shared = std::copysign(std::max(0.0, std::fabs(ds) - da), ds);
+  return (ds - shared) * u;
+}
+
 TrackFilter::TrackFilter(const PredictorParams& params, const Measurement& z) : params_(&params) {
   const FilterParams& f = params.filter;
   x_.setZero();
@@ -277,6 +302,18 @@ double TrackFilter::own_shape_variation() const {
   return sum / static_cast<double>(m - 1);
 }
 
+void TrackFilter::record_shape(double a, double b, double theta) {
+  // theta unwrapped against the previous entry so that its mean is meaningful
+  const Shape aligned{a, b, last_theta_ + wrap_half_pi(theta - last_theta_)};
+  last_theta_ = aligned.theta;
+  const size_t m = static_cast<size_t>(params_->adaptive_noise.window_frames);
+  if (window_.size() < m)
+    window_.push_back(aligned);
+  else
+    window_[window_next_] = aligned;
+  window_next_ = (window_next_ + 1) % m;
+}
+
 UpdateInfo TrackFilter::update(const Measurement& z) {
   const FilterParams& f = params_->filter;
   UpdateInfo info;
@@ -298,15 +335,7 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
     info.swapped_axes = true;
   }
 
-  // Shape window, theta unwrapped against the previous entry so that its mean is meaningful.
-  const Shape aligned{ma, mb, last_theta_ + wrap_half_pi(mt - last_theta_)};
-  last_theta_ = aligned.theta;
-  const size_t m = static_cast<size_t>(params_->adaptive_noise.window_frames);
-  if (window_.size() < m)
-    window_.push_back(aligned);
-  else
-    window_[window_next_] = aligned;
-  window_next_ = (window_next_ + 1) % m;
+  record_shape(ma, mb, mt);
 
   info.xi_eta = use_tracker_variation_ ? std::max(0.0, z.tracker_shape_variation) : own_shape_variation();
   info.r_position = adaptive_position_variance(info.xi_eta, params_->adaptive_noise, &info.k);
@@ -318,6 +347,12 @@ UpdateInfo TrackFilter::update(const Measurement& z) {
 
   double log_likelihood[kMaxModes] = {0.0, 0.0, 0.0};
   for (int j = 0; j < num_modes_; ++j) {
+    // Standing still, a change of the seen extent explains what the ends do
+    // not share: it moves the centre as a known offset (never past the
+    // measurement). The moving modes measure it as motion.
+    if (j == kStationary)
+      modes_[j].x.head<2>() +=
+          aperture_shift(as_measurement(modes_[j].x), z, f.aperture_min_elongation, f.aperture_axis_noise_m);
     State& x = modes_[j].x;
     Covariance& P = modes_[j].P;
     Eigen::Matrix<double, kMeasSize, 1> innovation;

@@ -51,6 +51,21 @@ struct Measurement {
   double tracker_shape_variation = 0;  // the tracker's Xi_eta, used when configured
 };
 
+// Aperture (FilterParams::aperture_*): an elongated MBE seen only in part
+// (an end in a shadow, at the map's edge, at a tile's cut) moves its centre
+// along its major axis whenever the seen part changes. From `before` to
+// `after` its two ends along after's major axis move by ds + da and ds - da
+// (ds: the centre's shift along it; da: the change of the half-extent along
+// it, less `axis_noise` towards zero: the MBE's own jitter); the object
+// moves by what both ends share (the smaller, when they moved the same way;
+// nothing otherwise). Returns the rest of the centre's shift, the part that
+// a change of what is seen explains; zero when `after` is not at least
+// min_elongation times as long as wide, or min_elongation is 0.
+Eigen::Vector2d aperture_shift(const Measurement& before, const Measurement& after, double min_elongation,
+                               double axis_noise);
+// The ellipse a state predicts, as a measurement would give it.
+Measurement as_measurement(const State& x);
+
 // What the last update did (for tests and diagnostics).
 struct UpdateInfo {
   double xi_eta = 0;                  // shape variation used
@@ -104,6 +119,8 @@ class TrackFilter {
     double jerk_psd;
   };
   void combine();
+  // Appends one matched shape to the shape-variation window.
+  void record_shape(double a, double b, double theta);
   Covariance mode_noise(int mode, double dt) const;
   // pi[i][j]: probability of going from mode i to mode j within dt.
   void transitions(double dt, double pi[kMaxModes][kMaxModes]) const;

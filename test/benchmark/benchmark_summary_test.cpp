@@ -165,6 +165,28 @@ TEST(Row, PerceptionCountsArePooledPerGroup) {
   EXPECT_THROW(make_row(id("crowd", 4, "evade"), m, R"({"objects": 1})"), std::runtime_error);
 }
 
+// Static structure's false motion pools from the counts; rows from before
+// these keys carry none and count nothing.
+TEST(Row, StaticMotionIsPooledAndOptional) {
+  const std::string m = metrics(true, false, 0, false, 0.5);
+  auto with_static = [](int frames, int moving, double speed) {
+    nlohmann::json j = nlohmann::json::parse(perception(10, 0, 0, 0, 1.0, 0.2, 3, 1, 1));
+    j["static_track_frames"] = frames;
+    j["static_moving_frames"] = moving;
+    j["static_speed_mean_mps"] = speed;
+    return j.dump();
+  };
+  Episode a = parse_row(make_row(id("doorway", 1, "evade"), m, with_static(100, 10, 0.1)));
+  Episode b = parse_row(make_row(id("doorway", 2, "evade"), m, with_static(300, 0, 0.02)));
+  Episode c = parse_row(make_row(id("doorway", 3, "evade"), m, perception(10, 0, 0, 0, 1.0, 0.2, 3, 1, 1)));
+  EXPECT_EQ(c.perception->static_track_frames, 0);
+  auto pool = pool_perception({&a, &b, &c});
+  ASSERT_TRUE(pool);
+  EXPECT_DOUBLE_EQ(*pool->static_moving_fraction(), 10.0 / 400.0);
+  EXPECT_NEAR(*pool->static_speed_mean_mps(), (100 * 0.1 + 300 * 0.02) / 400.0, 1e-12);
+  EXPECT_FALSE(pool_perception({&c})->static_moving_fraction());
+}
+
 TEST(Row, ErrorRowsCountAsErrorsNotEpisodes) {
   std::vector<Episode> rows{parse_row(make_row(id("f", 1, "m"), metrics(true, false, 0, false, 0.5))),
                             parse_row(make_error_row(id("f", 2, "m"), "run_scenario exit 2"))};

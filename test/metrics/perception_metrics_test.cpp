@@ -197,6 +197,89 @@ TEST(PerceptionMetrics, AWalkersErrorIsSplitIntoCentreVelocityAndScriptedMotion)
   EXPECT_NEAR(*compute_perception(walking_log(0.3, 1.0), params()).walker_velocity_error_mps, 0.0, 1e-9);
 }
 
+// A log: a 10 m wall along y = 2 and a walker at 1 m/s along y = -1, the
+// robot at rest at the origin; 2 s of lists from t = 1 s, each with a track
+// on the wall at x = 1 published at 0.5 m/s, one on it at x = 3 at 0.1 m/s,
+// one on the walker at 1 m/s and one 20 m away at 2 m/s.
+std::vector<bus::LogEvent> wall_log() {
+  std::vector<bus::LogEvent> ev;
+  const int64_t t0 = 1'000'000'000;
+  for (int k = 0; k <= 60; ++k) {  // 3 s of truth at 20 Hz
+    const int64_t t = t0 + k * 50'000;
+    evade::sim_truth_t s{};
+    s.utime = t;
+    evade::sim_obstacle_t wall{};
+    wall.shape = "box";
+    wall.length = 10.0;
+    wall.width = 0.2;
+    wall.height = 1.0;
+    wall.y = 2.0;
+    evade::sim_obstacle_t walker{};
+    walker.id = 1;
+    walker.shape = "cylinder";
+    walker.radius = 0.25;
+    walker.height = 1.7;
+    walker.x = -2.0 + k * 0.05;
+    walker.y = -1.0;
+    walker.vx = 1.0;
+    s.obstacles = {wall, walker};
+    s.num_obstacles = 2;
+    s.lidar_returns = {200, 40};
+    ev.push_back({t, "SIM_TRUTH", bus::encode(s)});
+    evade::odometry_t od{};
+    od.utime = t;
+    ev.push_back({t, "ODOMETRY", bus::encode(od)});
+    if (k % 2 || k < 20) continue;
+    evade::obstacle_list_t l{};
+    l.utime = t;
+    evade::prediction_list_t p{};
+    p.utime = t;
+    p.dt = 0.1;
+    p.horizon = 1;
+    const double tracks[4][4] = {
+        {1.0, 2.0, 0.5, 0.0}, {3.0, 2.0, 0.1, 0.0}, {walker.x, -1.0, 1.0, 0.0}, {20.0, 0.0, 2.0, 0.0}};
+    for (int i = 0; i < 4; ++i) {
+      evade::obstacle_t ob{};
+      ob.id = i + 1;
+      ob.x = tracks[i][0];
+      ob.y = tracks[i][1];
+      ob.a = ob.b = 0.25;
+      l.obstacles.push_back(ob);
+      evade::track_prediction_t tp{};
+      tp.id = i + 1;
+      tp.horizon = 1;
+      tp.vx = tracks[i][2];
+      tp.vy = tracks[i][3];
+      tp.x = {ob.x};
+      tp.y = {ob.y};
+      tp.a = {0.25};
+      tp.b = {0.25};
+      tp.theta = {0.0};
+      tp.sigma = {0.0};
+      p.tracks.push_back(tp);
+    }
+    l.num_obstacles = 4;
+    p.num_tracks = 4;
+    ev.push_back({t, "OBSTACLES", bus::encode(l)});
+    ev.push_back({t, "OBSTACLE_PREDICTIONS", bus::encode(p)});
+  }
+  return ev;
+}
+
+TEST(PerceptionMetrics, StaticStructurePublishedMovingIsCounted) {
+  const PerceptionMetrics m = compute_perception(wall_log(), params());
+  // 21 lists; the wall's two tracks count, the walker's and the far one do not
+  EXPECT_EQ(m.static_track_frames, 42);
+  EXPECT_EQ(m.static_moving_frames, 21);
+  EXPECT_EQ(m.static_moving_tracks, 1);
+  EXPECT_NEAR(m.static_speed_sum_mps / m.static_track_frames, 0.3, 1e-9);
+  const std::string json = perception_json(m, params());
+  EXPECT_NE(json.find("\"static_moving_fraction\": 0.5,"), std::string::npos) << json;
+  PerceptionParams slower = params();
+  slower.static_max_speed_mps = 0.05;  // now the slow one moves too
+  EXPECT_EQ(compute_perception(wall_log(), slower).static_moving_frames, 42);
+}
+
 TEST(PerceptionMetrics, AnObjectOutOfRangeOrUnseenIsNotScored) {
   PerceptionParams p = params();
   p.range_m = 1.5;  // the walker starts 2.2 m away
