@@ -88,7 +88,7 @@ struct SolverOptions {
   bool fallback_brake_while_closing = true;        // own_motion: no faster than braking while braking closes in
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
-  bool rank_outcome = false;  // most_clearance: clear of movers' bodies, then contacts theirs, then ours
+  bool rank_outcome = true;   // most_clearance: clear of movers' bodies, then contacts theirs, then ours
   bool split_budget = false;  // a failed hard solve's recovery solve keeps its share of the cycle; starts pass
                               // unused iterations on (off: the restarts' reserve only, equal shares)
 
