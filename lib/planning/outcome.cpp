@@ -27,6 +27,8 @@ void extend(int N, int extra, std::vector<double>* states, ObstacleTrack* o) {
 }  // namespace
 
 Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, double tolerance, int extend_steps) {
+  Problem body = pb;  // footprint without the margin
+  body.d_safe = 0.0;
   Outcome out;
   for (const ObstacleTrack& track : pb.obstacles) {
     if (track.field) continue;
@@ -35,12 +37,12 @@ Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, doubl
     std::vector<double> s(states.begin(), states.begin() + 3 * (pb.N + 1));
     extend(pb.N, extend_steps, &s, &o);
     for (int k = 1; k <= pb.N + extend_steps; ++k) {
-      const double now = barrier_h_at(pb, o, k, &s[3 * k]);
+      const double now = barrier_h_at(body, o, k, &s[3 * k]);
       out.clearance = std::min(out.clearance, now);
       if (!(now < 0.0)) continue;
       if (out.first_contact < 0 || k < out.first_contact) out.first_contact = k;
       out.kind = std::max(out.kind, Outcome::kTheirs);
-      const double before = barrier_h_at(pb, o, k, &s[3 * (k - 1)]);
+      const double before = barrier_h_at(body, o, k, &s[3 * (k - 1)]);
       if (std::isfinite(before) && before - now > tolerance) out.kind = Outcome::kOurs;
     }
   }

@@ -1,20 +1,18 @@
 // What a plan comes to against what moves (mode evade's recovery,
 // README, What a cycle does, item 7): when no plan meets every D-CBF
-// constraint, the candidates are judged by whether the robot's body comes
-// within d_safe of an obstacle's own predicted body within the horizon
-// and, if it does, whose motion makes it so.
+// constraint, the candidates are judged by whether the robot's body and an
+// obstacle's own predicted body meet within the horizon and, if they do,
+// whose motion makes the contact.
 //
 // The obstacle's own body is its predicted ellipse less the uncertainty
 // inflation the predictor added (remove_inflation, fallback.h): the
 // inflation says where the obstacle may be, not where it will be, and from
 // a few metres off it covers every way past it in a narrow passage. The
-// robot's body is its footprint's discs; d_safe is what the stack's own
-// errors take from a clearance the plan promises (README, item 4), so a
-// plan that passes a mover by less is judged as meeting it. A meeting is
-// the robot's (kOurs) when at a step where they meet the robot's own step
-// closes on the obstacle where it is then (the metrics' rule: the robot's
-// velocity towards the other at the contact); else the other's (kTheirs:
-// it walks into a robot standing or moving away).
+// robot's body is its footprint's discs without d_safe. A contact is the
+// robot's (kOurs) when at a step where the bodies meet the robot's own
+// step closes on the obstacle where it is then (the metrics' rule: the
+// robot's velocity towards the other at the contact); else the other's
+// (kTheirs: it walks into a robot standing or moving away).
 #pragma once
 
 #include <vector>
@@ -26,8 +24,8 @@ namespace evade::planning {
 struct Outcome {
   enum Kind { kClear = 0, kTheirs = 1, kOurs = 2 };  // in order of preference
   Kind kind = kClear;
-  int first_contact = -1;                 // the first step at which they meet (-1: never)
-  double clearance = kNoObstacleBarrier;  // the least h (body distance less d_safe) over the steps judged (m)
+  int first_contact = -1;                 // the first step at which the bodies meet (-1: never)
+  double clearance = kNoObstacleBarrier;  // the least body distance over the steps judged (m, < 0: overlap)
 };
 
 // The outcome of a plan's rollout (`states`, 3 (N + 1)) against the

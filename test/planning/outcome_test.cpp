@@ -1,8 +1,8 @@
 // What a recovery plan comes to against a mover (planning/outcome.h):
-// judged on the mover's own predicted body, not its inflated ellipse, and
-// d_safe; a contact is the robot's when its own step closes on the mover
-// where they meet, else the mover's; a plan standing in a mover's lane
-// meets it after the horizon too.
+// judged on the mover's own predicted body, not its inflated ellipse; a
+// contact is the robot's when its own step closes on the mover where they
+// meet, else the mover's; a plan standing in a mover's lane meets it after
+// the horizon too.
 #include "planning/outcome.h"
 
 #include <gtest/gtest.h>
@@ -52,32 +52,28 @@ std::vector<double> standing_at(const Problem& pb, double x, double y) {
 TEST(Outcome, DrivingIntoAWalkerIsOursStandingIsTheirsStandingAsideIsClear) {
   const Problem pb = walker_ahead(1.0, 0.0);
   const double tol = 1e-3;
-  // on at 0.5 m/s: within d_safe by step 6 with the robot still driving on
+  // on at 0.5 m/s: they meet by step 7 with the robot still driving on
   const Outcome on = plan_outcome(pb, rollout_of(pb, 0.5, 0.0), tol);
   EXPECT_EQ(on.kind, Outcome::kOurs);
-  EXPECT_GE(on.first_contact, 5);
+  EXPECT_GE(on.first_contact, 6);
   EXPECT_LE(on.first_contact, 7);
-  EXPECT_LT(on.clearance, -pb.d_safe);  // and the bodies overlap
+  EXPECT_LT(on.clearance, 0.0);
   // standing where it is: the walker walks into it
   const Outcome stand = plan_outcome(pb, standing_at(pb, 0.0, 0.0), tol);
   EXPECT_EQ(stand.kind, Outcome::kTheirs);
-  EXPECT_NEAR(stand.first_contact, 8, 1);  // d_safe, and the front disc overhangs the body
-  // standing 0.8 m aside, the walker passes 0.8 - 0.3 m from the centre
-  const Outcome aside = plan_outcome(pb, standing_at(pb, 0.0, -0.8), tol);
+  EXPECT_NEAR(stand.first_contact, 10, 1);  // the front disc overhangs the body
+  // standing 0.6 m aside, the walker passes 0.6 - 0.3 - 0.155 m off
+  const Outcome aside = plan_outcome(pb, standing_at(pb, 0.0, -0.6), tol);
   EXPECT_EQ(aside.kind, Outcome::kClear);
   EXPECT_EQ(aside.first_contact, -1);
-  EXPECT_NEAR(aside.clearance, 0.8 - 0.3 - Footprint::covering(0.42, 0.31, 3).radius - pb.d_safe, 0.02);
-  // 0.6 m aside the bodies miss, but by less than d_safe: the walker's
-  const Outcome near = plan_outcome(pb, standing_at(pb, 0.0, -0.6), tol);
-  EXPECT_EQ(near.kind, Outcome::kTheirs);
-  EXPECT_GT(near.clearance, -pb.d_safe);
+  EXPECT_NEAR(aside.clearance, 0.6 - 0.3 - Footprint::covering(0.42, 0.31, 3).radius, 0.02);
 }
 
 TEST(Outcome, TheInflationIsNotTheWalkersBody) {
-  // inflated by 0.5 m the walker's ellipse covers the robot 0.8 m aside;
-  // its own body does not come within d_safe of it
+  // inflated by 0.5 m the walker's ellipse covers the robot 0.6 m aside;
+  // its own body does not reach it
   const Problem pb = walker_ahead(1.0, 0.5);
-  EXPECT_EQ(plan_outcome(pb, standing_at(pb, 0.0, -0.8), 1e-3).kind, Outcome::kClear);
+  EXPECT_EQ(plan_outcome(pb, standing_at(pb, 0.0, -0.6), 1e-3).kind, Outcome::kClear);
   EXPECT_EQ(plan_outcome(pb, standing_at(pb, 0.0, 0.0), 1e-3).kind, Outcome::kTheirs);
 }
 
@@ -88,7 +84,7 @@ TEST(Outcome, AfterTheHorizonBothGoOnAsAtItsEnd) {
   EXPECT_EQ(plan_outcome(pb, standing_at(pb, 0.0, 0.0), 1e-3, 0).kind, Outcome::kClear);
   const Outcome later = plan_outcome(pb, standing_at(pb, 0.0, 0.0), 1e-3, pb.N);
   EXPECT_EQ(later.kind, Outcome::kTheirs);
-  EXPECT_NEAR(later.first_contact, 38, 1);
+  EXPECT_NEAR(later.first_contact, 40, 1);
   // still driving on at the horizon's end, the robot drives into it
   EXPECT_EQ(plan_outcome(pb, rollout_of(pb, 0.3, 0.0), 1e-3, pb.N).kind, Outcome::kOurs);
 }
