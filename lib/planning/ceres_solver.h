@@ -88,7 +88,7 @@ struct SolverOptions {
   bool fallback_brake_while_closing = true;        // own_motion: no faster than braking while braking closes in
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
-  bool rank_closing = false;  // most_clearance: closing on a mover faster than braking ranks below braking
+  bool rank_outcome = true;   // most_clearance: clear of movers' bodies, then contacts theirs, then ours
   bool split_budget = false;  // a failed hard solve's recovery solve keeps its share of the cycle; starts pass
                               // unused iterations on (off: the restarts' reserve only, equal shares)
 
@@ -232,7 +232,7 @@ void SolverOptions::fields(V& v) {
   v.field("fallback_true_extent", fallback_true_extent);
   v.field("fallback_brake_while_closing", fallback_brake_while_closing);
   v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
-  v.field("rank_closing", rank_closing);
+  v.field("rank_outcome", rank_outcome);
   v.field("split_budget", split_budget);
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
 }

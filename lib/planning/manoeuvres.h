@@ -21,4 +21,12 @@ std::vector<double> swerve_controls(const Problem& pb, double side);
 // spot.
 std::vector<double> dash_controls(const Problem& pb, double side);
 
+// Pulling over: onto the lane `offset` m to one side of the reference's
+// line (its first point and heading), by pure pursuit, and standing `ahead`
+// m further along it, at the limits (the turn, the braking). The lane is
+// the reference's, not the robot's: chosen again next cycle, it is the
+// same lane. Where a mover comes down the robot's lane and no plan passes
+// it, getting out of its way and standing beats standing in it.
+std::vector<double> pull_over_controls(const Problem& pb, double side, double offset, double ahead);
+
 }  // namespace evade::planning

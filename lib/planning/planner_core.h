@@ -127,6 +127,9 @@ class PlannerCore : public bus::Core {
   // (manoeuvres.h), `reserve` iterations kept for the solve after it, the
   // first feasible one into *res, each finite plan into *tried when given.
   std::vector<double> projected_braking(const Problem& pb, double v0, double w0) const;
+  // False when solver.rank_outcome judges the relaxed plan u as meeting a
+  // mover's body (plan_outcome): most_clearance decides among the candidates.
+  bool relaxed_plan_stands(const Problem& pb, const std::vector<double>& u) const;
   bool braking_misses(const Problem& pb, const std::vector<double>& brake) const;
   void swerve_restarts(const Problem& pb, int reserve, SolveResult* res, int* iterations,
                        std::vector<std::vector<double>>* tried);

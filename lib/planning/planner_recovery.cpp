@@ -12,6 +12,7 @@
 #include "evade/plan_t.hpp"
 #include "planning/fallback.h"
 #include "planning/manoeuvres.h"
+#include "planning/outcome.h"
 #include "planning/planner_core.h"
 #include "planning/static_structure.h"
 
@@ -84,6 +85,10 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
     relax = barrier_relaxation(pb, p_.solver);
     can_relax = std::any_of(relax.begin(), relax.end(), [](double s) { return s > 0; });
     for (double side : {1.0, -1.0}) candidates.push_back(dash_controls(pb, side));
+    if (p_.solver.rank_outcome)
+      for (double side : {1.0, -1.0})
+        for (double offset : {0.2, 0.35, 0.45, 0.55, 0.65})
+          candidates.push_back(pull_over_controls(pb, side, offset, 1.0));
     if (can_relax && braking_misses(pb, projected_braking(pb, v0, w0))) {
       // the relaxed problem decides; the swerves stay candidates: with a
       // mover closing in, getting out of its way at speed can beat all else
@@ -107,7 +112,7 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
   if (solver) {
     const SolveResult rec = solver->solve_elastic(pb, warm_u, &relax);
     *iterations += rec.iterations;
-    if (rec.finite && rec.feasible) {
+    if (rec.finite && rec.feasible && relaxed_plan_stands(pb, rec.u)) {
       *u = rec.u;
       *res = rec;
       if (escape_turn(pb, v0, w0, u)) count("escape_turn");
@@ -116,6 +121,15 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
     if (rec.finite) candidates.push_back(rec.u);
   }
   return most_clearance(pb, candidates, odom, v0, w0, u);
+}
+
+bool PlannerCore::relaxed_plan_stands(const Problem& pb, const std::vector<double>& u) const {
+  // with the outcome rank, a relaxed plan that meets a mover's body goes
+  // among the candidates, judged with them
+  if (!p_.solver.rank_outcome) return true;
+  std::vector<double> states(3 * (pb.N + 1));
+  rollout(pb, u.data(), states.data());
+  return plan_outcome(pb, states, p_.solver.constraint_tolerance, pb.N).kind == Outcome::kClear;
 }
 
 int8_t PlannerCore::recover_own_motion(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0,
@@ -163,16 +177,18 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
   // With the static field in the problem, a plan that takes the robot
   // deeper into structure's margin ranks below every plan that does not
   // (a dash into a wall is a contact of the robot's own making); next,
-  // with solver.rank_closing, a plan that closes on an obstacle inside its
-  // margin faster than braking does (mover_closing) ranks below braking:
-  // driving on towards a walker coming through a doorway makes the
-  // contact the robot's, standing leaves it the walker's, while a dash
-  // aside closes on nothing.
+  // with solver.rank_outcome, what the plan comes to against what moves
+  // (plan_outcome, outcome.h: the bodies, not the inflated ellipses): a
+  // plan whose body stays clear ranks above one that a mover walks into,
+  // which ranks above one that drives into a mover. Getting aside in a
+  // narrow passage beats standing in the mover's lane; standing beats
+  // driving on into it.
   struct Candidate {
     std::vector<double> u;
     int8_t status;
     const char* counter;
-    bool into = false, closing = false;
+    bool into = false;
+    Outcome outcome;
     double h = 0.0, shortfall = 0.0;
   };
   std::vector<Candidate> candidates;
@@ -181,7 +197,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
   for (const auto& a : attempts) candidates.push_back({a, evade::plan_t::STATUS_RECOVERING, "most_clearance"});
   candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
   const double tie = p_.solver.constraint_tolerance;
-  std::vector<double> states(3 * (N + 1)), closing(candidates.size());
+  std::vector<double> states(3 * (N + 1));
   for (size_t i = 0; i < candidates.size(); ++i) {
     Candidate& c = candidates[i];
     project_controls(pb, &c.u);  // consistent with the measured speed and the limits
@@ -190,17 +206,18 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
     c.h = min_barrier(pb, states, 1);
     c.shortfall = barrier_shortfall(pb, states);
     c.into = structure_intrusion(pb, states) > tie;
-    closing[i] = p_.solver.rank_closing ? mover_closing(pb, states) : 0.0;
+    if (p_.solver.rank_outcome) c.outcome = plan_outcome(pb, states, tie, N);
   }
-  for (size_t i = 0; i < candidates.size(); ++i) candidates[i].closing = closing[i] > closing.back() + tie;
   const Candidate* chosen = nullptr;  // ties: the first in the list
   for (const Candidate& c : candidates) {
     const Candidate* b = chosen;
-    const bool better = !b                  ? true
-                        : c.into != b->into ? !c.into
-                        : c.closing != b->closing
-                            ? !c.closing
-                            : c.h > b->h + tie || (c.h > b->h - tie && c.shortfall < b->shortfall - 1e-9);
+    const bool better =
+        !b                                  ? true
+        : c.into != b->into                 ? !c.into
+        : c.outcome.kind != b->outcome.kind ? c.outcome.kind < b->outcome.kind
+        : c.outcome.kind != Outcome::kClear && std::fabs(c.outcome.clearance - b->outcome.clearance) > tie
+            ? c.outcome.clearance > b->outcome.clearance
+            : c.h > b->h + tie || (c.h > b->h - tie && c.shortfall < b->shortfall - 1e-9);
     if (better) chosen = &c;
   }
   *u = chosen->u;

@@ -43,7 +43,7 @@
 namespace evade::planning {
 
 struct StaticFieldParams {
-  bool enabled = false;          // mode evade: static structure by the map's cells, not by ellipses
+  bool enabled = true;           // mode evade: static structure by the map's cells, not by ellipses
   double d_safe_m = 0.03;        // margin between the footprint's discs and static cells
   double max_speed_mps = 0.2;    // a track faster than this moves: its cells are not static
   double min_track_age_s = 1.0;  // a slow track younger than this stands for its cells only if they are structure alone

@@ -19,20 +19,6 @@ double structure_intrusion(const Problem& pb, const std::vector<double>& states)
   return worst;
 }
 
-double mover_closing(const Problem& pb, const std::vector<double>& states) {
-  double worst = 0.0;
-  for (const ObstacleTrack& o : pb.obstacles) {
-    if (o.field) continue;
-    for (int k = 0; k < pb.N; ++k) {
-      const double after = barrier_h_at(pb, o, k + 1, &states[3 * (k + 1)]);
-      if (!(after < 0.0)) continue;
-      const double before = barrier_h_at(pb, o, k + 1, &states[3 * k]);
-      if (std::isfinite(before)) worst = std::max(worst, before - after);
-    }
-  }
-  return worst;
-}
-
 void StaticStructure::keep_map(const evade::grid_map_t& m) {
   maps_.push_back(m);
   while (maps_.size() > kMapsKept) maps_.pop_front();

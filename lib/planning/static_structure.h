@@ -44,14 +44,6 @@ namespace evade::planning {
 // walker trades a contact of its own making for one that may not come.
 double structure_intrusion(const Problem& pb, const std::vector<double>& states);
 
-// How fast a plan's rollout closes on what moves by the robot's own
-// motion, inside its margin: over the ellipse obstacles of pb (no field)
-// and steps k = 0..N-1, the largest h(X_k) - h(X_k+1), both against the
-// obstacle where it is predicted at k + 1, where h(X_k+1) < 0 (m per step;
-// 0 when it never does). A contact in which the robot moves towards the
-// other is the robot's fault, whoever came first.
-double mover_closing(const Problem& pb, const std::vector<double>& states);
-
 class StaticStructure {
  public:
   explicit StaticStructure(StaticFieldParams p) : p_(p) {}

@@ -37,9 +37,10 @@ std::string config_with(const std::vector<std::pair<std::string, std::string>>& 
   return path;
 }
 
-metrics::RunMetrics run_corridor(const std::string& config_path, const std::string& name) {
+metrics::RunMetrics run_corridor(const std::string& config_path, const std::string& name,
+                                 const std::string& scene = "corridor_scout.yaml") {
   const config::Node root = config::load_robot_config(config_path);
-  const sim::Scenario scenario = sim::load_scenario(kSource + "/test/closedloop/corridor_scout.yaml");
+  const sim::Scenario scenario = sim::load_scenario(kSource + "/test/closedloop/" + scene);
   const std::string log_path = ::testing::TempDir() + "/footprint_" + name + ".lcmlog";
   std::filesystem::remove(log_path);
   LockstepRun options;
@@ -63,6 +64,21 @@ TEST(Footprint, AScoutPassingAWalkerInA2m2CorridorKeepsItsWholeBodyClear) {
   EXPECT_GT(m.min_dist_m, 0.0);
   std::printf("[figures] corridor_scout: min clearance %.3f m, time to goal %.1f s\n", m.min_dist_m,
               m.time_to_goal_s.value_or(-1.0));
+}
+
+// The walker in a lane the Scout can barely pass beside
+// (corridor_scout_lane030.yaml): no plan meets the constraints from metres
+// off, and the recovery's outcome rank must get the robot aside, not leave
+// it driving on or standing in the walker's way (without the rank and the
+// static field: a collision at fault, -0.18 m).
+TEST(Footprint, AScoutMeetingAWalkerInANarrowerLaneNeverDrivesIntoIt) {
+  const metrics::RunMetrics m = run_corridor(config_with({kScoutLength, kScoutWidth}, "scout_lane030"), "scout_lane030",
+                                             "corridor_scout_lane030.yaml");
+  EXPECT_TRUE(m.reached_goal);
+  EXPECT_EQ(m.collisions_at_fault, 0);
+  EXPECT_GT(m.min_dist_m, -0.05);
+  std::printf("[figures] corridor_scout_lane030: min clearance %.3f m, %zu contacts\n", m.min_dist_m,
+              m.contacts.size());
 }
 
 }  // namespace

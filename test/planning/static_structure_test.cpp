@@ -273,42 +273,5 @@ TEST(StaticStructure, APlanIntoTheWallsMarginIntrudesOneAlongItDoesNot) {
   EXPECT_EQ(structure_intrusion(pb, into), 0.0);
 }
 
-// A walker (a disc of 0.3 m, d_safe 0.3 m: h = distance - 0.6 for the
-// point robot) coming at 1 m/s along x towards a robot at x 1.2.
-Problem walker_coming() {
-  Problem pb;
-  pb.N = 3;
-  pb.dt = 0.1;
-  pb.d_safe = 0.3;
-  ObstacleTrack w;
-  w.id = 7;
-  w.x = {2.0, 1.9, 1.8, 1.7};
-  w.y = {0.0, 0.0, 0.0, 0.0};
-  w.a = w.b = {0.3, 0.3, 0.3, 0.3};
-  w.theta = {0.0, 0.0, 0.0, 0.0};
-  pb.obstacles = {w};
-  return pb;
-}
-
-TEST(StaticStructure, DrivingOnTowardsAWalkerClosesStandingOrSwervingDoesNot) {
-  const Problem pb = walker_coming();
-  // on at 0.5 m/s: inside the margin from k = 2, 0.05 m closer per step by
-  // the robot's own motion
-  const std::vector<double> on{1.2, 0.0, 0.0, 1.25, 0.0, 0.0, 1.3, 0.0, 0.0, 1.35, 0.0, 0.0};
-  EXPECT_NEAR(mover_closing(pb, on), 0.05, 1e-9);
-  // standing: the walker closes, the robot does not
-  const std::vector<double> stand{1.2, 0.0, 0.0, 1.2, 0.0, 0.0, 1.2, 0.0, 0.0, 1.2, 0.0, 0.0};
-  EXPECT_EQ(mover_closing(pb, stand), 0.0);
-  // backing off at 0.5 m/s opens the distance
-  const std::vector<double> back{1.2, 0.0, 0.0, 1.15, 0.0, 0.0, 1.1, 0.0, 0.0, 1.05, 0.0, 0.0};
-  EXPECT_EQ(mover_closing(pb, back), 0.0);
-  // aside, square to the walker's way, at 0.5 m/s: the distance grows
-  const std::vector<double> aside{1.2, 0.0, 0.0, 1.2, 0.05, 0.0, 1.2, 0.1, 0.0, 1.2, 0.15, 0.0};
-  EXPECT_EQ(mover_closing(pb, aside), 0.0);
-  // outside the margin, closing does not count
-  const std::vector<double> far{0.0, 0.0, 0.0, 0.05, 0.0, 0.0, 0.1, 0.0, 0.0, 0.15, 0.0, 0.0};
-  EXPECT_EQ(mover_closing(pb, far), 0.0);
-}
-
 }  // namespace
 }  // namespace evade::planning

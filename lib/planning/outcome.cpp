@@ -1,0 +1,52 @@
+#include "planning/outcome.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "planning/fallback.h"
+
+namespace evade::planning {
+namespace {
+
+// states and o carried on for `extra` steps as they go at step N
+void extend(int N, int extra, std::vector<double>* states, ObstacleTrack* o) {
+  const size_t last = 3 * static_cast<size_t>(N);
+  const double dx = N > 0 ? (*states)[last] - (*states)[last - 3] : 0.0;
+  const double dy = N > 0 ? (*states)[last + 1] - (*states)[last - 2] : 0.0;
+  const double ox = N > 0 ? o->x[N] - o->x[N - 1] : 0.0, oy = N > 0 ? o->y[N] - o->y[N - 1] : 0.0;
+  for (int j = 1; j <= extra; ++j) {
+    states->insert(states->end(), {(*states)[last] + j * dx, (*states)[last + 1] + j * dy, (*states)[last + 2]});
+    o->x.push_back(o->x[N] + j * ox);
+    o->y.push_back(o->y[N] + j * oy);
+    o->a.push_back(o->a[N]);
+    o->b.push_back(o->b[N]);
+    o->theta.push_back(o->theta[N]);
+  }
+}
+
+}  // namespace
+
+Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, double tolerance, int extend_steps) {
+  Problem body = pb;  // footprint without the margin
+  body.d_safe = 0.0;
+  Outcome out;
+  for (const ObstacleTrack& track : pb.obstacles) {
+    if (track.field) continue;
+    ObstacleTrack o = track;
+    remove_inflation(&o);
+    std::vector<double> s(states.begin(), states.begin() + 3 * (pb.N + 1));
+    extend(pb.N, extend_steps, &s, &o);
+    for (int k = 1; k <= pb.N + extend_steps; ++k) {
+      const double now = barrier_h_at(body, o, k, &s[3 * k]);
+      out.clearance = std::min(out.clearance, now);
+      if (!(now < 0.0)) continue;
+      if (out.first_contact < 0 || k < out.first_contact) out.first_contact = k;
+      out.kind = std::max(out.kind, Outcome::kTheirs);
+      const double before = barrier_h_at(body, o, k, &s[3 * (k - 1)]);
+      if (std::isfinite(before) && before - now > tolerance) out.kind = Outcome::kOurs;
+    }
+  }
+  return out;
+}
+
+}  // namespace evade::planning
