@@ -132,6 +132,13 @@ TrueObject true_object(const Snapshot& s, size_t i, const PerceptionParams& p) {
   return t;
 }
 
+// Every object of a snapshot as scored (true_object), in its order.
+std::vector<TrueObject> true_objects(const Snapshot& s, const PerceptionParams& p) {
+  std::vector<TrueObject> objects;
+  for (size_t i = 0; i < s.obstacles.size(); ++i) objects.push_back(true_object(s, i, p));
+  return objects;
+}
+
 // Scored matches of one frame: track id -> index of the true object.
 using FrameMatches = std::map<int64_t, size_t>;
 
@@ -156,8 +163,7 @@ TrackingPass run_tracking(const Decoded& d, const Timeline& tl, const Perception
       ++pass.untruthful;
       continue;
     }
-    std::vector<TrueObject> objects;
-    for (size_t i = 0; i < s.obstacles.size(); ++i) objects.push_back(true_object(s, i, p));
+    const std::vector<TrueObject> objects = true_objects(s, p);
     std::vector<Hypothesis> hyps;
     for (const auto& o : l.obstacles)
       hyps.push_back({o.id, {o.x, o.y}, std::hypot(o.x - s.robot_odom.x, o.y - s.robot_odom.y) <= p.range_m});
@@ -274,12 +280,9 @@ void add_static_motion(const evade::prediction_list_t& list, const Snapshot& now
                        const PerceptionParams& p, StaticMotion* s) {
   Snapshot before;
   const bool has_before = tl.at(list.utime - 1000000, &before);
-  std::vector<TrueObject> objects;
+  const std::vector<TrueObject> objects = true_objects(now, p);
   std::vector<bool> is_still;
-  for (size_t i = 0; i < now.obstacles.size(); ++i) {
-    objects.push_back(true_object(now, i, p));
-    is_still.push_back(still(now, has_before ? &before : nullptr, i));
-  }
+  for (size_t i = 0; i < now.obstacles.size(); ++i) is_still.push_back(still(now, has_before ? &before : nullptr, i));
   for (const auto& tp : list.tracks) {
     if (tp.horizon < 1) continue;
     const Vec2 c{tp.x[0], tp.y[0]};

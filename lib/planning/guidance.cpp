@@ -425,9 +425,7 @@ std::vector<double> controls_along(const Problem& pb, const GuidancePath& path) 
     v = std::min(std::max(want_v, v - pb.lim.decel * pb.dt), v + pb.lim.accel * pb.dt);
     u[2 * k] = v;
     u[2 * k + 1] = w;
-    x += v * std::cos(yaw) * pb.dt;
-    y += v * std::sin(yaw) * pb.dt;
-    yaw += w * pb.dt;
+    unicycle_step(v, w, pb.dt, &x, &y, &yaw);
   }
   return u;
 }

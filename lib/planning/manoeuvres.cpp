@@ -50,9 +50,7 @@ std::vector<double> pull_over_controls(const Problem& pb, double side, double of
     v = std::clamp(std::min(want_v, pb.lim.v_max), lo, std::max(lo, v + pb.lim.accel * pb.dt));
     u[2 * k] = v;
     u[2 * k + 1] = w;
-    x += v * std::cos(yaw) * pb.dt;
-    y += v * std::sin(yaw) * pb.dt;
-    yaw += w * pb.dt;
+    unicycle_step(v, w, pb.dt, &x, &y, &yaw);
   }
   return u;
 }

@@ -8,14 +8,21 @@
 namespace evade::planning {
 namespace {
 
-// states and o carried on for `extra` steps as they go at step N
-void extend(int N, int extra, std::vector<double>* states, ObstacleTrack* o) {
+// The rollout's first N + 1 states, then `extra` more as the robot goes at
+// step N (its last step's displacement, its heading held).
+std::vector<double> extended_states(const std::vector<double>& states, int N, int extra) {
+  std::vector<double> s(states.begin(), states.begin() + 3 * (N + 1));
   const size_t last = 3 * static_cast<size_t>(N);
-  const double dx = N > 0 ? (*states)[last] - (*states)[last - 3] : 0.0;
-  const double dy = N > 0 ? (*states)[last + 1] - (*states)[last - 2] : 0.0;
+  const double dx = N > 0 ? s[last] - s[last - 3] : 0.0;
+  const double dy = N > 0 ? s[last + 1] - s[last - 2] : 0.0;
+  for (int j = 1; j <= extra; ++j) s.insert(s.end(), {s[last] + j * dx, s[last + 1] + j * dy, s[last + 2]});
+  return s;
+}
+
+// o carried on for `extra` steps as it goes at step N, its ellipse held.
+void extend(int N, int extra, ObstacleTrack* o) {
   const double ox = N > 0 ? o->x[N] - o->x[N - 1] : 0.0, oy = N > 0 ? o->y[N] - o->y[N - 1] : 0.0;
   for (int j = 1; j <= extra; ++j) {
-    states->insert(states->end(), {(*states)[last] + j * dx, (*states)[last + 1] + j * dy, (*states)[last + 2]});
     o->x.push_back(o->x[N] + j * ox);
     o->y.push_back(o->y[N] + j * oy);
     o->a.push_back(o->a[N]);
@@ -27,15 +34,18 @@ void extend(int N, int extra, std::vector<double>* states, ObstacleTrack* o) {
 }  // namespace
 
 Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, double tolerance, int extend_steps) {
-  Problem body = pb;  // footprint without the margin
+  // the footprint without the margin (barrier_h_at reads only these of a
+  // Problem for an ellipse obstacle)
+  Problem body;
+  body.footprint = pb.footprint;
   body.d_safe = 0.0;
+  const std::vector<double> s = extended_states(states, pb.N, extend_steps);
   Outcome out;
   for (const ObstacleTrack& track : pb.obstacles) {
     if (track.field) continue;
     ObstacleTrack o = track;
     remove_inflation(&o);
-    std::vector<double> s(states.begin(), states.begin() + 3 * (pb.N + 1));
-    extend(pb.N, extend_steps, &s, &o);
+    extend(pb.N, extend_steps, &o);
     for (int k = 1; k <= pb.N + extend_steps; ++k) {
       const double now = barrier_h_at(body, o, k, &s[3 * k]);
       out.clearance = std::min(out.clearance, now);

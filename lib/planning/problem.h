@@ -310,6 +310,15 @@ inline BarrierValue barrier_at(const Problem& pb, const ObstacleTrack& o, int k,
 
 // ---- the model, generic in the scalar type (double or ceres::Jet) ----
 
+// One step of rollout's model in double, for controllers that choose each
+// step's controls from the pose they have reached: the pose after driving
+// (v, w) for dt from (x, y, yaw).
+inline void unicycle_step(double v, double w, double dt, double* x, double* y, double* yaw) {
+  *x += v * std::cos(*yaw) * dt;
+  *y += v * std::sin(*yaw) * dt;
+  *yaw += w * dt;
+}
+
 // states: 3 (N + 1) values x, y, yaw per step; u: 2 N values v, omega per step.
 // cos_th, sin_th (N each, optional): the cosine and sine of the heading at
 // each step k < N, as used (the solver's sensitivities need them too).
