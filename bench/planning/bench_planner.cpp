@@ -21,6 +21,11 @@
 //                         (guidance.h, config/robot.yaml planner.guidance), per planning cycle
 //   cycle/guidance/<k>    guidance, the local solves side by side (planner.guidance.threads)
 //                         and the choice (topology_planner.h): mode evade's whole cycle
+//   outcome/<k>           the recovery's judgement of its 17 open-loop candidates (2 dashes,
+//                         10 pull-overs, 2 swerves, the failed solve's, the last plan shifted,
+//                         braking) against the k obstacles: each projected on the limits,
+//                         rolled out, its least h, shortfall and plan_outcome over 2N steps
+//                         (planner_recovery.cpp's most_clearance, planner.solver.rank_outcome)
 // After the runs a table gives, per start, each solver's CPU time per solve
 // (the thread's CPU clock, so that other programs on the machine change it
 // less), the ratio IPOPT / Ceres against the faster IPOPT variant, and each
@@ -41,6 +46,8 @@
 #include "planning/detour.h"
 #include "planning/guidance.h"
 #include "planning/ipopt_solver.h"
+#include "planning/manoeuvres.h"
+#include "planning/outcome.h"
 #include "planning/params.h"
 #include "planning/reference.h"
 #include "planning/static_field.h"
@@ -346,6 +353,37 @@ void BM_GuidanceCycle(benchmark::State& state) {
   state.counters["feasible"] = o.feasible ? 1 : 0;
 }
 
+// What most_clearance does per candidate when the hard solve has failed: the
+// same 17 candidates as planner_recovery.cpp's chain (the ones made from the
+// fixed problem here; the failed solve's and the last plan shifted are both
+// stood in for by the warm start, braking by zero controls projected on the
+// rate limits).
+void BM_Outcome(benchmark::State& state) {
+  using namespace evade::planning;
+  const int k = static_cast<int>(state.range(0));
+  const Problem pb = testing::bench_problem(k);
+  const std::vector<double> warm = warm_start(k, CeresMpcSolver{SolverOptions{}}).u;
+  std::vector<std::vector<double>> candidates{warm, warm, std::vector<double>(2 * pb.N, 0.0)};
+  for (double side : {1.0, -1.0}) {
+    candidates.push_back(dash_controls(pb, side));
+    candidates.push_back(swerve_controls(pb, side));
+    for (double offset : {0.2, 0.35, 0.45, 0.55, 0.65}) candidates.push_back(pull_over_controls(pb, side, offset, 1.0));
+  }
+  std::vector<double> states(3 * (pb.N + 1));
+  int clear = 0;
+  for (auto _ : state) {
+    clear = 0;
+    for (std::vector<double> u : candidates) {
+      project_controls(pb, &u);
+      rollout(pb, u.data(), states.data());
+      benchmark::DoNotOptimize(min_barrier(pb, states, 1));
+      clear += plan_outcome(pb, states, 1e-3, pb.N).kind == Outcome::kClear;
+    }
+  }
+  state.counters["candidates"] = static_cast<double>(candidates.size());
+  state.counters["clear"] = clear;
+}
+
 void BM_StaticField(benchmark::State& state) {
   using namespace evade::planning;
   const int k = static_cast<int>(state.range(0));
@@ -372,6 +410,7 @@ void BM_StaticField(benchmark::State& state) {
 
 BENCHMARK(BM_Guidance)->Name("guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GuidanceCycle)->Name("cycle/guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Outcome)->Name("outcome")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StaticField)->Name("static_field")->Arg(0)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Detour)->Name("detour")->Arg(1)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ceres)->Name("solve/ceres")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
