@@ -68,13 +68,14 @@ double body_radius(const TrueObject& o) {
   return o.radius > 0.0 ? o.radius : 0.5 * std::sqrt(o.box.length * o.box.width);
 }
 
-void add_step(EllipseStep* s, bool in, bool inflation_in, bool body_in, double area, double sigma) {
+void add_step(EllipseStep* s, bool in, bool inflation_in, bool body_in, double area, double sigma, double error) {
   ++s->n;
   s->inside += in;
   s->inflation_inside += inflation_in;
   s->body_inside += body_in;
   s->area_sum_m2 += area;
   s->sigma_sum_m += sigma;
+  s->error_sum_m += error;
 }
 
 }  // namespace
@@ -105,11 +106,12 @@ void add_calibration(const evade::track_prediction_t& tp, const std::vector<True
   for (size_t k = 0; k < n; ++k) {
     const Vec2 c{tp.x[k], tp.y[k]};
     const bool in = inside(to_ellipse(truth[k].centre, c, tp.theta[k]), tp.a[k], tp.b[k]);
-    const bool inflation_in = std::hypot(truth[k].centre.x - c.x, truth[k].centre.y - c.y) <= tp.sigma[k];
+    const double error = std::hypot(truth[k].centre.x - c.x, truth[k].centre.y - c.y);
+    const bool inflation_in = error <= tp.sigma[k];
     const bool body_in = body_inside_ellipse(truth[k], c, tp.a[k], tp.b[k], tp.theta[k]);
     const double area = M_PI * tp.a[k] * tp.b[k];
     for (EllipseTally* t : {by_class, by_age})
-      if (t) add_step(&t->steps[k], in, inflation_in, body_in, area, tp.sigma[k]);
+      if (t) add_step(&t->steps[k], in, inflation_in, body_in, area, tp.sigma[k], error);
   }
 }
 
@@ -158,6 +160,7 @@ std::string members(const std::string& prefix, const std::array<EllipseTally, N>
        "_body_coverage\": " + steps([](const EllipseStep& s) { return double(s.body_inside) / s.n; }) + ",\n";
   o += "  \"" + prefix + "_area_m2\": " + steps([](const EllipseStep& s) { return s.area_sum_m2 / s.n; }) + ",\n";
   o += "  \"" + prefix + "_inflation_m\": " + steps([](const EllipseStep& s) { return s.sigma_sum_m / s.n; }) + ",\n";
+  o += "  \"" + prefix + "_error_m\": " + steps([](const EllipseStep& s) { return s.error_sum_m / s.n; }) + ",\n";
   o += "  \"" + prefix + "_extent_excess_m\": " + object(t, name, [](const EllipseTally& x) {
          return number(x.excess_sum_m / x.predictions);
        });

@@ -8,7 +8,7 @@
 //   the covariance's own radius, covers the centre);
 // - body coverage: the whole true body (a disc, or a box's corners) inside
 //   the published ellipse (what the planner's hard constraints assume);
-// - area pi a b and sigma; and once per prediction (step 0) the extent's
+// - area pi a b, sigma and the centre error; and once per prediction (step 0) the extent's
 //   excess: sqrt((a - sigma)(b - sigma)) less the body's radius (a box:
 //   half the geometric mean of its length and width).
 #pragma once
@@ -41,7 +41,7 @@ int age_bin(double age_s);
 
 struct EllipseStep {
   int64_t n = 0, inside = 0, inflation_inside = 0, body_inside = 0;
-  double area_sum_m2 = 0.0, sigma_sum_m = 0.0;
+  double area_sum_m2 = 0.0, sigma_sum_m = 0.0, error_sum_m = 0.0;
 };
 
 struct EllipseTally {

@@ -492,7 +492,8 @@ const char* perception_rules() {
   second, other) and by track age (age_*: 0-0.5, 0.5-1, 1-2, 2-5, 5+ s, every track):
   *_n, *_coverage (centre inside), *_inflation_coverage (centre error <= sigma: the
   inflation alone covers it), *_body_coverage (the whole true body inside: a disc, a
-  box's corners), *_area_m2, *_inflation_m (mean sigma); *_extent_excess_m: step 0's
+  box's corners), *_area_m2, *_inflation_m (mean sigma), *_error_m (mean centre error);
+  *_extent_excess_m: step 0's
   sqrt((a - sigma)(b - sigma)) less the body's radius (a box: sqrt(length width) / 2).
 - Static structure's false motion: every track of every OBSTACLE_PREDICTIONS list
   (step 0) within range_m of the robot whose centre lies within match_gate_m of the

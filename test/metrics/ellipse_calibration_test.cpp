@@ -94,6 +94,7 @@ TEST(EllipseCalibration, CountsCentreInflationAndBodyPerStep) {
   EXPECT_EQ(w.steps[1].body_inside, 0);
   EXPECT_NEAR(w.excess_sum_m, 0.05, 1e-12);  // extent 0.3 against the 0.25 m body
   EXPECT_NEAR(w.steps[1].area_sum_m2, M_PI * 0.4 * 0.4, 1e-12);
+  EXPECT_NEAR(w.steps[1].error_sum_m, 0.2, 1e-12);
   EXPECT_EQ(cal.by_age[static_cast<size_t>(age_bin(3.0))].steps[1].n, 1);
   // A young track counts by age only.
   add_calibration(tp, {disc(0.0, 0.0, 0.25)}, ObjectClass::kWalker, 0.2, 0.5, &cal);
