@@ -190,11 +190,12 @@ struct Displacement {
 // Errors of one track's predicted centres against the truth; false when
 // the truth ends before the horizon does.
 bool score_track(const evade::prediction_list_t& list, const evade::track_prediction_t& tp, size_t object,
-                 const Timeline& tl, std::vector<double>* errors, std::vector<bool>* inside,
-                 std::vector<double>* area) {
+                 const Timeline& tl, const PerceptionParams& p, std::vector<double>* errors, std::vector<bool>* inside,
+                 std::vector<double>* area, std::vector<TrueObject>* bodies) {
   for (int k = 0; k < tp.horizon; ++k) {
     Snapshot s;
     if (!tl.at(list.utime + std::llround(k * list.dt * 1e6), &s) || object >= s.obstacles.size()) return false;
+    bodies->push_back(true_object(s, object, p));
     const Vec2 truth = s.to_odom({s.obstacles[object].x, s.obstacles[object].y});
     const double dx = truth.x - tp.x[k], dy = truth.y - tp.y[k];
     const double c = std::cos(tp.theta[k]), sn = std::sin(tp.theta[k]);
@@ -322,15 +323,22 @@ PerceptionMetrics compute_perception(const std::vector<bus::LogEvent>& events, c
     Snapshot now;
     if (!tl.at(list.utime, &now)) continue;
     add_static_motion(list, now, tl, p, &static_motion);
+    Snapshot before;
+    const bool has_before = tl.at(list.utime - 1000000, &before);
     if (m.dt_s == 0.0) m.dt_s = list.dt;
     for (const auto& tp : list.tracks) {
       auto match = frame->second.find(tp.id);
       if (match == frame->second.end() || tp.horizon < 1) continue;
       std::vector<double> err, area;
       std::vector<bool> inside;
-      if (!score_track(list, tp, match->second, tl, &err, &inside, &area)) continue;
+      std::vector<TrueObject> bodies;
+      if (!score_track(list, tp, match->second, tl, p, &err, &inside, &area, &bodies)) continue;
       const auto seen = pass.first_seen.find(tp.id);
-      const bool old = seen != pass.first_seen.end() && (list.utime - seen->second) * 1e-6 >= p.min_track_age_s;
+      const double age_s = seen != pass.first_seen.end() ? (list.utime - seen->second) * 1e-6 : 0.0;
+      const bool old = age_s >= p.min_track_age_s;
+      const size_t i = match->second;
+      add_calibration(tp, bodies, classify(now.obstacles[i], still(now, has_before ? &before : nullptr, i)), age_s,
+                      p.min_track_age_s, &m.ellipses);
       if (m.steps.size() < err.size()) m.steps.resize(err.size());
       for (size_t k = 0; k < err.size(); ++k) {
         StepScore& st = m.steps[k];
@@ -436,9 +444,10 @@ std::string perception_json(const PerceptionMetrics& m, const PerceptionParams& 
     << array(m.steps, [](const StepScore& s) { return s.n_all ? num(s.error_sum_m / s.n_all) : std::string("null"); })
     << ",\n  \"ellipse_area_m2\": "
     << array(m.steps, [](const StepScore& s) { return s.n_all ? num(s.area_sum_m2 / s.n_all) : std::string("null"); })
-    << ",\n  \"params\": {\"range_m\": " << num(p.range_m) << ", \"min_returns\": " << p.min_returns
-    << ", \"match_gate_m\": " << num(p.match_gate_m) << ", \"max_object_size_m\": " << num(p.max_object_size_m)
-    << ", \"min_track_age_s\": " << num(p.min_track_age_s)
+    << ",\n"
+    << calibration_json(m.ellipses) << ",\n  \"params\": {\"range_m\": " << num(p.range_m)
+    << ", \"min_returns\": " << p.min_returns << ", \"match_gate_m\": " << num(p.match_gate_m)
+    << ", \"max_object_size_m\": " << num(p.max_object_size_m) << ", \"min_track_age_s\": " << num(p.min_track_age_s)
     << ", \"static_max_speed_mps\": " << num(p.static_max_speed_mps) << "}\n}\n";
   return o.str();
 }
@@ -478,6 +487,14 @@ const char* perception_rules() {
   ellipse at step k, over tracks at least min_track_age_s old (first OBSTACLES
   appearance); coverage_all: every track; coverage_min_2_5s: the worst step in
   (0, 2.5 s]; ellipse_area_m2[k]: mean pi * a * b.
+- The ellipses' size (ellipse_calibration.h), per step, by object class (class_*: tracks
+  at least min_track_age_s old; walker, bike, ball, dog, static: still for the last
+  second, other) and by track age (age_*: 0-0.5, 0.5-1, 1-2, 2-5, 5+ s, every track):
+  *_n, *_coverage (centre inside), *_inflation_coverage (centre error <= sigma: the
+  inflation alone covers it), *_body_coverage (the whole true body inside: a disc, a
+  box's corners), *_area_m2, *_inflation_m (mean sigma), *_error_m (mean centre error);
+  *_extent_excess_m: step 0's
+  sqrt((a - sigma)(b - sigma)) less the body's radius (a box: sqrt(length width) / 2).
 - Static structure's false motion: every track of every OBSTACLE_PREDICTIONS list
   (step 0) within range_m of the robot whose centre lies within match_gate_m of the
   shape of an object that has stood still for the last second (no velocity now, and

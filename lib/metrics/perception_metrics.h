@@ -13,6 +13,7 @@
 #include "config/config.h"
 #include "config/fields.h"
 #include "metrics/clear_mot.h"
+#include "metrics/ellipse_calibration.h"
 
 namespace evade::metrics {
 
@@ -71,6 +72,8 @@ struct PerceptionMetrics {
   // static_max_speed_mps (the ids that ever were: static_moving_tracks).
   int64_t static_track_frames = 0, static_moving_frames = 0, static_moving_tracks = 0;
   double static_speed_sum_mps = 0.0;
+  // The published ellipses by object class and track age (ellipse_calibration.h).
+  EllipseCalibration ellipses;
 };
 
 // Throws std::runtime_error when the log has no SIM_TRUTH.

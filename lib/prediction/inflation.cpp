@@ -86,4 +86,10 @@ double shape_radius(double var_a, double var_b, double var_theta, double elongat
   return z * std::sqrt(v);
 }
 
+double combined_radius(double r_p, double r_eta, const std::string& combine) {
+  if (combine == "rss") return std::hypot(r_p, r_eta);
+  if (combine == "position") return r_p;
+  return r_p + r_eta;
+}
+
 }  // namespace evade::prediction

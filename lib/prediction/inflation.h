@@ -12,6 +12,8 @@
 // family that still contains the Minkowski sum (checked in the tests).
 #pragma once
 
+#include <string>
+
 namespace evade::prediction {
 
 // Left-hand side of the paper's equation at sigma (0 at sigma_min).
@@ -40,5 +42,9 @@ double position_radius(double pxx, double pxy, double pyy, double chi2_2dof);
 // z * sqrt(max(var_a, var_b) + (a - b)^2 var_theta); (a - b) * dtheta is the
 // largest boundary displacement a rotation dtheta causes.
 double shape_radius(double var_a, double var_b, double var_theta, double elongation, double z);
+
+// One radius from r_p and r_eta: "sum" r_p + r_eta (the paper), "rss"
+// sqrt(r_p^2 + r_eta^2), "position" r_p.
+double combined_radius(double r_p, double r_eta, const std::string& combine);
 
 }  // namespace evade::prediction

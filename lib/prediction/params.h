@@ -144,6 +144,10 @@ struct UncertaintyParams {
   // and unbounded it makes every moving obstacle cover the road by k = 25,
   // which leaves the planner no feasible plan.
   double max_inflation_m = 0.5;
+  // How r_p and r_eta make one radius: sum (the paper: both at their 95 %
+  // bound at once), rss (sqrt(r_p^2 + r_eta^2): independent errors, the
+  // 95 % bound of their sum) or position (r_p alone).
+  std::string combine = "sum";
 
   template <class V>
   void fields(V& v) {
@@ -151,6 +155,7 @@ struct UncertaintyParams {
     v.field("min_axis_m", min_axis_m, config::positive());
     v.field("root_tolerance_m", root_tolerance_m, config::between(1e-15, 1e-3));
     v.field("max_inflation_m", max_inflation_m, config::between(0.0, 100.0));
+    v.choice("combine", combine, {"sum", "rss", "position"});
   }
 };
 

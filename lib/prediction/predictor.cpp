@@ -227,7 +227,7 @@ void Predictor::predict_track(int64_t id, const TrackFilter& filter, evade::trac
     }
     const double r_p = position_radius(P(kX, kX), P(kX, kY), P(kY, kY), chi2_position_);
     const double r_eta = shape_radius(P(kA, kA), P(kB, kB), P(kTheta, kTheta), a - b, z_shape_);
-    const Inflation inf = solve_inflation(a, b, r_p + r_eta, unc.root_tolerance_m);
+    const Inflation inf = solve_inflation(a, b, combined_radius(r_p, r_eta, unc.combine), unc.root_tolerance_m);
     const double sigma = std::min(inf.total, unc.max_inflation_m);
     out->x[k] = x(kX);
     out->y[k] = x(kY);

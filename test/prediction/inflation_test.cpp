@@ -100,5 +100,16 @@ TEST(Inflation, RadiiFromCovariance) {
   EXPECT_NEAR(shape_radius(0.01, 0.04, 0.25, 0.2, 2.0), 2.0 * std::sqrt(0.04 + 0.04 * 0.25), 1e-12);
 }
 
+TEST(Inflation, CombinedRadiusSumRssOrPosition) {
+  EXPECT_DOUBLE_EQ(combined_radius(0.12, 0.05, "sum"), 0.17);
+  EXPECT_DOUBLE_EQ(combined_radius(0.12, 0.05, "rss"), 0.13);  // 0.0144 + 0.0025 = 0.13^2
+  EXPECT_DOUBLE_EQ(combined_radius(0.12, 0.05, "position"), 0.12);
+  // rss is never more than the sum and never less than either part
+  for (double r_eta : {0.0, 0.01, 0.1, 1.0}) {
+    EXPECT_LE(combined_radius(0.3, r_eta, "rss"), combined_radius(0.3, r_eta, "sum"));
+    EXPECT_GE(combined_radius(0.3, r_eta, "rss"), std::max(0.3, r_eta));
+  }
+}
+
 }  // namespace
 }  // namespace evade::prediction

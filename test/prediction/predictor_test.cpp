@@ -9,7 +9,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <random>
+#include <string>
 
 #include "bus/memory_bus.h"
 #include "config/config.h"
@@ -682,6 +684,35 @@ TEST(Predictor, OutputFormatIndexZeroIsNowAndEllipsesGrow) {
     }
   }
   EXPECT_GT(tr.sigma.back(), 2.0 * tr.sigma.front());
+}
+
+// uncertainty.combine: the same track's published inflation is r_p + r_eta
+// (sum), sqrt(r_p^2 + r_eta^2) (rss) or r_p (position), at every step below
+// the cap (a walker: a circle, so sigma_min = 0 and sigma is that radius).
+TEST(Predictor, InflationCombinesPositionAndShapeRadiiAsConfigured) {
+  Truth truth;
+  truth.vx = 1.0;
+  const auto frames = make_frames(truth, mbe_noise(), 3.0, 9);
+  std::map<std::string, evade::track_prediction_t> out;
+  for (const std::string combine : {"sum", "rss", "position"}) {
+    PredictorParams params = default_params();
+    params.uncertainty.combine = combine;
+    params.uncertainty.max_inflation_m = 100.0;
+    Predictor p(params);
+    evade::prediction_list_t list;
+    for (const auto& f : frames) ASSERT_TRUE(p.process(f.msg, &list, nullptr));
+    ASSERT_EQ(list.num_tracks, 1);
+    out[combine] = list.tracks[0];
+  }
+  for (int k = 0; k < out["sum"].horizon; ++k) {
+    const double sum = out["sum"].sigma[k], rss = out["rss"].sigma[k], pos = out["position"].sigma[k];
+    EXPECT_LT(pos, rss) << k;
+    EXPECT_LT(rss, sum) << k;
+    // r_eta = sum - pos; rss^2 = pos^2 + r_eta^2 (sigma_min is 0 for a circle, within the
+    // root finder's tolerance for this near-circle)
+    EXPECT_NEAR(rss * rss, pos * pos + (sum - pos) * (sum - pos), 1e-3) << k;
+    EXPECT_DOUBLE_EQ(out["rss"].x[k], out["sum"].x[k]);  // only the size changes
+  }
 }
 
 TEST(Predictor, AccelerationAndSpeedCapsHoldInPrediction) {
