@@ -229,9 +229,40 @@ void Tracker::add_owned(const Detection& d, int owner) {
 }
 
 void Tracker::add_cluster(const GridView& g, const std::vector<int32_t>& cells) {
+  const size_t first = detections_.size();
+  shared_ = false;
+  cut_cluster(g, cells);
+  for (size_t d = first; d < detections_.size(); ++d) detections_[d].shared = shared_;
+}
+
+void Tracker::note_shared(int64_t utime) {
+  shared_ = true;
+  for (int t : owners_) {
+    Track& tr = tracks_[size_t(t)];
+    const Track* nearest = nullptr;
+    double best = 1e300;
+    for (int u : owners_) {
+      const Track& o = tracks_[size_t(u)];
+      const double d = std::hypot(o.px - tr.px, o.py - tr.py);
+      if (u != t && d < best) best = d, nearest = &o;
+    }
+    if (tr.partner == 0 || gap_seconds(utime, tr.shared_utime) > p_.reid.max_s) {
+      // the velocity it came into the merge with, over as many frames as it
+      // will be judged on after (a turn just before shows; NaN: none yet)
+      tr.pre_vx = tr.pre_vy = std::nan("");
+      fit_slope(tr.fixes, size_t(p_.reid.frames), &tr.pre_vx, &tr.pre_vy);
+    }
+    tr.partner = nearest->id;
+    tr.shared_utime = utime;
+    tr.clean = 0;
+  }
+}
+
+void Tracker::cut_cluster(const GridView& g, const std::vector<int32_t>& cells) {
   if (!p_.merge.split) return add_detection(g, cells);
   find_owners(g, cells);
   if (owners_.size() < 2) return add_detection(g, cells);
+  note_shared(g.utime);
   // A merge makes the cluster longer than any of its owners was: one object
   // whose second track lingers beside it does not.
   Detection whole = make_detection(g, cells);
@@ -374,20 +405,54 @@ void Tracker::update_velocity(Track& tr, int64_t utime, const Ellipse& e) const 
     tr.has_velocity = true;
   }
   tr.fixes.push_back({gap_seconds(utime, 0), e.cx, e.cy});
-  while (int(tr.fixes.size()) > std::max(2, p_.velocity_window_frames)) tr.fixes.pop_front();
-  if (p_.velocity_window_frames < 2 || tr.fixes.size() < 2) return;
-  // least-squares slope of the centre over the window's times
+  const size_t window = size_t(std::max(std::max(2, p_.velocity_window_frames), p_.reid.frames));
+  while (tr.fixes.size() > window) tr.fixes.pop_front();
+  if (p_.velocity_window_frames < 2) return;
+  if (fit_slope(tr.fixes, size_t(p_.velocity_window_frames), &tr.vx, &tr.vy)) tr.has_velocity = true;
+}
+
+bool Tracker::fit_slope(const std::deque<Fix>& fixes, size_t n, double* vx, double* vy) {
+  // least-squares slope of the centre over the last n fixes' times
+  n = std::min(n, fixes.size());
+  if (n < 2) return false;
   double mt = 0, mx = 0, my = 0;
-  for (const Fix& f : tr.fixes) mt += f.t, mx += f.x, my += f.y;
-  const double n = double(tr.fixes.size());
-  mt /= n, mx /= n, my /= n;
+  for (size_t i = fixes.size() - n; i < fixes.size(); ++i) mt += fixes[i].t, mx += fixes[i].x, my += fixes[i].y;
+  mt /= double(n), mx /= double(n), my /= double(n);
   double stt = 0, stx = 0, sty = 0;
-  for (const Fix& f : tr.fixes)
+  for (size_t i = fixes.size() - n; i < fixes.size(); ++i) {
+    const Fix& f = fixes[i];
     stt += (f.t - mt) * (f.t - mt), stx += (f.t - mt) * (f.x - mx), sty += (f.t - mt) * (f.y - my);
-  if (!(stt > 0.0)) return;
-  tr.vx = stx / stt;
-  tr.vy = sty / stt;
-  tr.has_velocity = true;
+  }
+  if (!(stt > 0.0)) return false;
+  *vx = stx / stt;
+  *vy = sty / stt;
+  return true;
+}
+
+void Tracker::reidentify(int64_t utime) {
+  for (Track& a : tracks_) {
+    if (a.partner == 0) continue;
+    if (gap_seconds(utime, a.shared_utime) > p_.reid.max_s) a.partner = 0;
+    if (a.partner == 0 || a.clean < p_.reid.frames) continue;
+    auto b = std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& o) { return o.id == a.partner; });
+    if (b == tracks_.end() || b->partner != a.id) {
+      if (b == tracks_.end()) a.partner = 0;
+      continue;
+    }
+    if (b->clean < p_.reid.frames) continue;
+    a.partner = b->partner = 0;
+    // their motions since the parting against their motions before the merge, as they are and exchanged
+    double avx, avy, bvx, bvy;
+    if (!fit_slope(a.fixes, size_t(p_.reid.frames), &avx, &avy) ||
+        !fit_slope(b->fixes, size_t(p_.reid.frames), &bvx, &bvy))
+      continue;
+    const double kept = std::hypot(avx - a.pre_vx, avy - a.pre_vy) + std::hypot(bvx - b->pre_vx, bvy - b->pre_vy);
+    const double exchanged = std::hypot(avx - b->pre_vx, avy - b->pre_vy) + std::hypot(bvx - a.pre_vx, bvy - a.pre_vy);
+    if (!(kept - exchanged > p_.reid.margin_mps)) continue;  // NaN (a velocity unknown before): kept
+    std::swap(a.id, b->id);
+    std::swap(a.age, b->age);
+    ++stats_.ids_exchanged;
+  }
 }
 
 void Tracker::correct_tracks(const GridView& g, const std::vector<int>& det_track) {
@@ -406,6 +471,7 @@ void Tracker::correct_tracks(const GridView& g, const std::vector<int>& det_trac
       continue;
     }
     update_velocity(tr, g.utime, e);
+    tr.clean = detections_[d].shared ? 0 : tr.clean + 1;
     tr.cx = e.cx;
     tr.cy = e.cy;
     tr.last_seen_utime = g.utime;
@@ -501,6 +567,7 @@ const std::vector<TrackedObstacle>& Tracker::update(const GridView& g) {
   detect(g);
   const std::vector<int> det_track = associate();
   correct_tracks(g, det_track);
+  if (p_.reid.enabled) reidentify(g.utime);
   const int unmatched = int(std::count(det_track.begin(), det_track.end(), -1));
   const std::vector<int> new_index = prune_tracks(unmatched);
   emit(g, det_track, new_index);

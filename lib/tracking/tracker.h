@@ -53,6 +53,28 @@ struct MergeSplitParams {
   }
 };
 
+// Two tracks that shared a cluster (a merge, cut or not) may come out of it
+// on each other's object: the merged centre drags their velocities, and a
+// walker that turned just before has none worth predicting with. Once both
+// have been measured in clusters of their own for `frames` frames, their
+// velocities since the parting are compared with their velocities before
+// the merge; if the two ids explain the motions better exchanged (the sum
+// of the velocity differences lower by `margin_mps`), they are exchanged.
+struct ReidParams {
+  bool enabled = false;     // exchange the ids of two tracks whose motions through a merge say so
+  int frames = 2;           // judged once both have this many measured frames in clusters of their own
+  double margin_mps = 0.8;  // exchanged only when the sum of velocity differences drops by this much
+  double max_s = 2.0;       // a merge older than this (one of its tracks never measured again) is forgotten
+
+  template <class V>
+  void fields(V& v) {
+    v.field("enabled", enabled);
+    v.field("frames", frames, config::between(2, 100));
+    v.field("margin_mps", margin_mps, config::between(0.0, 100.0));
+    v.field("max_s", max_s, config::between(0.0, 60.0));
+  }
+};
+
 struct TrackerParams {
   double dbscan_eps_m = 0.15;         // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
   int dbscan_min_points = 3;          // DBSCAN minPts (the cell itself included)
@@ -75,6 +97,7 @@ struct TrackerParams {
   double max_prediction_gap_s = 1.0;  // beyond this gap the last centre is used as is
   ThetaVariation shape_variation_theta = ThetaVariation::kBoundary;
   MergeSplitParams merge;
+  ReidParams reid;
 
   // The minimum bounding ellipse's options from the three mbe keys.
   MbeOptions mbe() const;
@@ -105,6 +128,7 @@ struct TrackerParams {
     v.choice("shape_variation_theta", shape_variation_theta,
              config::Choices<ThetaVariation>{{"raw", ThetaVariation::kRaw}, {"boundary", ThetaVariation::kBoundary}});
     v.section("merge", merge);
+    v.section("reid", reid);
   }
 
   static TrackerParams from_config(const config::Node& section);
@@ -125,6 +149,7 @@ struct Detection {
   int num_cells = 0;
   bool merged = false;  // an owner's predicted ellipse, no measurement (MergeSplitParams::hold_motion)
   int track = -1;       // the owner it is bound to (index into the track table), -1: associated by cost
+  bool shared = false;  // made from a cluster that two or more confirmed tracks owned
 };
 
 struct TrackedObstacle {
@@ -145,8 +170,9 @@ struct TrackerStats {
   int64_t tracks_dropped = 0;
   int64_t over_track_limit = 0;
   int64_t time_reset = 0;
-  int64_t merges_split = 0;  // clusters cut into one part per owning track
-  int64_t merges_held = 0;   // merged clusters that could not be cut (their owners moved on as predicted)
+  int64_t merges_split = 0;   // clusters cut into one part per owning track
+  int64_t merges_held = 0;    // merged clusters that could not be cut (their owners moved on as predicted)
+  int64_t ids_exchanged = 0;  // pairs of tracks whose ids were exchanged after a merge (ReidParams)
 };
 
 // Shape-variation indicator (paper Xi_eta): sum over the window of
@@ -190,6 +216,13 @@ class Tracker {
     bool claimed = false;         // owns a cluster's cells in this frame
     std::deque<Ellipse> history;  // last m ellipses
     std::deque<Fix> fixes;        // last velocity_window_frames centres since the last long gap
+
+    // ReidParams: the track it last shared a cluster with (its id, 0: none),
+    // when, its own velocity before that merge, and the frames it has been
+    // measured in a cluster of its own since
+    int64_t partner = 0, shared_utime = 0;
+    double pre_vx = 0, pre_vy = 0;
+    int clean = 0;
   };
   // One frame, in order: predicted centres, clusters (merges split), the
   // assignment (det_track[d]: track index or -1), the matched tracks'
@@ -198,7 +231,11 @@ class Tracker {
   void detect(const GridView& grid);
   std::vector<int> associate();
   void update_velocity(Track& track, int64_t utime, const Ellipse& e) const;
+  // least-squares slope of the last n fixes' centres over their times; false if undefined
+  static bool fit_slope(const std::deque<Fix>& fixes, size_t n, double* vx, double* vy);
   void correct_tracks(const GridView& grid, const std::vector<int>& det_track);
+  void note_shared(int64_t utime);  // owners_ shared one cluster: each one's partner and velocity before
+  void reidentify(int64_t utime);   // exchange the ids of parted partners whose motions say so
   std::vector<int> prune_tracks(int unmatched);
   void emit(const GridView& grid, const std::vector<int>& det_track, const std::vector<int>& new_index);
 
@@ -207,6 +244,7 @@ class Tracker {
   Detection make_detection(const GridView& grid, const std::vector<int32_t>& cells);
   void add_detection(const GridView& grid, const std::vector<int32_t>& cells);
   void add_cluster(const GridView& grid, const std::vector<int32_t>& cells);
+  void cut_cluster(const GridView& grid, const std::vector<int32_t>& cells);
   void find_owners(const GridView& grid, const std::vector<int32_t>& cells);  // -> owners_, oldest first
   void keep_separated_owners();
   bool owners_move_apart() const;
@@ -228,6 +266,7 @@ class Tracker {
   std::vector<int32_t> row_min_, row_max_;
   std::vector<Vec2> corners_;
   std::vector<int> owners_;
+  bool shared_ = false;  // the cluster being added had two or more owners
   std::vector<std::vector<int32_t>> parts_;
 };
 

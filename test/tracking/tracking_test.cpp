@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <random>
@@ -446,6 +447,122 @@ TEST(Tracker, WalkersPassingThroughEachOtherKeepBothIdentities) {
   }
   EXPECT_EQ(t.next_id(), 3);  // no other id was ever handed out
   EXPECT_GT(t.stats().merges_held, 0);
+}
+
+// Walkers as discs of 0.25 m radius, each a function of time (s) -> centre;
+// 10 Hz frames from t = 0 to t_end. Returns, per walker, the ids published
+// nearest to it (within 0.2 m) in frames where the walkers are at least
+// 1 m apart (so which is which is not moot), in frame order.
+using Path = std::function<Vec2(double)>;
+std::vector<std::vector<int64_t>> walk(Tracker& t, const std::vector<Path>& walkers, double t_end,
+                                       const std::function<bool(double)>& hidden = {}) {
+  std::vector<std::vector<int64_t>> ids(walkers.size());
+  for (int f = 0; f * 0.1 <= t_end + 1e-9; ++f) {
+    const double time = f * 0.1;
+    Scene s;
+    std::vector<Vec2> at;
+    for (const Path& w : walkers) at.push_back(w(time));
+    for (size_t k = 0; k < at.size(); ++k)
+      if (!(hidden && k == 0 && hidden(time))) s.disc(at[k].x, at[k].y, 0.25);
+    const auto& obs = t.update(s.view(3'000'000 + f * 100'000));
+    bool apart = true;
+    for (size_t i = 0; i < at.size(); ++i)
+      for (size_t j = i + 1; j < at.size(); ++j)
+        apart = apart && std::hypot(at[i].x - at[j].x, at[i].y - at[j].y) >= 1.0;
+    if (!apart) continue;
+    for (size_t k = 0; k < at.size(); ++k) {
+      const auto* o = nearest(obs, at[k].x, at[k].y);
+      if (o && std::hypot(o->ellipse.cx - at[k].x, o->ellipse.cy - at[k].y) <= 0.2) ids[k].push_back(o->id);
+    }
+  }
+  return ids;
+}
+
+// Walker A walks down (-y) at 1.2 m/s; walker B, 0.15 m beside its line,
+// walks down too and turns round 0.3 s before they meet, so its velocity
+// estimate still points down when the two are one cluster. They part with
+// the ids exchanged; with `reid` the motions after the parting give them back.
+std::vector<std::vector<int64_t>> turn_and_cross(const TrackerParams& p, TrackerStats* stats) {
+  Tracker t(p);
+  const Path a = [](double s) { return Vec2{0.05, 2.0 - 1.2 * s}; };
+  const Path b = [](double s) { return Vec2{-0.1, s < 1.0 ? 0.6 - 1.2 * s : -0.6 + 1.2 * (s - 1.0)}; };
+  auto ids = walk(t, {a, b}, 3.5);
+  *stats = t.stats();
+  return ids;
+}
+
+TEST(Tracker, WalkersCrossingAfterATurnComeOutWithSwappedIdsWithoutReid) {
+  TrackerStats stats;
+  const auto ids = turn_and_cross(params(), &stats);
+  ASSERT_GE(ids[0].size(), 10u);
+  ASSERT_GE(ids[1].size(), 10u);
+  EXPECT_NE(ids[0].front(), ids[0].back());  // the scene does exchange them
+  EXPECT_EQ(stats.ids_exchanged, 0);
+}
+
+TEST(Tracker, ReidGivesWalkersCrossingAfterATurnTheirOwnIdsBack) {
+  auto p = params();
+  p.reid.enabled = true;
+  TrackerStats stats;
+  const auto ids = turn_and_cross(p, &stats);
+  ASSERT_GE(ids[0].size(), 10u);
+  ASSERT_GE(ids[1].size(), 10u);
+  for (size_t k = 0; k < 2; ++k) {
+    // each walker ends with the id it started with; at most the frames
+    // before the judgement (reid.frames after the parting) show the other one
+    EXPECT_EQ(ids[k].front(), ids[k].back()) << "walker " << k;
+    EXPECT_LE(std::count(ids[k].begin(), ids[k].end(), ids[1 - k].front()), p.reid.frames) << "walker " << k;
+  }
+  EXPECT_EQ(stats.ids_exchanged, 1);
+}
+
+TEST(Tracker, ReidKeepsTheIdsOfWalkersCrossingHeadOn) {
+  // head-on through each other without a turn: the tracks part right, reid keeps them
+  auto p = params();
+  p.reid.enabled = true;
+  Tracker t(p);
+  const Path a = [](double s) { return Vec2{-3.0 + 1.2 * s, 0.05}; };
+  const Path b = [](double s) { return Vec2{3.0 - 1.2 * s, -0.05}; };
+  const auto ids = walk(t, {a, b}, 5.0);
+  for (size_t k = 0; k < 2; ++k) {
+    ASSERT_GE(ids[k].size(), 30u);
+    EXPECT_EQ(std::count(ids[k].begin(), ids[k].end(), ids[k].front()), long(ids[k].size())) << "walker " << k;
+  }
+  EXPECT_EQ(t.stats().ids_exchanged, 0);
+}
+
+TEST(Tracker, ReidKeepsTheIdsOfWalkersPassingSideBySide) {
+  // one overtakes the other 0.45 m beside it (the clusters touch): similar
+  // motions before and after, nothing to exchange
+  auto p = params();
+  p.reid.enabled = true;
+  Tracker t(p);
+  const Path a = [](double s) { return Vec2{-3.0 + 1.5 * s, 0.225}; };
+  const Path b = [](double s) { return Vec2{-1.5 + 0.9 * s, -0.225}; };
+  const auto ids = walk(t, {a, b}, 4.5);
+  for (size_t k = 0; k < 2; ++k) {
+    ASSERT_GE(ids[k].size(), 12u);
+    EXPECT_EQ(std::count(ids[k].begin(), ids[k].end(), ids[k].front()), long(ids[k].size())) << "walker " << k;
+  }
+  EXPECT_NE(ids[0].front(), ids[1].front());
+  EXPECT_GT(t.stats().merges_split + t.stats().merges_held, 0);  // they did share a cluster
+  EXPECT_EQ(t.stats().ids_exchanged, 0);
+}
+
+TEST(Tracker, ReidKeepsTheIdOfAWalkerBrieflyHiddenBesideAnother) {
+  // A walks past a standing person 0.55 m away and is unseen for 0.3 s
+  // just there: it comes back to its own id, the standing one keeps its own
+  auto p = params();
+  p.reid.enabled = true;
+  Tracker t(p);
+  const Path a = [](double s) { return Vec2{-3.0 + 1.2 * s, 0.55}; };
+  const Path b = [](double) { return Vec2{0.0, 0.0}; };
+  std::vector<std::vector<int64_t>> ids = walk(t, {a, b}, 5.0, [](double s) { return s > 2.3 && s < 2.65; });
+  for (size_t k = 0; k < 2; ++k) {
+    ASSERT_GE(ids[k].size(), 20u);
+    EXPECT_EQ(std::count(ids[k].begin(), ids[k].end(), ids[k].front()), long(ids[k].size())) << "walker " << k;
+  }
+  EXPECT_EQ(t.stats().ids_exchanged, 0);
 }
 
 TEST(Tracker, OneObjectSeenInTwoPiecesIsNotCutWhenWholeAgain) {
