@@ -53,7 +53,7 @@ Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, doubl
     for (int k = 1; k <= pb.N + extend_steps; ++k) {
       const double now = barrier_h_at(body, o, k, &s[3 * k]);
       out.clearance = std::min(out.clearance, now);
-      // NaN (start or now) is no meeting, as before the margin
+      // a NaN distance is no meeting, as before the margin
       if (!(now < std::min(margin.at(k * pb.dt), start) || now < 0.0)) continue;
       if (out.first_contact < 0 || k < out.first_contact) out.first_contact = k;
       out.kind = std::max(out.kind, Outcome::kTheirs);
