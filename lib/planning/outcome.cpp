@@ -33,7 +33,10 @@ void extend(int N, int extra, ObstacleTrack* o) {
 
 }  // namespace
 
-Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, double tolerance, int extend_steps) {
+double OutcomeMargin::at(double t_s) const { return std::clamp(per_s * t_s, 0.0, std::max(max_m, 0.0)); }
+
+Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, double tolerance, int extend_steps,
+                     const OutcomeMargin& margin) {
   // the footprint without the margin (barrier_h_at reads only these of a
   // Problem for an ellipse obstacle)
   Problem body;
@@ -46,10 +49,12 @@ Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, doubl
     ObstacleTrack o = track;
     remove_inflation(&o);
     extend(pb.N, extend_steps, &o);
+    const double start = std::max(barrier_h_at(body, o, 0, &s[0]), 0.0);
     for (int k = 1; k <= pb.N + extend_steps; ++k) {
       const double now = barrier_h_at(body, o, k, &s[3 * k]);
       out.clearance = std::min(out.clearance, now);
-      if (!(now < 0.0)) continue;
+      // a NaN distance is no meeting, as before the margin
+      if (!(now < std::min(margin.at(k * pb.dt), start) || now < 0.0)) continue;
       if (out.first_contact < 0 || k < out.first_contact) out.first_contact = k;
       out.kind = std::max(out.kind, Outcome::kTheirs);
       const double before = barrier_h_at(body, o, k, &s[3 * (k - 1)]);

@@ -13,6 +13,13 @@
 // step closes on the obstacle where it is then (the metrics' rule: the
 // robot's velocity towards the other at the contact); else the other's
 // (kTheirs: it walks into a robot standing or moving away).
+//
+// The margin (OutcomeMargin, off at 0): the bodies "meet" at step k when
+// their distance is below margin(t_k) = min(max_m, per_s t_k), t_k = k dt
+// ahead of the plan's start (a prediction's error grows with how far ahead
+// it is), but never below where they stand at the start: against an
+// obstacle already within the margin at step 0, meeting is coming closer
+// than that (a start inside it does not make every plan a contact).
 #pragma once
 
 #include <vector>
@@ -20,6 +27,12 @@
 #include "planning/problem.h"
 
 namespace evade::planning {
+
+struct OutcomeMargin {
+  double per_s = 0.0;  // m of margin per s ahead of the plan's start
+  double max_m = 0.0;  // m, the most it grows to
+  double at(double t_s) const;
+};
 
 struct Outcome {
   enum Kind { kClear = 0, kTheirs = 1, kOurs = 2 };  // in order of preference
@@ -36,6 +49,7 @@ struct Outcome {
 // on as at the horizon's end (the robot at its last step's speed and
 // heading, the obstacle at its last step's velocity): a plan that stands in
 // a mover's lane meets it, if not within the horizon then soon after.
-Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, double tolerance, int extend_steps = 0);
+Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, double tolerance, int extend_steps = 0,
+                     const OutcomeMargin& margin = {});
 
 }  // namespace evade::planning

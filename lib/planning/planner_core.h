@@ -27,6 +27,7 @@
 #include "planning/ceres_solver.h"
 #include "planning/detour.h"
 #include "planning/obstacles.h"
+#include "planning/outcome.h"
 #include "planning/params.h"
 #include "planning/reference.h"
 #include "planning/static_structure.h"
@@ -130,6 +131,7 @@ class PlannerCore : public bus::Core {
   // False when solver.rank_outcome judges the relaxed plan u as meeting a
   // mover's body (plan_outcome): most_clearance decides among the candidates.
   bool relaxed_plan_stands(const Problem& pb, const std::vector<double>& u) const;
+  OutcomeMargin outcome_margin() const;  // solver.outcome_margin_*
   bool braking_misses(const Problem& pb, const std::vector<double>& brake) const;
   void swerve_restarts(const Problem& pb, int reserve, SolveResult* res, int* iterations,
                        std::vector<std::vector<double>>* tried);

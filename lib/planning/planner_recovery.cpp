@@ -123,13 +123,17 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
   return most_clearance(pb, candidates, odom, v0, w0, u);
 }
 
+OutcomeMargin PlannerCore::outcome_margin() const {
+  return {p_.solver.outcome_margin_mps, p_.solver.outcome_margin_max_m};
+}
+
 bool PlannerCore::relaxed_plan_stands(const Problem& pb, const std::vector<double>& u) const {
   // with the outcome rank, a relaxed plan that meets a mover's body goes
   // among the candidates, judged with them
   if (!p_.solver.rank_outcome) return true;
   std::vector<double> states(3 * (pb.N + 1));
   rollout(pb, u.data(), states.data());
-  return plan_outcome(pb, states, p_.solver.constraint_tolerance, pb.N).kind == Outcome::kClear;
+  return plan_outcome(pb, states, p_.solver.constraint_tolerance, pb.N, outcome_margin()).kind == Outcome::kClear;
 }
 
 int8_t PlannerCore::recover_own_motion(const Problem& pb, const std::vector<double>& warm_u, double v0, double w0,
@@ -206,7 +210,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
     c.h = min_barrier(pb, states, 1);
     c.shortfall = barrier_shortfall(pb, states);
     c.into = structure_intrusion(pb, states) > tie;
-    if (p_.solver.rank_outcome) c.outcome = plan_outcome(pb, states, tie, N);
+    if (p_.solver.rank_outcome) c.outcome = plan_outcome(pb, states, tie, N, outcome_margin());
   }
   const Candidate* chosen = nullptr;  // ties: the first in the list
   for (const Candidate& c : candidates) {

@@ -89,5 +89,71 @@ TEST(Outcome, AfterTheHorizonBothGoOnAsAtItsEnd) {
   EXPECT_EQ(plan_outcome(pb, rollout_of(pb, 0.3, 0.0), 1e-3, pb.N).kind, Outcome::kOurs);
 }
 
+// A walker of radius 0.3 m crossing the robot's heading from its right at
+// 1 m/s along x = 1.5, on the robot's line (y = 0) at t = 2 s.
+Problem walker_crossing(int N = 25) {
+  Problem pb = straight_problem(0, 0, 0, 0.0, 0.5, N);
+  pb.footprint = Footprint::covering(0.42, 0.31, 3);
+  pb.d_safe = 0.15;
+  ObstacleTrack w = moving_obstacle(8, 1.5, -2.0, 0.0, 1.0, 0.3, 0.3, 0.0, 0.9, N, 0.1);
+  w.sigma.assign(N + 1, 0.0);
+  pb.obstacles = {w};
+  return pb;
+}
+
+// where the robot's centre stands when its front disc is `gap` m short of
+// the crossing walker's body
+double short_of_lane(const Problem& pb, double gap) {
+  return 1.5 - 0.3 - gap - pb.footprint.offsets.back() - pb.footprint.radius;
+}
+
+// the rollout at v m/s along +x, moved to start at x
+std::vector<double> driving_from(const Problem& pb, double x, double v) {
+  std::vector<double> s = rollout_of(pb, v, 0.0);
+  for (int k = 0; k <= pb.N; ++k) s[3 * k] += x;
+  return s;
+}
+
+TEST(Outcome, AMarginGrowingWithTheTimeAheadMakesANearPassAContact) {
+  const Problem pb = walker_crossing();
+  const OutcomeMargin margin{0.15, 0.3};
+  EXPECT_NEAR(margin.at(0.1), 0.015, 1e-12);
+  EXPECT_NEAR(margin.at(2.0), 0.3, 1e-12);
+  EXPECT_NEAR(margin.at(5.0), 0.3, 1e-12);
+  // standing 0.1 m short of the walker's lane, the bodies pass 0.1 m apart
+  // 2 s ahead: clear on the bodies alone; within the margin there (0.3 m),
+  // the walker's, as the robot stands
+  const std::vector<double> stand = standing_at(pb, short_of_lane(pb, 0.1), 0.0);
+  const Outcome bodies = plan_outcome(pb, stand, 1e-3, pb.N);
+  EXPECT_EQ(bodies.kind, Outcome::kClear);
+  EXPECT_NEAR(bodies.clearance, 0.1, 0.01);
+  EXPECT_EQ(plan_outcome(pb, stand, 1e-3, pb.N, margin).kind, Outcome::kTheirs);
+  // driving on at 0.2 m/s to arrive there as the walker does: clear on the
+  // bodies, the robot's within the margin
+  const std::vector<double> on = driving_from(pb, short_of_lane(pb, 0.1) - 0.4, 0.2);
+  EXPECT_EQ(plan_outcome(pb, on, 1e-3, pb.N).kind, Outcome::kClear);
+  EXPECT_EQ(plan_outcome(pb, on, 1e-3, pb.N, margin).kind, Outcome::kOurs);
+  // standing 0.5 m short of the lane stays clear with the margin
+  EXPECT_EQ(plan_outcome(pb, standing_at(pb, short_of_lane(pb, 0.5), 0.0), 1e-3, pb.N, margin).kind, Outcome::kClear);
+}
+
+TEST(Outcome, TheMarginGrowsFromWhereThePlanStarts) {
+  // a walker 0.05 m beside the robot's front disc, strolling on ahead of it
+  const Problem base = walker_crossing();
+  Problem pb = base;
+  const double beside = pb.footprint.radius + 0.05 + 0.3;
+  pb.obstacles = {moving_obstacle(9, pb.footprint.offsets.back(), beside, 0.1, 0.0, 0.3, 0.3, 0.0, 0.9, pb.N, 0.1)};
+  pb.obstacles[0].sigma.assign(pb.N + 1, 0.0);
+  const OutcomeMargin margin{0.15, 0.3};
+  // within the margin at the start: standing, or moving aside, is clear ...
+  EXPECT_EQ(plan_outcome(pb, standing_at(pb, 0.0, 0.0), 1e-3, pb.N, margin).kind, Outcome::kClear);
+  EXPECT_EQ(plan_outcome(pb, standing_at(pb, 0.0, -0.2), 1e-3, pb.N, margin).kind, Outcome::kClear);
+  // ... and stepping towards it, closer than at the start, is a contact
+  std::vector<double> towards = standing_at(pb, 0.0, 0.0);
+  for (int k = 1; k <= pb.N; ++k) towards[3 * k + 1] = 0.03;
+  EXPECT_EQ(plan_outcome(pb, towards, 1e-3, pb.N).kind, Outcome::kClear);
+  EXPECT_NE(plan_outcome(pb, towards, 1e-3, pb.N, margin).kind, Outcome::kClear);
+}
+
 }  // namespace
 }  // namespace evade::planning
