@@ -92,7 +92,8 @@ class PlannerCore : public bus::Core {
   // leader_sweep_s) or an oncoming one (within oncoming_max_angle_rad of
   // the route's reverse heading: swept up to the robot, at most
   // oncoming_sweep_s).
-  bool swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, Ellipse* swept) const;
+  int swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, Ellipse* swept) const;
+  std::vector<const char*> attempt_labels_;  // TEMP measurement
   void watchdog();
   // A solver for the next solve of this cycle: what is left of
   // max_cycle_iterations after `spent`, less `reserve`, at most one solve's
