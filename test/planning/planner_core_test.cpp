@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "bus/log.h"
 #include "bus/log_replay.h"
@@ -103,10 +105,11 @@ struct RunResult {
   double min_h = 1e9;  // true clearance of the footprint's discs beyond d_safe over the run
   double final_x = 0, final_y = 0;
   int plans = 0, ok = 0, nan = 0;
-  int64_t restarts_skipped = 0;  // HEALTH counter restart_skipped at the end
-  int64_t detour_movers = 0;     // HEALTH counter detour_movers at the end
-  int64_t detour = 0;            // HEALTH counter detour at the end
-  int64_t most_clearance = 0;    // HEALTH counter most_clearance at the end
+  int64_t restarts_skipped = 0;         // HEALTH counter restart_skipped at the end
+  int64_t detour_movers = 0;            // HEALTH counter detour_movers at the end
+  int64_t detour = 0;                   // HEALTH counter detour at the end
+  int64_t most_clearance = 0;           // HEALTH counter most_clearance at the end
+  std::map<std::string, int64_t> sent;  // HEALTH counters mc_*: the candidate most_clearance sent, by kind
   // Contacts (the footprint's discs touching an obstacle): how many 20 ms
   // samples, and the fastest the robot moved towards the obstacle's centre
   // in one of them (the metrics' at-fault rule, closest point by centre).
@@ -160,6 +163,8 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   out.detour_movers = loop.core().counter("detour_movers");
   out.detour = loop.core().counter("detour");
   out.most_clearance = loop.core().counter("most_clearance");
+  for (const char* kind : {"mc_hard", "mc_dash", "mc_pull_over", "mc_swerve", "mc_swerve_restart", "mc_relaxed"})
+    out.sent[kind] = loop.core().counter(kind);
   return out;
 }
 
@@ -305,6 +310,27 @@ TEST(PlannerCore, AnOncomingFastMoverIsGotOutOfTheWayOfFromRest) {
       EXPECT_GE(r.min_h, -default_params().d_safe_m)  // the discs hold the footprint
           << "footprint's discs touched, speed " << speed << " offset " << offset;
     }
+}
+
+// HEALTH says which recovery candidate was sent: every most_clearance
+// cycle counts exactly one kind (mc_*), and a kind switched off
+// (solver.dashes) is never sent. A fast mover head-on at a robot at rest
+// leaves no plan that meets the constraints.
+TEST(PlannerCore, HealthCountsWhichRecoveryCandidateWasSent) {
+  const std::vector<SimObstacle> bike = {{6.0, 0.0, -2.0, 0.0, 0.5, 0.05}};
+  for (bool dashes : {true, false}) {
+    PlannerParams p = default_params();
+    p.solver.dashes = dashes;
+    RunResult r = run(p, bike, 8.0);
+    int64_t kinds = 0;
+    for (const auto& [kind, n] : r.sent) kinds += n;
+    EXPECT_GT(r.most_clearance, 0);  // the premise
+    EXPECT_EQ(kinds, r.most_clearance) << "dashes " << dashes;
+    if (dashes)
+      EXPECT_GT(r.sent["mc_dash"], 0);
+    else
+      EXPECT_EQ(r.sent["mc_dash"], 0);
+  }
 }
 
 // Bikes too fast to be got out of the way of (3-4.5 m/s, seen 7 m away)
