@@ -164,11 +164,11 @@ double PlannerCore::track_age_s(int64_t id, int64_t utime) const {
   return it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(utime - it->second);
 }
 
-bool PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom,
-                                Ellipse* swept) const {
+int PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom,
+                               Ellipse* swept) const {
   const DetourParams& d = p_.detour;
   const double speed = std::hypot(t.vx, t.vy);
-  if (speed <= 0.0 || route_.length() <= 0.0) return false;
+  if (speed <= 0.0 || route_.length() <= 0.0) return 0;
   const double dx = t.x[0] - odom.x, dy = t.y[0] - odom.y, dist = std::hypot(dx, dy);
   // the route's heading about where the track is (its arc length ahead of
   // the robot's progress is at most its distance)
@@ -178,25 +178,15 @@ bool PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade:
   route_.position_at(s, &x0, &y0);
   route_.position_at(s + kHeadingBaseM, &x1, &y1);
   const double hx = x1 - x0, hy = y1 - y0, hn = std::hypot(hx, hy);
-  if (hn <= 0.0) return false;
-  if (dx * hx + dy * hy <= 0.0) return false;                   // behind the robot
+  if (hn <= 0.0) return 0;
+  if (dx * hx + dy * hy <= 0.0) return 0;                       // behind the robot
   const double along = (t.vx * hx + t.vy * hy) / (speed * hn);  // cosine to the route's heading
-  double sweep_m;
-  if (speed <= d.leader_max_speed_mps && along >= std::cos(d.leader_max_angle_rad)) {
-    // A walker ahead in the lane, going the route's way slower than the
-    // robot: straight behind it the barrier's gradient has no sideways
-    // part and following is a solution, so the MPC alone follows it.
-    sweep_m = speed * d.leader_sweep_s;
-  } else if (d.oncoming_sweep_s > 0.0 && !t.sigma.empty() && t.sigma[0] <= d.oncoming_max_sigma_m &&
-             -along >= std::cos(d.oncoming_max_angle_rad)) {
-    // Coming towards the robot: a group abreast is wider than any swerve
-    // the 2.5 s horizon can plan once it is near, and standing in its way
-    // is no escape from walkers who do not give way. Its way up to the
-    // robot (at most oncoming_sweep_s of it) is kept clear of, in time.
-    sweep_m = std::min(dist, speed * d.oncoming_sweep_s);
-  } else {
-    return false;
-  }
+  // A walker ahead in the lane, going the route's way slower than the
+  // robot: straight behind it the barrier's gradient has no sideways part
+  // and following is a solution, so the MPC alone follows it.
+  if (speed > d.leader_max_speed_mps || along < std::cos(d.leader_max_angle_rad)) return 0;
+  const double sweep_m = speed * d.leader_sweep_s;
+  const int kind = 1;
   // its ellipse (as a circle of its larger semi-axis) swept along its velocity
   const double r = std::max(t.a[0], t.b[0]), half = 0.5 * sweep_m;
   swept->x = t.x[0] + t.vx / speed * half;
@@ -204,7 +194,7 @@ bool PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade:
   swept->a = r + half;
   swept->b = r;
   swept->theta = std::atan2(t.vy, t.vx);
-  return true;
+  return kind;
 }
 
 void PlannerCore::make_reference(const evade::odometry_t& odom, Problem* pb) {
@@ -217,6 +207,7 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
   std::vector<std::pair<int64_t, Ellipse>> settled;
   std::vector<int64_t> moving;
   std::vector<Ellipse> swept_movers;
+  bool leader = false;
   if (predictions_ && p_.detour.enabled) {
     for (const auto& t : predictions_->tracks) {
       if (!valid_track(t)) continue;
@@ -225,7 +216,9 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
       if (std::hypot(t.vx, t.vy) > p_.detour.max_obstacle_speed_mps) {
         moving.push_back(t.id);
         Ellipse swept;
-        if (age_s >= p_.detour.min_mover_age_s && swept_in_grid(t, odom, &swept)) swept_movers.push_back(swept);
+        const int kind = age_s >= p_.detour.min_mover_age_s ? swept_in_grid(t, odom, &swept) : 0;
+        if (kind) swept_movers.push_back(swept);
+        leader |= kind == 1;
         continue;
       }
       if (static_.stands_for(t.id))
@@ -243,6 +236,7 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
   RouteFollower way_round;
   if (r == DetourPlanner::Result::kDetour && way_round.set_route(way_x, way_y)) {
     count("detour");
+    if (leader) count("detour_leader");
     way_round.update_progress(odom.x, odom.y, p_.route_search_window_m);
     way_round.reference(odom.x, odom.y, odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2,
                         &pb->ref_x, &pb->ref_y, &pb->ref_yaw);

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "bus/log.h"
 #include "bus/log_replay.h"
@@ -103,10 +105,11 @@ struct RunResult {
   double min_h = 1e9;  // true clearance of the footprint's discs beyond d_safe over the run
   double final_x = 0, final_y = 0;
   int plans = 0, ok = 0, nan = 0;
-  int64_t restarts_skipped = 0;  // HEALTH counter restart_skipped at the end
-  int64_t detour_movers = 0;     // HEALTH counter detour_movers at the end
-  int64_t detour = 0;            // HEALTH counter detour at the end
-  int64_t most_clearance = 0;    // HEALTH counter most_clearance at the end
+  int64_t restarts_skipped = 0;         // HEALTH counter restart_skipped at the end
+  int64_t detour_movers = 0;            // HEALTH counter detour_movers at the end
+  int64_t detour = 0;                   // HEALTH counter detour at the end
+  int64_t most_clearance = 0;           // HEALTH counter most_clearance at the end
+  std::map<std::string, int64_t> sent;  // HEALTH counters mc_*: the candidate most_clearance sent, by kind
   // Contacts (the footprint's discs touching an obstacle): how many 20 ms
   // samples, and the fastest the robot moved towards the obstacle's centre
   // in one of them (the metrics' at-fault rule, closest point by centre).
@@ -160,6 +163,8 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   out.detour_movers = loop.core().counter("detour_movers");
   out.detour = loop.core().counter("detour");
   out.most_clearance = loop.core().counter("most_clearance");
+  for (const char* kind : {"mc_hard", "mc_dash", "mc_pull_over", "mc_swerve", "mc_swerve_restart", "mc_relaxed"})
+    out.sent[kind] = loop.core().counter(kind);
   return out;
 }
 
@@ -208,10 +213,9 @@ TEST(PlannerCore, ASlowWalkerAheadIsOvertaken) {
 // Three walkers abreast, 1 m apart, coming head-on at 1.2 m/s and giving
 // no way: the gaps between them are narrower than the robot with d_safe,
 // the group is wider than any swerve the 2.5 s horizon plans once it is
-// near, and the robot cannot reverse. Its way, swept up to the robot, in
-// the detour grid takes the robot out of it in time; so does, without the
-// sweep, the recovery's outcome rank (a pull-over out of the group's way
-// ranks above standing in it).
+// near, and the robot cannot reverse. The recovery's outcome rank takes
+// the robot out of its way in time (a pull-over out of the group's way
+// ranks above standing in it); without the rank the robot is hit.
 TEST(PlannerCore, AGroupAbreastComingHeadOnIsLeftInTime) {
   std::vector<SimObstacle> group;
   for (double y : {-0.9, 0.1, 1.1}) group.push_back({7.0, y, -1.2, 0.0, 0.4, 0.1});  // seen 7 m away
@@ -221,18 +225,11 @@ TEST(PlannerCore, AGroupAbreastComingHeadOnIsLeftInTime) {
   EXPECT_EQ(r.nan, 0);
   EXPECT_GT(r.min_h, contact + 0.05) << "too close to a walker";
   EXPECT_GT(r.final_x, 10.0);
-  PlannerParams unswept = p;
-  unswept.detour.oncoming_sweep_s = 0.0;
-  RunResult ranked = run(unswept, group, 25.0, 20.0);
-  PlannerParams neither = unswept;
-  neither.solver.rank_outcome = false;
-  RunResult in_way = run(neither, group, 25.0, 20.0);
-  std::printf(
-      "[figures] group head-on: min h %.2f m with its way in the grid, %.2f without, %.2f without the outcome rank "
-      "either (contact at %.2f)\n",
-      r.min_h, ranked.min_h, in_way.min_h, contact);
-  EXPECT_GT(r.detour_movers, 0);
-  EXPECT_GT(ranked.min_h, contact + 0.05);
+  PlannerParams unranked = p;
+  unranked.solver.rank_outcome = false;
+  RunResult in_way = run(unranked, group, 25.0, 20.0);
+  std::printf("[figures] group head-on: min h %.2f m, %.2f without the outcome rank (contact at %.2f)\n", r.min_h,
+              in_way.min_h, contact);
   EXPECT_LT(in_way.min_h, contact);  // the premise: standing in its way, the robot is hit
 }
 
@@ -285,7 +282,6 @@ TEST(PlannerCore, ASymmetricHeadOnIsPassedOnOneSideWithoutAlternating) {
 // skipped; the mover still has to be got out of the way of.
 TEST(PlannerCore, HeadOnMoverBesideASwellingStaticObstacleIsAvoided) {
   PlannerParams p = default_params();
-  p.detour.oncoming_sweep_s = 0.0;  // the MPC's own reaction: the swept mover would detour the robot before it
   const std::vector<SimObstacle> scene{{3.5, 1.1, 0.0, 0.0, 0.3, 0.25}, {9.0, 0.05, -1.0, 0.0, 0.3}};
   PlannerParams one_solve = p;
   one_solve.guidance.enabled = false;  // the recovery chain alone, as the fallback runs it
@@ -314,6 +310,27 @@ TEST(PlannerCore, AnOncomingFastMoverIsGotOutOfTheWayOfFromRest) {
       EXPECT_GE(r.min_h, -default_params().d_safe_m)  // the discs hold the footprint
           << "footprint's discs touched, speed " << speed << " offset " << offset;
     }
+}
+
+// HEALTH says which recovery candidate was sent: every most_clearance
+// cycle counts exactly one kind (mc_*), and a kind switched off
+// (solver.dashes) is never sent. A fast mover head-on at a robot at rest
+// leaves no plan that meets the constraints.
+TEST(PlannerCore, HealthCountsWhichRecoveryCandidateWasSent) {
+  const std::vector<SimObstacle> bike = {{6.0, 0.0, -2.0, 0.0, 0.5, 0.05}};
+  for (bool dashes : {true, false}) {
+    PlannerParams p = default_params();
+    p.solver.dashes = dashes;
+    RunResult r = run(p, bike, 8.0);
+    int64_t kinds = 0;
+    for (const auto& [kind, n] : r.sent) kinds += n;
+    EXPECT_GT(r.most_clearance, 0);  // the premise
+    EXPECT_EQ(kinds, r.most_clearance) << "dashes " << dashes;
+    if (dashes)
+      EXPECT_GT(r.sent["mc_dash"], 0);
+    else
+      EXPECT_EQ(r.sent["mc_dash"], 0);
+  }
 }
 
 // Bikes too fast to be got out of the way of (3-4.5 m/s, seen 7 m away)
