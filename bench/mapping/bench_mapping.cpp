@@ -59,7 +59,7 @@ void BM_BuildElevationMap(benchmark::State& state) {
   state.counters["points"] = double(st.points_in);
   state.counters["binned"] = double(st.points_binned);
 }
-BENCHMARK(BM_BuildElevationMap)->Arg(10)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BuildElevationMap)->Arg(10)->Arg(16)->Arg(24)->Unit(benchmark::kMillisecond);
 
 void BM_ObstacleLayerOnly(benchmark::State& state) {
   ElevationLayers L;
