@@ -57,7 +57,16 @@ struct DetourParams {
   double leader_max_speed_mps = 0.6;
   double leader_max_angle_rad = 30.0 * M_PI / 180.0;  // ...within this of the route's heading (config: degrees)...
   double leader_sweep_s = 2.0;                        // ...enters the grid as its ellipse swept this far ahead
-  double min_mover_age_s = 0.5;                       // a leader is swept once tracked this long
+  // An oncoming mover (within this of the route's reverse heading) enters
+  // the grid swept up to the robot, at most oncoming_sweep_s ahead (0 =
+  // off), if its uncertainty inflation at k = 0 is at most
+  // oncoming_max_sigma_m: a static object the robot drives up to reads as
+  // oncoming while its visible part changes, and with the shape change
+  // comes a large sigma.
+  double oncoming_max_angle_rad = 30.0 * M_PI / 180.0;  // config: degrees
+  double oncoming_sweep_s = 4.0;
+  double oncoming_max_sigma_m = 0.25;
+  double min_mover_age_s = 0.5;  // a leader or oncoming mover is swept once tracked this long
 
   template <class V>
   void fields(V& v) {
@@ -80,6 +89,9 @@ struct DetourParams {
     v.field("leader_max_speed_mps", leader_max_speed_mps, config::between(0.0, 100.0));
     v.convert("leader_max_angle_deg", leader_max_angle_rad, config::degrees_as_radians(config::between(0.0, 90.0)));
     v.field("leader_sweep_s", leader_sweep_s, config::between(0.0, 60.0));
+    v.convert("oncoming_max_angle_deg", oncoming_max_angle_rad, config::degrees_as_radians(config::between(0.0, 90.0)));
+    v.field("oncoming_sweep_s", oncoming_sweep_s, config::between(0.0, 60.0));
+    v.field("oncoming_max_sigma_m", oncoming_max_sigma_m, config::between(0.0, 100.0));
     v.field("min_mover_age_s", min_mover_age_s, config::between(0.0, 3600.0));
     v.field("memory_s", memory_s, config::between(0.0, 3600.0));
   }

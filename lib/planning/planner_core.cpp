@@ -181,12 +181,25 @@ int PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::
   if (hn <= 0.0) return 0;
   if (dx * hx + dy * hy <= 0.0) return 0;                       // behind the robot
   const double along = (t.vx * hx + t.vy * hy) / (speed * hn);  // cosine to the route's heading
-  // A walker ahead in the lane, going the route's way slower than the
-  // robot: straight behind it the barrier's gradient has no sideways part
-  // and following is a solution, so the MPC alone follows it.
-  if (speed > d.leader_max_speed_mps || along < std::cos(d.leader_max_angle_rad)) return 0;
-  const double sweep_m = speed * d.leader_sweep_s;
-  const int kind = 1;
+  double sweep_m;
+  int kind;
+  if (speed <= d.leader_max_speed_mps && along >= std::cos(d.leader_max_angle_rad)) {
+    // A walker ahead in the lane, going the route's way slower than the
+    // robot: straight behind it the barrier's gradient has no sideways
+    // part and following is a solution, so the MPC alone follows it.
+    sweep_m = speed * d.leader_sweep_s;
+    kind = 1;
+  } else if (d.oncoming_sweep_s > 0.0 && !t.sigma.empty() && t.sigma[0] <= d.oncoming_max_sigma_m &&
+             -along >= std::cos(d.oncoming_max_angle_rad)) {
+    // Coming towards the robot: a group abreast is wider than any swerve
+    // the 2.5 s horizon can plan once it is near, and standing in its way
+    // is no escape from walkers who do not give way. Its way up to the
+    // robot (at most oncoming_sweep_s of it) is kept clear of, in time.
+    sweep_m = std::min(dist, speed * d.oncoming_sweep_s);
+    kind = 2;
+  } else {
+    return 0;
+  }
   // its ellipse (as a circle of its larger semi-axis) swept along its velocity
   const double r = std::max(t.a[0], t.b[0]), half = 0.5 * sweep_m;
   swept->x = t.x[0] + t.vx / speed * half;
@@ -207,7 +220,7 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
   std::vector<std::pair<int64_t, Ellipse>> settled;
   std::vector<int64_t> moving;
   std::vector<Ellipse> swept_movers;
-  bool leader = false;
+  bool leader = false, oncoming = false;
   if (predictions_ && p_.detour.enabled) {
     for (const auto& t : predictions_->tracks) {
       if (!valid_track(t)) continue;
@@ -219,6 +232,7 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
         const int kind = age_s >= p_.detour.min_mover_age_s ? swept_in_grid(t, odom, &swept) : 0;
         if (kind) swept_movers.push_back(swept);
         leader |= kind == 1;
+        oncoming |= kind == 2;
         continue;
       }
       if (static_.stands_for(t.id))
@@ -237,6 +251,7 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
   if (r == DetourPlanner::Result::kDetour && way_round.set_route(way_x, way_y)) {
     count("detour");
     if (leader) count("detour_leader");
+    if (oncoming) count("detour_oncoming");
     way_round.update_progress(odom.x, odom.y, p_.route_search_window_m);
     way_round.reference(odom.x, odom.y, odom.yaw, pb->N, p_.dt_s, p_.reference_speed_mps, p_.route_end_decel_mps2,
                         &pb->ref_x, &pb->ref_y, &pb->ref_yaw);

@@ -90,10 +90,11 @@ class PlannerCore : public bus::Core {
   // A mover ahead that the detour grid keeps clear of, as its ellipse swept
   // along its velocity (*swept): a slow leader (going the route's way within
   // detour.leader_max_angle_rad, slower than leader_max_speed_mps: swept
-  // leader_sweep_s). Returns 1 for a leader, 0 for none.
+  // leader_sweep_s) or an oncoming one (within oncoming_max_angle_rad of
+  // the route's reverse heading: swept up to the robot, at most
+  // oncoming_sweep_s).
   int swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, Ellipse* swept) const;
-  // most_clearance's attempts by kind, for HEALTH (mc_hard, mc_dash, ...)
-  std::vector<const char*> attempt_labels_;
+  std::vector<const char*> attempt_labels_;  // TEMP measurement
   void watchdog();
   // A solver for the next solve of this cycle: what is left of
   // max_cycle_iterations after `spent`, less `reserve`, at most one solve's
