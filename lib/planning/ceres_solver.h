@@ -89,7 +89,7 @@ struct SolverOptions {
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
   bool rank_outcome = true;           // most_clearance: clear of movers' bodies, then contacts theirs, then ours
-  double outcome_margin_mps = 0.15;   // rank_outcome: bodies meet within this many m per s ahead (0: off) ...
+  double outcome_margin_mps = 0.0;    // rank_outcome: bodies meet within this many m per s ahead (0: off) ...
   double outcome_margin_max_m = 0.3;  // ... up to this (outcome.h, OutcomeMargin)
   bool split_budget = false;          // a failed hard solve's recovery solve keeps its share of the cycle; starts pass
                                       // unused iterations on (off: the restarts' reserve only, equal shares)

@@ -374,8 +374,7 @@ TEST(PlannerCore, TheFallbackDrivesIntoFewerFastHeadOnMoversThanTheChain) {
         }
     return t;
   };
-  const double margin = default_params().solver.outcome_margin_mps;
-  ASSERT_GT(margin, 0.0) << "the premise: the margin is on by default";
+  const double margin = 0.15;  // the margin measured on the benchmark (off by default: config/robot.yaml)
   const Tally one = sweep(Fallback::kOwnMotion, margin), chain = sweep(Fallback::kChain, margin),
               bodies = sweep(Fallback::kChain, 0.0);
   std::printf(
