@@ -77,8 +77,8 @@ struct PlannerSolverParams : SolverOptions {
   // iterations, not time, so that a replay plans exactly as the live run did.
   int max_cycle_iterations = 900;
   bool warm_multipliers = false;  // the last cycle's multipliers start the solve (else estimate_multipliers)
-  bool swerves = true;            // TEMP: swerve restarts and swerve candidates
-  bool dashes = true;             // TEMP: dash candidates
+  bool swerves = true;            // chain: swerve restarts and swerve candidates (off: neither)
+  bool dashes = true;             // chain: the dash candidates (off: none)
   template <class V>
   void fields(V& v) {
     v.field("max_cycle_iterations", max_cycle_iterations, config::between(1, 1000000));
