@@ -94,7 +94,12 @@ class PlannerCore : public bus::Core {
   // the route's reverse heading: swept up to the robot, at most
   // oncoming_sweep_s).
   int swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, Ellipse* swept) const;
-  std::vector<const char*> attempt_labels_;  // TEMP measurement
+  // A plan the recovery chain tried, with the HEALTH counter naming its kind
+  // (mc_hard, mc_dash, ...) that most_clearance adds when it sends it.
+  struct Attempt {
+    std::vector<double> u;
+    const char* label;
+  };
   void watchdog();
   // A solver for the next solve of this cycle: what is left of
   // max_cycle_iterations after `spent`, less `reserve`, at most one solve's
@@ -134,15 +139,14 @@ class PlannerCore : public bus::Core {
   bool relaxed_plan_stands(const Problem& pb, const std::vector<double>& u) const;
   OutcomeMargin outcome_margin() const;  // solver.outcome_margin_*
   bool braking_misses(const Problem& pb, const std::vector<double>& brake) const;
-  void swerve_restarts(const Problem& pb, int reserve, SolveResult* res, int* iterations,
-                       std::vector<std::vector<double>>* tried);
+  void swerve_restarts(const Problem& pb, int reserve, SolveResult* res, int* iterations, std::vector<Attempt>* tried);
   // The last feasible plan shifted to this cycle, its tail braking; false
   // when there is none from within the horizon.
   bool last_feasible_shifted(const evade::odometry_t& odom, std::vector<double>* u) const;
   // Nothing met every constraint: of the plans at hand (`attempts`, the
   // last feasible plan shifted, braking) the one with the most clearance.
-  int8_t most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,
-                        const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u);
+  int8_t most_clearance(const Problem& pb, const std::vector<Attempt>& attempts, const evade::odometry_t& odom,
+                        double v0, double w0, std::vector<double>* u);
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;
   // PlannerParams::escape_*: when *u (a relaxed plan) makes no headway from

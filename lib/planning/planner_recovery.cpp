@@ -60,16 +60,15 @@ bool PlannerCore::braking_misses(const Problem& pb, const std::vector<double>& b
 }
 
 void PlannerCore::swerve_restarts(const Problem& pb, int reserve, SolveResult* res, int* iterations,
-                                  std::vector<std::vector<double>>* tried) {
+                                  std::vector<Attempt>* tried) {
+  if (!p_.solver.swerves) return;
   for (double side : {1.0, -1.0}) {
-    if (!p_.solver.swerves) return;
     const std::optional<CeresMpcSolver> solver = budgeted_solver(*iterations, reserve);
     if (!solver) return;
     SolveResult alt = solver->solve(pb, swerve_controls(pb, side));
     *iterations += alt.iterations;
     count("solver_restart");
-    if (alt.finite && tried) tried->push_back(alt.u);
-    if (alt.finite && tried) attempt_labels_.push_back("mc_swerve_restart");
+    if (alt.finite && tried) tried->push_back({alt.u, "mc_swerve_restart"});
     if (alt.finite && alt.feasible) {
       count("swerve_sent");
       *res = alt;
@@ -80,28 +79,25 @@ void PlannerCore::swerve_restarts(const Problem& pb, int reserve, SolveResult* r
 
 int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& warm_u, const evade::odometry_t& odom,
                                   double v0, double w0, SolveResult* res, std::vector<double>* u, int* iterations) {
-  std::vector<std::vector<double>> candidates;  // unsolved plans, for the most clearance
-  attempt_labels_.clear();
-  if (res->finite) candidates.push_back(res->u), attempt_labels_.push_back("mc_hard");
+  std::vector<Attempt> candidates;  // unsolved plans, for the most clearance
+  if (res->finite) candidates.push_back({res->u, "mc_hard"});
   std::vector<double> relax;  // solve_elastic's (none without obstacles: only the rate limits failed)
   bool can_relax = false;
   if (!pb.obstacles.empty()) {
     relax = barrier_relaxation(pb, p_.solver);
     can_relax = std::any_of(relax.begin(), relax.end(), [](double s) { return s > 0; });
     if (p_.solver.dashes)
-      for (double side : {1.0, -1.0})
-        candidates.push_back(dash_controls(pb, side)), attempt_labels_.push_back("mc_dash");
+      for (double side : {1.0, -1.0}) candidates.push_back({dash_controls(pb, side), "mc_dash"});
     if (p_.solver.rank_outcome)
       for (double side : {1.0, -1.0})
         for (double offset : {0.2, 0.35, 0.45, 0.55, 0.65})
-          candidates.push_back(pull_over_controls(pb, side, offset, 1.0)), attempt_labels_.push_back("mc_pull_over");
+          candidates.push_back({pull_over_controls(pb, side, offset, 1.0), "mc_pull_over"});
     if (can_relax && braking_misses(pb, projected_braking(pb, v0, w0))) {
       // the relaxed problem decides; the swerves stay candidates: with a
       // mover closing in, getting out of its way at speed can beat all else
       count("restart_skipped");
       if (p_.solver.swerves)
-        for (double side : {1.0, -1.0})
-          candidates.push_back(swerve_controls(pb, side)), attempt_labels_.push_back("mc_swerve");
+        for (double side : {1.0, -1.0}) candidates.push_back({swerve_controls(pb, side), "mc_swerve"});
     } else {
       // the relaxed solve, when it applies, comes next and keeps its budget
       swerve_restarts(pb, can_relax ? recovery_share() : 0, res, iterations, &candidates);
@@ -126,7 +122,7 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
       if (escape_turn(pb, v0, w0, u)) count("escape_turn");
       return evade::plan_t::STATUS_RECOVERING;
     }
-    if (rec.finite) candidates.push_back(rec.u), attempt_labels_.push_back("mc_relaxed");
+    if (rec.finite) candidates.push_back({rec.u, "mc_relaxed"});
   }
   return most_clearance(pb, candidates, odom, v0, w0, u);
 }
@@ -173,7 +169,7 @@ int8_t PlannerCore::recover_own_motion(const Problem& pb, const std::vector<doub
   return res->feasible ? evade::plan_t::STATUS_RECOVERING : evade::plan_t::STATUS_STOPPING;
 }
 
-int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vector<double>>& attempts,
+int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>& attempts,
                                    const evade::odometry_t& odom, double v0, double w0, std::vector<double>* u) {
   const int N = p_.horizon_steps;
   // Nothing meets every constraint: of the plans at hand (the failed
@@ -199,6 +195,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
     std::vector<double> u;
     int8_t status;
     const char* counter;
+    const char* label = nullptr;  // an attempt's kind (Attempt::label)
     bool into = false;
     Outcome outcome;
     double h = 0.0, shortfall = 0.0;
@@ -206,9 +203,8 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
   std::vector<Candidate> candidates;
   std::vector<double> f;
   if (last_feasible_shifted(odom, &f)) candidates.push_back({f, evade::plan_t::STATUS_FALLBACK, "fallback"});
-  for (size_t i = 0; i < attempts.size(); ++i)
-    candidates.push_back({attempts[i], evade::plan_t::STATUS_RECOVERING, "most_clearance"});
-  const size_t first_attempt = candidates.size() - attempts.size();
+  for (const Attempt& a : attempts)
+    candidates.push_back({a.u, evade::plan_t::STATUS_RECOVERING, "most_clearance", a.label});
   candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
   const double tie = p_.solver.constraint_tolerance;
   std::vector<double> states(3 * (N + 1));
@@ -236,13 +232,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<std::vec
   }
   *u = chosen->u;
   count(chosen->counter);
-  {
-    const size_t ci = static_cast<size_t>(chosen - candidates.data());
-    if (ci >= first_attempt && ci - first_attempt < attempts.size() && attempt_labels_.size() == attempts.size())
-      count(attempt_labels_[ci - first_attempt]);
-    else if (ci >= first_attempt && ci - first_attempt < attempts.size())
-      count("mc_unlabelled");
-  }
+  if (chosen->label) count(chosen->label);
   return chosen->status;
 }
 
