@@ -1045,6 +1045,17 @@ bool settled_obstacle(const Problem& pb, const ObstacleTrack& o, const SolverOpt
   return speed <= opts.relax_max_obstacle_speed_mps && o.age_s >= opts.relax_min_track_age_s;
 }
 
+int hold_settled_obstacles(Problem* pb, const SolverOptions& opts) {
+  int held = 0;
+  for (ObstacleTrack& o : pb->obstacles) {
+    if (o.field || !settled_obstacle(*pb, o, opts)) continue;
+    for (std::vector<double>* v : {&o.x, &o.y, &o.a, &o.b, &o.theta, &o.sigma})
+      if (!v->empty()) std::fill(v->begin(), v->end(), v->front());
+    ++held;
+  }
+  return held;
+}
+
 std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& opts) {
   std::vector<double> relax(pb.num_constraints(), 0.0);
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
