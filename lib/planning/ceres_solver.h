@@ -167,7 +167,8 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
 // (mean over the horizon) and tracked for relax_min_track_age_s.
 bool settled_obstacle(const Problem& pb, const ObstacleTrack& o, const SolverOptions& opts);
 
-// hold_settled: each settled obstacle of pb (settled_obstacle) keeps its
+// hold_settled: each settled obstacle of pb (settled_obstacle) predicted
+// slower than relax_max_obstacle_speed_mps at every step keeps its
 // centre, shape and inflation of step 0 at every step. Its predicted
 // ellipse otherwise swells with the velocity's uncertainty (times t, up to
 // the predictor's max_inflation_m), so that a robot standing beside a bin

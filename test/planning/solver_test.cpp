@@ -337,7 +337,11 @@ TEST(CeresSolver, HoldingASettledObstacleLetsTheRobotStandAndPassBesideIt) {
   ObstacleTrack fresh = moving_obstacle(3, 4.0, 2.0, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
   for (int k = 0; k <= pb.N; ++k) fresh.a[k] = 0.3 + 0.5 * k / pb.N;
   fresh.age_s = 0.5;
-  pb.obstacles = {bin, mover, fresh};
+  // a walker turning round: 1 m/s out and back, ending where it began
+  ObstacleTrack turning = moving_obstacle(4, -2.0, 2.0, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
+  for (int k = 0; k <= pb.N; ++k) turning.x[k] = -2.0 + pb.dt * std::min(k, pb.N - k);
+  turning.age_s = 10.0;
+  pb.obstacles = {bin, mover, fresh, turning};
   ASSERT_GT(barrier_at(bin, 0, 0, 0, pb.d_safe).h, 0.0);
   ASSERT_LT(barrier_at(bin, pb.N, 0, 0, pb.d_safe).h, 0.0);  // standing ends inside d_safe
   const std::vector<double> standing(2 * pb.N, 0.0);
@@ -353,8 +357,9 @@ TEST(CeresSolver, HoldingASettledObstacleLetsTheRobotStandAndPassBesideIt) {
     EXPECT_EQ(h.b[k], bin.b[0]);
     EXPECT_EQ(h.sigma[k], bin.sigma[0]);
   }
-  EXPECT_EQ(held.obstacles[1].y, mover.y);  // a mover goes on as predicted
-  EXPECT_EQ(held.obstacles[2].a, fresh.a);  // a new track keeps its swelling
+  EXPECT_EQ(held.obstacles[1].y, mover.y);    // a mover goes on as predicted
+  EXPECT_EQ(held.obstacles[2].a, fresh.a);    // a new track keeps its swelling
+  EXPECT_EQ(held.obstacles[3].x, turning.x);  // so does a mover that turns round
 
   const SolveResult r = solver.solve(held, standing);
   ASSERT_TRUE(r.finite);
