@@ -81,6 +81,8 @@ struct SolverOptions {
   double relax_min_track_age_s = 1.0;              // ... and tracked for this long (a new track reads as
                                                    // static while its velocity is unknown); others only a start
                                                    // inside d_safe
+  bool hold_settled = false;                       // mode evade: a settled obstacle (as relax_* say) keeps its
+                                                   // ellipse of step 0 at every step, not swelling
   Fallback fallback = Fallback::kChain;            // mode evade, nothing meets the constraints (fallback.h)
   double fallback_gamma = 1.0;                     // own_motion links: the robot may close by this times h a step
   double fallback_penetration_weight = 1e4;        // 1/m^2: own_motion's cost of depth within d_safe (per step)
@@ -165,6 +167,17 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
 // (mean over the horizon) and tracked for relax_min_track_age_s.
 bool settled_obstacle(const Problem& pb, const ObstacleTrack& o, const SolverOptions& opts);
 
+// hold_settled: each settled obstacle of pb (settled_obstacle) predicted
+// slower than relax_max_obstacle_speed_mps at every step keeps its
+// centre, shape and inflation of step 0 at every step. Its predicted
+// ellipse otherwise swells with the velocity's uncertainty (times t, up to
+// the predictor's max_inflation_m), so that a robot standing beside a bin
+// misses the hard constraints of the horizon's end at once, and a gap
+// between two such obstacles closes over the horizon wherever the robot
+// stands. A settled obstacle that starts to move is a new prediction next
+// cycle. Returns how many were held.
+int hold_settled_obstacles(Problem* pb, const SolverOptions& opts);
+
 // Fills r's cost, max_violation, min_barrier, finite and feasible from
 // r->u against pb (states rolled out again).
 void evaluate_result(const Problem& pb, const SolverOptions& opts, SolveResult* r);
@@ -227,6 +240,7 @@ void SolverOptions::fields(V& v) {
   v.field("estimate_multipliers", estimate_multipliers);
   v.field("relax_max_obstacle_speed_mps", relax_max_obstacle_speed_mps, config::between(0.0, 100.0));
   v.field("relax_min_track_age_s", relax_min_track_age_s, config::between(0.0, 3600.0));
+  v.field("hold_settled", hold_settled);
   v.choice("fallback", fallback,
            config::Choices<Fallback>{{"chain", Fallback::kChain}, {"own_motion", Fallback::kOwnMotion}});
   v.field("fallback_gamma", fallback_gamma, config::between(1e-6, 1.0));
