@@ -91,7 +91,7 @@ struct SolverOptions {
   double recovery_switch_ratio = 0.8;              // solve_elastic keeps the plan grown from the previous one unless
                                                    // another start's costs less than this fraction of it
   bool rank_outcome = true;           // most_clearance: clear of movers' bodies, then contacts theirs, then ours
-  double outcome_margin_mps = 0.0;    // rank_outcome: bodies meet within this many m per s ahead (0: off) ...
+  double outcome_margin_share = 0.0;  // rank_outcome: m of margin per m a mover is predicted to go (0: off) ...
   double outcome_margin_max_m = 0.3;  // ... up to this (outcome.h, OutcomeMargin)
   bool split_budget = false;          // a failed hard solve's recovery solve keeps its share of the cycle; starts pass
                                       // unused iterations on (off: the restarts' reserve only, equal shares)
@@ -249,7 +249,7 @@ void SolverOptions::fields(V& v) {
   v.field("fallback_brake_while_closing", fallback_brake_while_closing);
   v.field("recovery_switch_ratio", recovery_switch_ratio, config::between(0.0, 1.0));
   v.field("rank_outcome", rank_outcome);
-  v.field("outcome_margin_mps", outcome_margin_mps, config::between(0.0, 10.0));
+  v.field("outcome_margin_share", outcome_margin_share, config::between(0.0, 10.0));
   v.field("outcome_margin_max_m", outcome_margin_max_m, config::between(0.0, 10.0));
   v.field("split_budget", split_budget);
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));

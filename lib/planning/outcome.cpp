@@ -33,7 +33,17 @@ void extend(int N, int extra, ObstacleTrack* o) {
 
 }  // namespace
 
-double OutcomeMargin::at(double t_s) const { return std::clamp(per_s * t_s, 0.0, std::max(max_m, 0.0)); }
+double OutcomeMargin::at(double t_s, double speed_mps) const {
+  const double m = share * speed_mps * t_s;
+  return std::isfinite(m) ? std::clamp(m, 0.0, std::max(max_m, 0.0)) : 0.0;
+}
+
+double mean_predicted_speed(const ObstacleTrack& o, int N, double dt) {
+  if (N <= 0 || !(dt > 0) || o.x.size() <= static_cast<size_t>(N) || o.y.size() <= static_cast<size_t>(N)) return 0.0;
+  double path = 0.0;
+  for (int k = 1; k <= N; ++k) path += std::hypot(o.x[k] - o.x[k - 1], o.y[k] - o.y[k - 1]);
+  return std::isfinite(path) ? path / (N * dt) : 0.0;
+}
 
 Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, double tolerance, int extend_steps,
                      const OutcomeMargin& margin) {
@@ -46,6 +56,7 @@ Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, doubl
   Outcome out;
   for (const ObstacleTrack& track : pb.obstacles) {
     if (track.field) continue;
+    const double speed = mean_predicted_speed(track, pb.N, pb.dt);
     ObstacleTrack o = track;
     remove_inflation(&o);
     extend(pb.N, extend_steps, &o);
@@ -54,7 +65,7 @@ Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, doubl
       const double now = barrier_h_at(body, o, k, &s[3 * k]);
       out.clearance = std::min(out.clearance, now);
       // a NaN distance is no meeting, as before the margin
-      if (!(now < std::min(margin.at(k * pb.dt), start) || now < 0.0)) continue;
+      if (!(now < std::min(margin.at(k * pb.dt, speed), start) || now < 0.0)) continue;
       if (out.first_contact < 0 || k < out.first_contact) out.first_contact = k;
       out.kind = std::max(out.kind, Outcome::kTheirs);
       const double before = barrier_h_at(body, o, k, &s[3 * (k - 1)]);

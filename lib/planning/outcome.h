@@ -15,11 +15,16 @@
 // (kTheirs: it walks into a robot standing or moving away).
 //
 // The margin (OutcomeMargin, off at 0): the bodies "meet" at step k when
-// their distance is below margin(t_k) = min(max_m, per_s t_k), t_k = k dt
-// ahead of the plan's start (a prediction's error grows with how far ahead
-// it is), but never below where they stand at the start: against an
-// obstacle already within the margin at step 0, meeting is coming closer
-// than that (a start inside it does not make every plan a contact).
+// their distance is below margin(t_k) = min(max_m, share v t_k), t_k = k dt
+// ahead of the plan's start and v the obstacle's mean predicted speed over
+// the horizon (the length of its predicted centres' path over N dt): a
+// share of how far it is predicted to go by then. A prediction's error
+// grows about as speed times time ahead (a walker that turns round ends up
+// to 2 v t off the constant-velocity mean); an obstacle predicted to stand
+// gets no margin, with no threshold. Never below where they stand at the
+// start: against an obstacle already within the margin at step 0, meeting
+// is coming closer than that (a start inside it does not make every plan a
+// contact).
 #pragma once
 
 #include <vector>
@@ -29,10 +34,16 @@
 namespace evade::planning {
 
 struct OutcomeMargin {
-  double per_s = 0.0;  // m of margin per s ahead of the plan's start
+  double share = 0.0;  // m of margin per m the obstacle is predicted to go (its mean speed times the time ahead)
   double max_m = 0.0;  // m, the most it grows to
-  double at(double t_s) const;
+  // the margin t_s ahead of the plan's start against an obstacle of mean
+  // predicted speed speed_mps (0 when either is not finite)
+  double at(double t_s, double speed_mps) const;
 };
+
+// The mean speed of o's predicted centres over steps 0..N of dt (m/s; 0
+// without N steps or with a non-finite centre).
+double mean_predicted_speed(const ObstacleTrack& o, int N, double dt);
 
 struct Outcome {
   enum Kind { kClear = 0, kTheirs = 1, kOurs = 2 };  // in order of preference

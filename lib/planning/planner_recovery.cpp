@@ -128,7 +128,7 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
 }
 
 OutcomeMargin PlannerCore::outcome_margin() const {
-  return {p_.solver.outcome_margin_mps, p_.solver.outcome_margin_max_m};
+  return {p_.solver.outcome_margin_share, p_.solver.outcome_margin_max_m};
 }
 
 bool PlannerCore::relaxed_plan_stands(const Problem& pb, const std::vector<double>& u) const {

@@ -116,10 +116,11 @@ std::vector<double> driving_from(const Problem& pb, double x, double v) {
 
 TEST(Outcome, AMarginGrowingWithTheTimeAheadMakesANearPassAContact) {
   const Problem pb = walker_crossing();
-  const OutcomeMargin margin{0.15, 0.3};
-  EXPECT_NEAR(margin.at(0.1), 0.015, 1e-12);
-  EXPECT_NEAR(margin.at(2.0), 0.3, 1e-12);
-  EXPECT_NEAR(margin.at(5.0), 0.3, 1e-12);
+  const OutcomeMargin margin{0.15, 0.3};  // against the 1 m/s walker: 0.15 m per s ahead
+  EXPECT_NEAR(mean_predicted_speed(pb.obstacles[0], pb.N, pb.dt), 1.0, 1e-9);
+  EXPECT_NEAR(margin.at(0.1, 1.0), 0.015, 1e-12);
+  EXPECT_NEAR(margin.at(2.0, 1.0), 0.3, 1e-12);
+  EXPECT_NEAR(margin.at(5.0, 1.0), 0.3, 1e-12);
   // standing 0.1 m short of the walker's lane, the bodies pass 0.1 m apart
   // 2 s ahead: clear on the bodies alone; within the margin there (0.3 m),
   // the walker's, as the robot stands
@@ -144,7 +145,7 @@ TEST(Outcome, TheMarginGrowsFromWhereThePlanStarts) {
   const double beside = pb.footprint.radius + 0.05 + 0.3;
   pb.obstacles = {moving_obstacle(9, pb.footprint.offsets.back(), beside, 0.1, 0.0, 0.3, 0.3, 0.0, 0.9, pb.N, 0.1)};
   pb.obstacles[0].sigma.assign(pb.N + 1, 0.0);
-  const OutcomeMargin margin{0.15, 0.3};
+  const OutcomeMargin margin{1.5, 0.3};  // against the 0.1 m/s stroll: 0.15 m per s ahead
   // within the margin at the start: standing, or moving aside, is clear ...
   EXPECT_EQ(plan_outcome(pb, standing_at(pb, 0.0, 0.0), 1e-3, pb.N, margin).kind, Outcome::kClear);
   EXPECT_EQ(plan_outcome(pb, standing_at(pb, 0.0, -0.2), 1e-3, pb.N, margin).kind, Outcome::kClear);
@@ -153,6 +154,52 @@ TEST(Outcome, TheMarginGrowsFromWhereThePlanStarts) {
   for (int k = 1; k <= pb.N; ++k) towards[3 * k + 1] = 0.03;
   EXPECT_EQ(plan_outcome(pb, towards, 1e-3, pb.N).kind, Outcome::kClear);
   EXPECT_NE(plan_outcome(pb, towards, 1e-3, pb.N, margin).kind, Outcome::kClear);
+}
+
+// The robot driving on at 0.5 m/s along y = 0 past a body of radius 0.3 m
+// whose lane (y = lane_y) its discs pass 0.05 m off, its front disc level
+// with the body 1 s ahead; the body predicted at (vx, 0) m/s.
+Problem near_pass(double vx) {
+  Problem pb = straight_problem(0, 0, 0, 0.5, 0.5);
+  pb.footprint = Footprint::covering(0.42, 0.31, 3);
+  pb.d_safe = 0.15;
+  const double lane_y = pb.footprint.radius + 0.3 + 0.05;
+  const double level_x = pb.footprint.offsets.back() + 0.5 * 1.0;  // the front disc's x 1 s ahead
+  ObstacleTrack o = moving_obstacle(10, level_x - vx * 1.0, lane_y, vx, 0.0, 0.3, 0.3, 0.0, 0.9, pb.N, pb.dt);
+  o.sigma.assign(pb.N + 1, 0.0);
+  pb.obstacles = {o};
+  return pb;
+}
+
+TEST(Outcome, AStandingObstaclePassedByCentimetresIsClear) {
+  // a bin, predicted to stand: no margin, whatever the time ahead
+  const Problem pb = near_pass(0.0);
+  const std::vector<double> on = rollout_of(pb, 0.5, 0.0);
+  const OutcomeMargin margin{0.15, 0.3};
+  const Outcome bodies = plan_outcome(pb, on, 1e-3, pb.N);
+  EXPECT_EQ(bodies.kind, Outcome::kClear);
+  EXPECT_NEAR(bodies.clearance, 0.05, 0.01);
+  EXPECT_EQ(mean_predicted_speed(pb.obstacles[0], pb.N, pb.dt), 0.0);
+  EXPECT_EQ(margin.at(1.0, 0.0), 0.0);
+  EXPECT_EQ(plan_outcome(pb, on, 1e-3, pb.N, margin).kind, Outcome::kClear);
+}
+
+TEST(Outcome, AWalkerPassedByCentimetresOneSecondAheadIsAContact) {
+  // the same pass against a walker coming the other way at 1.2 m/s: 0.05 m
+  // apart 1 s ahead, where its prediction may be 0.15 x 1.2 m off
+  const Problem pb = near_pass(-1.2);
+  const std::vector<double> on = rollout_of(pb, 0.5, 0.0);
+  const OutcomeMargin margin{0.15, 0.3};
+  EXPECT_NEAR(mean_predicted_speed(pb.obstacles[0], pb.N, pb.dt), 1.2, 1e-9);
+  EXPECT_NEAR(margin.at(1.0, 1.2), 0.18, 1e-12);
+  const Outcome bodies = plan_outcome(pb, on, 1e-3, pb.N);
+  EXPECT_EQ(bodies.kind, Outcome::kClear);
+  EXPECT_NEAR(bodies.clearance, 0.05, 0.01);
+  // within the margin, and the robot drives on into it: the robot's
+  const Outcome judged = plan_outcome(pb, on, 1e-3, pb.N, margin);
+  EXPECT_EQ(judged.kind, Outcome::kOurs);
+  EXPECT_GE(judged.first_contact, 5);
+  EXPECT_LE(judged.first_contact, 10);
 }
 
 }  // namespace

@@ -350,17 +350,17 @@ TEST(PlannerCore, HealthCountsWhichRecoveryCandidateWasSent) {
 // what braking would: it drives into no more of them faster than the
 // metrics' fault threshold (0.1 m/s), and slower, than the recovery chain,
 // whose dashes drove on into them. The chain's outcome margin
-// (solver.outcome_margin_mps) takes it into fewer of them than judging
+// (solver.outcome_margin_share) takes it into fewer of them than judging
 // the bodies alone.
 TEST(PlannerCore, TheFallbackDrivesIntoFewerFastHeadOnMoversThanTheChain) {
   struct Tally {
     int at_fault = 0;
     double worst_mps = 0.0;
   };
-  auto sweep = [](Fallback f, double margin_mps) {
+  auto sweep = [](Fallback f, double margin_share) {
     PlannerParams p = default_params();
     p.solver.fallback = f;
-    p.solver.outcome_margin_mps = margin_mps;
+    p.solver.outcome_margin_share = margin_share;
     Tally t;
     for (double speed : {3.0, 4.5})
       for (double offset : {0.0, 0.25, -0.4})
@@ -374,7 +374,7 @@ TEST(PlannerCore, TheFallbackDrivesIntoFewerFastHeadOnMoversThanTheChain) {
         }
     return t;
   };
-  const double margin = 0.15;  // the margin measured on the benchmark (off by default: config/robot.yaml)
+  const double margin = 0.15;  // the share measured on the benchmark (docs/experiments/2026-11-29-mover-margin.md)
   const Tally one = sweep(Fallback::kOwnMotion, margin), chain = sweep(Fallback::kChain, margin),
               bodies = sweep(Fallback::kChain, 0.0);
   std::printf(
@@ -584,7 +584,7 @@ TEST(PlannerCore, TheRelaxedSolveKeepsItsShareOfASmallCycleBudget) {
   p.solver.split_budget = true;
   // the relaxed plans pass the obstacle closer than the outcome margin
   // (one goes to the candidates with it on); the budget is the question
-  p.solver.outcome_margin_mps = 0.0;
+  p.solver.outcome_margin_share = 0.0;
   const RunResult r = run(p, beside, 1.0);
   ASSERT_FALSE(r.plan_log.empty());
   int recovering = 0;
