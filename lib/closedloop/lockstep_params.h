@@ -73,15 +73,15 @@ struct LockstepParams {
   double goal_margin_s = 0.5;                 // the run ends this long after the goal is reached
   PlannerCompute planner_compute = PlannerCompute::kIterations;
   double planner_fixed_s = 0.005;
-  double planner_base_s = 0.00043;
+  double planner_base_s = 0.00087;
   double planner_per_iteration_s = 0.000099;
   double planner_measured_scale = 1.0;
   double cpu_cores = 2.0;              // cores the processes and the simulator share (0: one each)
   double background_load_cores = 0.0;  // threads of other programs, always runnable, at the stack's weight
   std::map<std::string, ProcessCost> costs{
       // by process name (the evade processes and "sim")
-      {"lidar_driver", {0.0000245, 0.0003013, 0.0}}, {"elevation_map", {0.0001086, 0.0010845, 0.0}},
-      {"tracker", {0.0004211, 0.0001168, 0.0}},      {"predictor", {0.0003811, 0.0000657, 0.0}},
+      {"lidar_driver", {0.0000245, 0.0003013, 0.0}}, {"elevation_map", {0.0001086, 0.0018003, 0.0}},
+      {"tracker", {0.0004211, 0.0001787, 0.0}},      {"predictor", {0.0003811, 0.0000815, 0.0}},
       {"route", {0.0018923, 0.0000008, 0.0}},        {"planner", {0.0000642, 0.0, 0.0}},
       {"base_driver", {0.0000817, 0.0000003, 0.0}},  {"sim", {0.0000308, 0.0, 0.0000473}}};
 

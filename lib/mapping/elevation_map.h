@@ -17,8 +17,8 @@ namespace evade::mapping {
 
 struct ElevationMapParams {
   // grid (robot-centred, axis-aligned with the odometry frame)
-  double size_x_m = 16.0;  // config/robot.yaml says why (the paper: 10 x 10 m)
-  double size_y_m = 16.0;
+  double size_x_m = 24.0;  // lib/mapping/README.md says why (the paper: 10 x 10 m)
+  double size_y_m = 24.0;
   double resolution_m = 0.1;
   // crop (exact box test fused with the binning pass, see elevation_map.cpp)
   double min_z_m = -1.0;  // elevation band kept, above the ground plane of the base
