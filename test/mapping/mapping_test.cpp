@@ -31,8 +31,8 @@ TEST(Config, RobotYamlSectionLoadsAndMatchesTestDefaults) {
   const auto root = config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml");
   const auto p = ElevationMapParams::from_config(root.section("elevation_map"));
   const ElevationMapParams d;
-  EXPECT_EQ(p.width(), 160);
-  EXPECT_EQ(p.height(), 160);
+  EXPECT_EQ(p.width(), 240);
+  EXPECT_EQ(p.height(), 240);
   EXPECT_EQ(p.width(), d.width());
   EXPECT_EQ(p.height(), d.height());
   EXPECT_DOUBLE_EQ(p.sobel_max, d.sobel_max);
