@@ -39,7 +39,9 @@ TEST(ProcessReplay, GoldenCasesExist) {
   uintmax_t bytes = 0;
   for (const auto& e : fs::recursive_directory_iterator(kLogs))
     if (e.is_regular_file()) bytes += e.file_size();
-  EXPECT_LT(bytes, 20u * 1024 * 1024) << "logs/ must stay under 20 MB";
+  // the budget of a clone: two cases, each an elevation_map reference of 60
+  // maps of 240 x 240 cells (8.6 MB) and a 4.5 MB input (logs/README.md)
+  EXPECT_LT(bytes, 32u * 1024 * 1024) << "logs/ must stay under 32 MB";
 }
 
 // A change of lcmtypes changes fingerprints: golden logs recorded before it
