@@ -164,11 +164,11 @@ double PlannerCore::track_age_s(int64_t id, int64_t utime) const {
   return it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(utime - it->second);
 }
 
-int PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom,
-                               Ellipse* swept) const {
+PlannerCore::Sweep PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom,
+                                              Ellipse* swept) const {
   const DetourParams& d = p_.detour;
   const double speed = std::hypot(t.vx, t.vy);
-  if (speed <= 0.0 || route_.length() <= 0.0) return 0;
+  if (speed <= 0.0 || route_.length() <= 0.0) return Sweep::kNone;
   const double dx = t.x[0] - odom.x, dy = t.y[0] - odom.y, dist = std::hypot(dx, dy);
   // the route's heading about where the track is (its arc length ahead of
   // the robot's progress is at most its distance)
@@ -178,17 +178,17 @@ int PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::
   route_.position_at(s, &x0, &y0);
   route_.position_at(s + kHeadingBaseM, &x1, &y1);
   const double hx = x1 - x0, hy = y1 - y0, hn = std::hypot(hx, hy);
-  if (hn <= 0.0) return 0;
-  if (dx * hx + dy * hy <= 0.0) return 0;                       // behind the robot
+  if (hn <= 0.0) return Sweep::kNone;
+  if (dx * hx + dy * hy <= 0.0) return Sweep::kNone;            // behind the robot
   const double along = (t.vx * hx + t.vy * hy) / (speed * hn);  // cosine to the route's heading
   double sweep_m;
-  int kind;
+  Sweep kind;
   if (speed <= d.leader_max_speed_mps && along >= std::cos(d.leader_max_angle_rad)) {
     // A walker ahead in the lane, going the route's way slower than the
     // robot: straight behind it the barrier's gradient has no sideways
     // part and following is a solution, so the MPC alone follows it.
     sweep_m = speed * d.leader_sweep_s;
-    kind = 1;
+    kind = Sweep::kLeader;
   } else if (d.oncoming_sweep_s > 0.0 && !t.sigma.empty() && t.sigma[0] <= d.oncoming_max_sigma_m &&
              -along >= std::cos(d.oncoming_max_angle_rad)) {
     // Coming towards the robot: a group abreast is wider than any swerve
@@ -196,9 +196,9 @@ int PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::
     // is no escape from walkers who do not give way. Its way up to the
     // robot (at most oncoming_sweep_s of it) is kept clear of, in time.
     sweep_m = std::min(dist, speed * d.oncoming_sweep_s);
-    kind = 2;
+    kind = Sweep::kOncoming;
   } else {
-    return 0;
+    return Sweep::kNone;
   }
   // its ellipse (as a circle of its larger semi-axis) swept along its velocity
   const double r = std::max(t.a[0], t.b[0]), half = 0.5 * sweep_m;
@@ -229,10 +229,10 @@ bool PlannerCore::detour_reference(const evade::odometry_t& odom, Problem* pb) {
       if (std::hypot(t.vx, t.vy) > p_.detour.max_obstacle_speed_mps) {
         moving.push_back(t.id);
         Ellipse swept;
-        const int kind = age_s >= p_.detour.min_mover_age_s ? swept_in_grid(t, odom, &swept) : 0;
-        if (kind) swept_movers.push_back(swept);
-        leader |= kind == 1;
-        oncoming |= kind == 2;
+        const Sweep kind = age_s >= p_.detour.min_mover_age_s ? swept_in_grid(t, odom, &swept) : Sweep::kNone;
+        if (kind != Sweep::kNone) swept_movers.push_back(swept);
+        leader |= kind == Sweep::kLeader;
+        oncoming |= kind == Sweep::kOncoming;
         continue;
       }
       if (static_.stands_for(t.id))

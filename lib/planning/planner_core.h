@@ -92,8 +92,9 @@ class PlannerCore : public bus::Core {
   // detour.leader_max_angle_rad, slower than leader_max_speed_mps: swept
   // leader_sweep_s) or an oncoming one (within oncoming_max_angle_rad of
   // the route's reverse heading: swept up to the robot, at most
-  // oncoming_sweep_s).
-  int swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, Ellipse* swept) const;
+  // oncoming_sweep_s). Says which it is (kNone: not swept, *swept untouched).
+  enum class Sweep { kNone, kLeader, kOncoming };
+  Sweep swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, Ellipse* swept) const;
   // A plan the recovery chain tried, with the HEALTH counter naming its kind
   // (mc_hard, mc_dash, ...) that most_clearance adds when it sends it.
   struct Attempt {
