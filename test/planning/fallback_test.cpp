@@ -18,6 +18,7 @@ namespace evade::planning {
 namespace {
 
 using testing::bench_problem;
+using testing::constant_controls;
 using testing::moving_obstacle;
 using testing::straight_problem;
 
@@ -32,11 +33,7 @@ std::vector<double> braking(const Problem& pb) {
 
 // Constant controls (v, omega) over the horizon, projected onto the limits.
 std::vector<double> constant(const Problem& pb, double v, double omega) {
-  std::vector<double> u(pb.num_controls());
-  for (int k = 0; k < pb.N; ++k) {
-    u[2 * k] = v;
-    u[2 * k + 1] = omega;
-  }
+  std::vector<double> u = constant_controls(pb, v, omega);
   project_controls(pb, &u);
   return u;
 }

@@ -14,6 +14,7 @@
 namespace evade::planning {
 namespace {
 
+using testing::constant_controls;
 using testing::moving_obstacle;
 using testing::straight_problem;
 
@@ -32,11 +33,7 @@ Problem walker_ahead(double gap, double sigma, int N = 25) {
 }
 
 std::vector<double> rollout_of(const Problem& pb, double v, double omega) {
-  std::vector<double> u(pb.num_controls());
-  for (int k = 0; k < pb.N; ++k) {
-    u[2 * k] = v;
-    u[2 * k + 1] = omega;
-  }
+  const std::vector<double> u = constant_controls(pb, v, omega);
   std::vector<double> s(3 * (pb.N + 1));
   rollout(pb, u.data(), s.data());
   return s;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <vector>
 
 #include "planning/params.h"
 #include "planning/problem.h"
@@ -40,6 +41,17 @@ inline Problem straight_problem(double x0, double y0, double yaw0, double v0, do
     pb.ref_yaw.push_back(0.0);
   }
   return pb;
+}
+
+// The controls (v, omega) at every step of pb's horizon, as given (not
+// projected onto the limits).
+inline std::vector<double> constant_controls(const Problem& pb, double v, double omega) {
+  std::vector<double> u(pb.num_controls());
+  for (int k = 0; k < pb.N; ++k) {
+    u[2 * k] = v;
+    u[2 * k + 1] = omega;
+  }
+  return u;
 }
 
 // Obstacle moving at constant velocity, fixed shape.
