@@ -21,6 +21,13 @@ constexpr double kEscapeIntoMarginM = 0.01;
 
 }  // namespace
 
+double static_field_reach_m(const PlannerParams& p) {
+  double off = 0.0;
+  for (double o : p.footprint.offsets) off = std::max(off, std::fabs(o));
+  const double speed = std::max(std::fabs(p.limits.v_min), std::fabs(p.limits.v_max));
+  return p.horizon_steps * p.dt_s * speed + off + 0.05;
+}
+
 void PlannerCore::subscribe_static_map() {
   if (!uses_field(mode_, p_)) return;
   subscribe<evade::grid_map_t>("ELEVATION_MAP", [this](const evade::grid_map_t& m) {
@@ -47,6 +54,8 @@ void PlannerCore::update_static_field(const evade::odometry_t& odom) {
   if (!uses_field(mode_, p_)) return;
   StaticStructure::Inputs in;
   in.odometry_utime = odom.utime;
+  in.x = odom.x;
+  in.y = odom.y;
   in.predictions = predictions_ ? &*predictions_ : nullptr;
   in.observed = observed_ ? &*observed_ : nullptr;
   in.track_age_s = [&](int64_t id) { return track_age_s(id, odom.utime); };

@@ -28,9 +28,19 @@
 // boundary between them and the gradient points out of an obstacle too.
 // Between cell centres it is interpolated bicubically (ceres::Grid2D and
 // ceres::BiCubicInterpolator), with its gradient.
+//
+// The field is computed only over a window round the robot: the points
+// the horizon can reach (FieldWindow) and, round them, every cell within
+// max_distance_m. Within the reach each value and gradient is the one the
+// whole map's field gives, bit for bit (window_cells in static_field.cpp
+// says why; test StaticField.WindowReadsWhatTheWholeMapReads); beyond it
+// the field reads as far (max_distance_m, no gradient). Which cells are
+// structure is decided over the whole map, so that a wall crossing the
+// window's edge keeps its whole length.
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -66,19 +76,34 @@ struct StaticFieldParams {
   }
 };
 
+// Where the field is read: points within reach_m of (x, y) along each
+// axis (a square); infinite: the whole map.
+struct FieldWindow {
+  double x = 0, y = 0;
+  double reach_m = std::numeric_limits<double>::infinity();
+};
+
 class StaticField {
  public:
   // The field of `map`'s obstacle cells outside every `movers` ellipse
   // grown by mover_margin_m that lie in an 8-connected patch at least
   // min_structure_m long; a mover's cells inside a `keep` ellipse that
-  // holds such a patch without them stay in. Null
-  // when the map is malformed (sizes, resolution, non-finite origin).
+  // holds such a patch without them stay in; the distances computed
+  // within `window`. Null when the map is malformed (sizes, resolution,
+  // non-finite origin) or the window is (reach not positive, centre not
+  // finite).
   static std::shared_ptr<const StaticField> build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
-                                                  const std::vector<Ellipse>& keep, const StaticFieldParams& p);
+                                                  const std::vector<Ellipse>& keep, const StaticFieldParams& p,
+                                                  const FieldWindow& window = {});
 
   // The signed distance (m) at (x, y) to the static cells' boundary and
-  // its gradient; outside the map, the value at its border.
+  // its gradient; outside the map, the value at its border; beyond the
+  // window's reach, max_distance_m with gradient 0 (far).
   double distance(double x, double y, double* gx, double* gy) const;
+  // The same within the window's reach; beyond it the whole map's field
+  // (computed on the first such call, once): for the detour grid, which
+  // reads the route ahead beyond what the horizon reaches.
+  double map_distance(double x, double y, double* gx, double* gy) const;
   // The footprint's h at pose (px, py, yaw): the smallest over the discs of
   // distance - radius - d_safe_m, with its derivatives in (x, y, yaw)
   // (second derivatives 0).
