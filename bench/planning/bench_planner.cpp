@@ -18,8 +18,10 @@
 //   static_field_log/<w>  StaticStructure::update over every ELEVATION_MAP of a recorded log
 //                         with its OBSTACLE_PREDICTIONS, OBSTACLES and ODOMETRY, per map;
 //                         w = 0: the field over the whole map, 1: within the planner's reach
-//                         (static_field_reach_m) of the odometry, as the planner builds it
-//                         (the log: $EVADE_BENCH_FIELD_LOG, else logs/street_pedestrians/input.lcmlog)
+//                         (static_field_reach_m) of the odometry (the planner's window without
+//                         the detour's route ahead)
+//                         (the log: $EVADE_BENCH_FIELD_LOG, else the golden case's 240 x 240
+//                         maps, logs/street_pedestrians/refs/elevation_map.lcmlog: no tracks)
 //   detour/<k>            the way round k settled obstacles, one of them wide on the route
 //                         (detour.h, config/robot.yaml planner.detour), per planning cycle
 //   guidance/<k>          the distinct ways through the k obstacles of the fixed problem
@@ -435,7 +437,8 @@ bool decode(const evade::bus::LogEvent& e, T* out) {
 }
 
 // Each ELEVATION_MAP of the log with the last predictions, obstacles and
-// odometry before it.
+// odometry before it (none in the log: no tracks, and the robot at the
+// map's centre, where the elevation map puts it).
 std::vector<FieldCycle> field_cycles(const std::string& path) {
   std::vector<FieldCycle> out;
   FieldCycle cur;
@@ -444,7 +447,12 @@ std::vector<FieldCycle> field_cycles(const std::string& path) {
     if (e.channel == "OBSTACLE_PREDICTIONS") decode(e, &cur.predictions);
     if (e.channel == "OBSTACLES") decode(e, &cur.observed);
     if (e.channel == "ODOMETRY") have_odom = decode(e, &cur.odometry) || have_odom;
-    if (e.channel == "ELEVATION_MAP" && have_odom && decode(e, &cur.map)) out.push_back(cur);
+    if (e.channel != "ELEVATION_MAP" || !decode(e, &cur.map)) return;
+    if (!have_odom) {
+      cur.odometry.x = cur.map.origin[0] + 0.5 * cur.map.width * cur.map.resolution;
+      cur.odometry.y = cur.map.origin[1] + 0.5 * cur.map.height * cur.map.resolution;
+    }
+    out.push_back(cur);
   });
   return out;
 }
@@ -452,10 +460,10 @@ std::vector<FieldCycle> field_cycles(const std::string& path) {
 void BM_StaticFieldLog(benchmark::State& state) {
   using namespace evade::planning;
   const char* env = std::getenv("EVADE_BENCH_FIELD_LOG");
-  const std::string path = env ? env : EVADE_SOURCE_DIR "/logs/street_pedestrians/input.lcmlog";
+  const std::string path = env ? env : EVADE_SOURCE_DIR "/logs/street_pedestrians/refs/elevation_map.lcmlog";
   const std::vector<FieldCycle> cycles = field_cycles(path);
   if (cycles.empty()) {
-    state.SkipWithError(("no ELEVATION_MAP after ODOMETRY in " + path).c_str());
+    state.SkipWithError(("no ELEVATION_MAP in " + path).c_str());
     return;
   }
   const PlannerParams pp = PlannerParams::from_config(evade::config::load_file(EVADE_SOURCE_DIR "/config/robot.yaml"));
@@ -463,12 +471,11 @@ void BM_StaticFieldLog(benchmark::State& state) {
   size_t i = 0, cells = 0;
   for (auto _ : state) {
     const FieldCycle& c = cycles[i++ % cycles.size()];
-    StaticStructure s(pp.static_field, reach);
+    StaticStructure s(pp.static_field);
     s.keep_map(c.map);
     StaticStructure::Inputs in;
     in.odometry_utime = c.map.utime;
-    in.x = c.odometry.x;
-    in.y = c.odometry.y;
+    if (state.range(0)) in.window = FieldWindow::around(c.odometry.x, c.odometry.y, reach);
     in.predictions = &c.predictions;
     in.observed = &c.observed;
     in.track_age_s = [](int64_t) { return 10.0; };

@@ -32,7 +32,7 @@ std::vector<double> shifted(const std::vector<double>& u, int steps) {
 
 PlannerCore::PlannerCore(PlannerParams params)
     : Core("planner"),
-      static_(params.static_field, static_field_reach_m(params)),
+      static_(params.static_field),
       p_(params),
       mode_(mode_spec(params.mode)),
       detour_(params.detour, params.d_safe_m + params.footprint.radius),

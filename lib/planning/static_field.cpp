@@ -136,17 +136,18 @@ struct StaticField::Impl {
   std::vector<char> obstacle;   // the map's obstacle cells, row-major
   std::vector<char> structure;  // the static (structure) cells, row-major
   // The field over the window's cells, and the points (fractional cell
-  // coordinates, cell centres at integers) where it is read: |c - cc| and
-  // |r - rc| at most reach (infinite: the whole map).
+  // coordinates, cell centres at integers) where it is read: r in [r_lo,
+  // r_hi], c in [c_lo, c_hi] (infinite: the whole map).
   std::unique_ptr<SignedGrid> near;
-  double cc = 0, rc = 0, reach = std::numeric_limits<double>::infinity();
+  double r_lo = -std::numeric_limits<double>::infinity(), r_hi = std::numeric_limits<double>::infinity();
+  double c_lo = -std::numeric_limits<double>::infinity(), c_hi = std::numeric_limits<double>::infinity();
   // The whole map's field, built when first read beyond the window.
   mutable std::once_flag whole_once;
   mutable std::unique_ptr<SignedGrid> whole;
 
-  bool in_window(double r, double c) const { return std::fabs(c - cc) <= reach && std::fabs(r - rc) <= reach; }
+  bool in_window(double r, double c) const { return r >= r_lo && r <= r_hi && c >= c_lo && c <= c_hi; }
   const SignedGrid& whole_grid() const {
-    if (std::isinf(reach)) return *near;
+    if (std::isinf(r_hi)) return *near;
     std::call_once(whole_once, [&] { whole = signed_grid(structure, width, {0, height, 0, width}, res, cap); });
     return *whole;
   }
@@ -232,19 +233,22 @@ std::vector<char> structure_sites(const evade::grid_map_t& m, const std::vector<
 namespace {
 
 // The window's cells: every cell of the 4 x 4 that interpolates a point
-// within `reach` cells (each axis) of (rc, cc), and around each such cell
-// every cell nearer than the cut (cap / res + 0.5 cells) and one more,
-// within the map. A cell's nearest site (obstacle or free) within the cut
-// is then in the window, and one beyond it gives the cut either way: the
-// window's value of each such cell is the whole map's, bit for bit.
-CellBox window_cells(double rc, double cc, double reach, double res, double cap, int W, int H) {
+// of the window (rows r_lo..r_hi, columns c_lo..c_hi in fractional cell
+// coordinates; beyond the map, its border cells, as ceres::Grid2D reads
+// them), and round each such cell every cell nearer than the cut (cap /
+// res + 0.5 cells) and one more, within the map. A cell's nearest site
+// (obstacle or free) within the cut is then in the window, and one beyond
+// it gives the cut either way: the window's value of each such cell is the
+// whole map's, bit for bit.
+CellBox window_cells(double r_lo, double r_hi, double c_lo, double c_hi, double res, double cap, int W, int H) {
   const int margin = static_cast<int>(std::ceil(cap / res + 0.5)) + 1;
+  const auto lo = [&](double v, int n) { return static_cast<int>(std::clamp(std::floor(v) - 1.0, 0.0, n - 1.0)); };
+  const auto hi = [&](double v, int n) { return static_cast<int>(std::clamp(std::floor(v) + 2.0, 0.0, n - 1.0)); };
   CellBox b;
-  b.r0 = std::max(0, static_cast<int>(std::floor(rc - reach)) - 1 - margin);
-  b.r1 = std::min(H, static_cast<int>(std::floor(rc + reach)) + 3 + margin);
-  b.c0 = std::max(0, static_cast<int>(std::floor(cc - reach)) - 1 - margin);
-  b.c1 = std::min(W, static_cast<int>(std::floor(cc + reach)) + 3 + margin);
-  if (b.r0 >= b.r1 || b.c0 >= b.c1) b = {0, 1, 0, 1};  // the robot far off the map: one cell, read nowhere
+  b.r0 = std::max(0, lo(r_lo, H) - margin);
+  b.r1 = std::min(H, hi(r_hi, H) + margin + 1);
+  b.c0 = std::max(0, lo(c_lo, W) - margin);
+  b.c1 = std::min(W, hi(c_hi, W) + margin + 1);
   return b;
 }
 
@@ -253,8 +257,7 @@ CellBox window_cells(double rc, double cc, double reach, double res, double cap,
 std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
                                                       const std::vector<Ellipse>& keep, const StaticFieldParams& p,
                                                       const FieldWindow& window) {
-  if (!well_formed(map) || !(window.reach_m > 0) || !std::isfinite(window.x) || !std::isfinite(window.y))
-    return nullptr;
+  if (!well_formed(map) || !(window.x0 <= window.x1) || !(window.y0 <= window.y1)) return nullptr;
   const int W = map.width, H = map.height;
   // Structure without the movers' cells first; then the movers' cells
   // inside a kept ellipse that holds structure on its own stay static too
@@ -271,11 +274,10 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
   impl->ox = map.origin[0], impl->oy = map.origin[1], impl->res = map.resolution, impl->cap = p.max_distance_m;
   impl->width = W, impl->height = H;
   CellBox box{0, H, 0, W};
-  if (std::isfinite(window.reach_m)) {
-    impl->cc = (window.x - impl->ox) / impl->res - 0.5;
-    impl->rc = (window.y - impl->oy) / impl->res - 0.5;
-    impl->reach = window.reach_m / impl->res;
-    box = window_cells(impl->rc, impl->cc, impl->reach, impl->res, impl->cap, W, H);
+  if (!window.whole()) {
+    impl->c_lo = (window.x0 - impl->ox) / impl->res - 0.5, impl->c_hi = (window.x1 - impl->ox) / impl->res - 0.5;
+    impl->r_lo = (window.y0 - impl->oy) / impl->res - 0.5, impl->r_hi = (window.y1 - impl->oy) / impl->res - 0.5;
+    box = window_cells(impl->r_lo, impl->r_hi, impl->c_lo, impl->c_hi, impl->res, impl->cap, W, H);
   }
   impl->near = signed_grid(site, W, box, impl->res, impl->cap);
   impl->extent = std::move(extent);
@@ -296,7 +298,7 @@ double StaticField::distance(double x, double y, double* gx, double* gy) const {
   const double c = (x - m.ox) / m.res - 0.5, r = (y - m.oy) / m.res - 0.5;
   if (!m.in_window(r, c)) {
     *gx = *gy = 0.0;
-    return m.cap;  // beyond the horizon's reach: far
+    return m.cap;  // beyond the window: far
   }
   return m.evaluate(*m.near, r, c, gx, gy);
 }

@@ -26,7 +26,6 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <limits>
 #include <memory>
 #include <vector>
 
@@ -47,11 +46,7 @@ double structure_intrusion(const Problem& pb, const std::vector<double>& states)
 
 class StaticStructure {
  public:
-  // The field is computed within reach_m of the cycle's odometry (each
-  // axis; StaticField::build's window): how far the footprint's discs can
-  // get over the horizon. Infinite: over the whole map.
-  explicit StaticStructure(StaticFieldParams p, double reach_m = std::numeric_limits<double>::infinity())
-      : p_(p), reach_m_(reach_m) {}
+  explicit StaticStructure(StaticFieldParams p) : p_(p) {}
 
   // Keeps `m` (the last kMapsKept: a map and the predictions made from its
   // scan arrive about 1 ms apart).
@@ -67,7 +62,7 @@ class StaticStructure {
   };
   struct Inputs {
     int64_t odometry_utime = 0;
-    double x = 0, y = 0;                                    // the robot at odometry_utime (the window's centre)
+    FieldWindow window;  // where the field is read (StaticField::build; default: the whole map)
     const evade::prediction_list_t* predictions = nullptr;  // null: none yet
     const evade::obstacle_list_t* observed = nullptr;       // the last OBSTACLES (null: none)
     std::function<double(int64_t id)> track_age_s;          // how long a track id has been listed
@@ -94,7 +89,6 @@ class StaticStructure {
   static bool observed(int64_t id, const Inputs& in);
 
   StaticFieldParams p_;
-  double reach_m_;
   std::deque<evade::grid_map_t> maps_;
   std::shared_ptr<const StaticField> field_;
   std::vector<int64_t> static_ids_;  // sorted
