@@ -18,8 +18,9 @@
 //   static_field_log/<w>  StaticStructure::update over every ELEVATION_MAP of a recorded log
 //                         with its OBSTACLE_PREDICTIONS, OBSTACLES and ODOMETRY, per map;
 //                         w = 0: the field over the whole map, 1: within the planner's reach
-//                         (static_field_reach_m) of the odometry (the planner's window without
-//                         the detour's route ahead)
+//                         (static_field_reach_m) of the odometry, 2: that grown to hold the point
+//                         detour.lookahead_m + cell_m ahead along the heading (the planner's window
+//                         on a straight route)
 //                         (the log: $EVADE_BENCH_FIELD_LOG, else the golden case's 240 x 240
 //                         maps, logs/street_pedestrians/refs/elevation_map.lcmlog: no tracks)
 //   detour/<k>            the way round k settled obstacles, one of them wide on the route
@@ -476,6 +477,11 @@ void BM_StaticFieldLog(benchmark::State& state) {
     StaticStructure::Inputs in;
     in.odometry_utime = c.map.utime;
     if (state.range(0)) in.window = FieldWindow::around(c.odometry.x, c.odometry.y, reach);
+    if (state.range(0) == 2) {
+      const double ahead = pp.detour.lookahead_m + pp.detour.cell_m;
+      in.window.include(c.odometry.x + ahead * std::cos(c.odometry.yaw),
+                        c.odometry.y + ahead * std::sin(c.odometry.yaw));
+    }
     in.predictions = &c.predictions;
     in.observed = &c.observed;
     in.track_age_s = [](int64_t) { return 10.0; };
@@ -491,7 +497,7 @@ BENCHMARK(BM_Guidance)->Name("guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(
 BENCHMARK(BM_GuidanceCycle)->Name("cycle/guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Outcome)->Name("outcome")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StaticField)->Name("static_field")->Arg(0)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_StaticFieldLog)->Name("static_field_log")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StaticFieldLog)->Name("static_field_log")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Detour)->Name("detour")->Arg(1)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ceres)->Name("solve/ceres")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CeresWarmMultipliers)
