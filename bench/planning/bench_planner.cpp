@@ -15,6 +15,14 @@
 //   loop/ceres/<k>        30 planner cycles (robot and obstacles moving), per-cycle counters
 //   static_field/<k>      the distance field of a 16 x 16 m map at 0.1 m (a wall with a door)
 //                         less k movers' cells (static_field.h), per planning cycle
+//   static_field_log/<w>  StaticStructure::update over every ELEVATION_MAP of a recorded log
+//                         with its OBSTACLE_PREDICTIONS, OBSTACLES and ODOMETRY, per map;
+//                         w = 0: the field over the whole map, 1: within the planner's reach
+//                         (static_field_reach_m) of the odometry, 2: that grown to hold the point
+//                         detour.lookahead_m + cell_m ahead along the heading (the planner's window
+//                         on a straight route)
+//                         (the log: $EVADE_BENCH_FIELD_LOG, else the golden case's 240 x 240
+//                         maps, logs/street_pedestrians/refs/elevation_map.lcmlog: no tracks)
 //   detour/<k>            the way round k settled obstacles, one of them wide on the route
 //                         (detour.h, config/robot.yaml planner.detour), per planning cycle
 //   guidance/<k>          the distinct ways through the k obstacles of the fixed problem
@@ -38,10 +46,16 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <limits>
 #include <map>
 #include <string>
 
+#include "bus/log.h"
 #include "config/config.h"
+#include "evade/grid_map_t.hpp"
+#include "evade/obstacle_list_t.hpp"
+#include "evade/odometry_t.hpp"
+#include "evade/prediction_list_t.hpp"
 #include "planning/ceres_solver.h"
 #include "planning/detour.h"
 #include "planning/guidance.h"
@@ -49,8 +63,10 @@
 #include "planning/manoeuvres.h"
 #include "planning/outcome.h"
 #include "planning/params.h"
+#include "planning/planner_core.h"
 #include "planning/reference.h"
 #include "planning/static_field.h"
+#include "planning/static_structure.h"
 #include "planning/topology_planner.h"
 #include "test_problems.h"
 
@@ -408,10 +424,80 @@ void BM_StaticField(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(StaticField::build(m, movers, {}, sp));
 }
 
+// The planner's static-structure inputs of one cycle, from a log.
+struct FieldCycle {
+  evade::grid_map_t map;
+  evade::prediction_list_t predictions;
+  evade::obstacle_list_t observed;
+  evade::odometry_t odometry;
+};
+
+template <class T>
+bool decode(const evade::bus::LogEvent& e, T* out) {
+  return out->decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0;
+}
+
+// Each ELEVATION_MAP of the log with the last predictions, obstacles and
+// odometry before it (none in the log: no tracks, and the robot at the
+// map's centre, where the elevation map puts it).
+std::vector<FieldCycle> field_cycles(const std::string& path) {
+  std::vector<FieldCycle> out;
+  FieldCycle cur;
+  bool have_odom = false;
+  evade::bus::for_each_event(path, [&](const evade::bus::LogEvent& e) {
+    if (e.channel == "OBSTACLE_PREDICTIONS") decode(e, &cur.predictions);
+    if (e.channel == "OBSTACLES") decode(e, &cur.observed);
+    if (e.channel == "ODOMETRY") have_odom = decode(e, &cur.odometry) || have_odom;
+    if (e.channel != "ELEVATION_MAP" || !decode(e, &cur.map)) return;
+    if (!have_odom) {
+      cur.odometry.x = cur.map.origin[0] + 0.5 * cur.map.width * cur.map.resolution;
+      cur.odometry.y = cur.map.origin[1] + 0.5 * cur.map.height * cur.map.resolution;
+    }
+    out.push_back(cur);
+  });
+  return out;
+}
+
+void BM_StaticFieldLog(benchmark::State& state) {
+  using namespace evade::planning;
+  const char* env = std::getenv("EVADE_BENCH_FIELD_LOG");
+  const std::string path = env ? env : EVADE_SOURCE_DIR "/logs/street_pedestrians/refs/elevation_map.lcmlog";
+  const std::vector<FieldCycle> cycles = field_cycles(path);
+  if (cycles.empty()) {
+    state.SkipWithError(("no ELEVATION_MAP in " + path).c_str());
+    return;
+  }
+  const PlannerParams pp = PlannerParams::from_config(evade::config::load_file(EVADE_SOURCE_DIR "/config/robot.yaml"));
+  const double reach = state.range(0) ? static_field_reach_m(pp) : std::numeric_limits<double>::infinity();
+  size_t i = 0, cells = 0;
+  for (auto _ : state) {
+    const FieldCycle& c = cycles[i++ % cycles.size()];
+    StaticStructure s(pp.static_field);
+    s.keep_map(c.map);
+    StaticStructure::Inputs in;
+    in.odometry_utime = c.map.utime;
+    if (state.range(0)) in.window = FieldWindow::around(c.odometry.x, c.odometry.y, reach);
+    if (state.range(0) == 2) {
+      const double ahead = pp.detour.lookahead_m + pp.detour.cell_m;
+      in.window.include(c.odometry.x + ahead * std::cos(c.odometry.yaw),
+                        c.odometry.y + ahead * std::sin(c.odometry.yaw));
+    }
+    in.predictions = &c.predictions;
+    in.observed = &c.observed;
+    in.track_age_s = [](int64_t) { return 10.0; };
+    benchmark::DoNotOptimize(s.update(in));
+    cells += static_cast<size_t>(s.field() ? s.field()->static_cells() : 0);
+  }
+  state.counters["maps"] = static_cast<double>(cycles.size());
+  state.counters["static_cells"] = static_cast<double>(cells) / static_cast<double>(std::max<size_t>(1, i));
+  state.counters["map_cells"] = static_cast<double>(cycles[0].map.width) * cycles[0].map.height;
+}
+
 BENCHMARK(BM_Guidance)->Name("guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GuidanceCycle)->Name("cycle/guidance")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Outcome)->Name("outcome")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StaticField)->Name("static_field")->Arg(0)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StaticFieldLog)->Name("static_field_log")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Detour)->Name("detour")->Arg(1)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ceres)->Name("solve/ceres")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CeresWarmMultipliers)

@@ -73,7 +73,7 @@ struct LockstepParams {
   double goal_margin_s = 0.5;                 // the run ends this long after the goal is reached
   PlannerCompute planner_compute = PlannerCompute::kIterations;
   double planner_fixed_s = 0.005;
-  double planner_base_s = 0.00087;
+  double planner_base_s = 0.00063;
   double planner_per_iteration_s = 0.000099;
   double planner_measured_scale = 1.0;
   double cpu_cores = 2.0;              // cores the processes and the simulator share (0: one each)

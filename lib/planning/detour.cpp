@@ -67,7 +67,7 @@ double DetourPlanner::clearance(const std::vector<Ellipse>& obstacles, double px
   }
   if (field_) {
     double gx, gy;
-    h = std::min(h, field_->distance(px, py, &gx, &gy) - field_radius_ - field_->d_safe() + p_.margin_m);
+    h = std::min(h, field_->map_distance(px, py, &gx, &gy) - field_radius_ - field_->d_safe() + p_.margin_m);
   }
   return h;
 }

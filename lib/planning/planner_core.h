@@ -35,6 +35,13 @@
 
 namespace evade::planning {
 
+// How far (m, along each axis) the centre of a footprint disc can get from
+// the robot over the horizon: N dt times the larger speed limit (Euler
+// steps of the rollout, problem.h) plus the farthest disc's offset, and
+// 0.05 m for rounding. The static field's window holds this square round
+// the robot (planner_static.cpp).
+double static_field_reach_m(const PlannerParams& p);
+
 class PlannerCore : public bus::Core {
  public:
   explicit PlannerCore(PlannerParams params);

@@ -21,6 +21,35 @@ constexpr double kEscapeIntoMarginM = 0.01;
 
 }  // namespace
 
+double static_field_reach_m(const PlannerParams& p) {
+  double off = 0.0;
+  for (double o : p.footprint.offsets) off = std::max(off, std::fabs(o));
+  const double speed = std::max(std::fabs(p.limits.v_min), std::fabs(p.limits.v_max));
+  return p.horizon_steps * p.dt_s * speed + off + 0.05;
+}
+
+namespace {
+
+// Where this cycle reads the static field: every point the footprint's
+// discs can reach over the horizon, and the route points the detour grid
+// checks ahead of the progress (detour.h: lookahead_m, and the first point
+// past it). A detour beyond that reads the whole map's field
+// (StaticField::map_distance).
+FieldWindow field_window(const PlannerParams& p, const RouteFollower& route, const evade::odometry_t& odom) {
+  FieldWindow w = FieldWindow::around(odom.x, odom.y, static_field_reach_m(p));
+  if (!p.detour.enabled || !route.has_route()) return w;
+  const double s0 = route.progress(), step = p.detour.cell_m;
+  const int samples = static_cast<int>(std::ceil(p.detour.lookahead_m / step)) + 2;
+  for (int i = 0; i < samples; ++i) {
+    double x, y;
+    route.position_at(std::min(route.length(), s0 + i * step), &x, &y);
+    w.include(x, y);
+  }
+  return w;
+}
+
+}  // namespace
+
 void PlannerCore::subscribe_static_map() {
   if (!uses_field(mode_, p_)) return;
   subscribe<evade::grid_map_t>("ELEVATION_MAP", [this](const evade::grid_map_t& m) {
@@ -47,6 +76,7 @@ void PlannerCore::update_static_field(const evade::odometry_t& odom) {
   if (!uses_field(mode_, p_)) return;
   StaticStructure::Inputs in;
   in.odometry_utime = odom.utime;
+  in.window = field_window(p_, route_, odom);
   in.predictions = predictions_ ? &*predictions_ : nullptr;
   in.observed = observed_ ? &*observed_ : nullptr;
   in.track_age_s = [&](int64_t id) { return track_age_s(id, odom.utime); };

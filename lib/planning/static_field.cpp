@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
 
 namespace evade::planning {
 namespace {
@@ -83,24 +85,79 @@ std::vector<double> squared_distance_2d(const std::vector<char>& site, int width
   return d;
 }
 
+namespace {
+
+// Cells [r0, r1) x [c0, c1) of the map.
+struct CellBox {
+  int r0 = 0, r1 = 0, c0 = 0, c1 = 0;
+  int rows() const { return r1 - r0; }
+  int cols() const { return c1 - c0; }
+};
+
+// The signed distance (m, cut at +-cap) of the cells of `box` to the
+// boundary of `site`'s cells in `box`, interpolated bicubically. Indexed by
+// the map's own rows and columns: the interpolation of a point whose 4 x 4
+// cells lie in the box reads what the same grid over the whole map reads.
+struct SignedGrid {
+  CellBox box;
+  std::vector<double> values;  // row-major over box
+  ceres::Grid2D<double, 1> grid;
+  ceres::BiCubicInterpolator<ceres::Grid2D<double, 1>> interp;
+  SignedGrid(const CellBox& b, std::vector<double> v)
+      : box(b), values(std::move(v)), grid(values.data(), b.r0, b.r1, b.c0, b.c1), interp(grid) {}
+};
+
+std::unique_ptr<SignedGrid> signed_grid(const std::vector<char>& site, int W, const CellBox& box, double res,
+                                        double cap) {
+  const int rows = box.rows(), cols = box.cols();
+  std::vector<char> in(static_cast<size_t>(rows) * cols), free_in(in.size());
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const size_t i = static_cast<size_t>(r) * cols + c;
+      in[i] = site[static_cast<size_t>(box.r0 + r) * W + box.c0 + c];
+      free_in[i] = !in[i];
+    }
+  const std::vector<double> to_obstacle = squared_distance_2d(in, cols, rows);
+  const std::vector<double> to_free = squared_distance_2d(free_in, cols, rows);
+  std::vector<double> signed_d(in.size());
+  for (size_t i = 0; i < in.size(); ++i) {
+    const double d = in[i] ? -(std::sqrt(to_free[i]) - 0.5) * res : (std::sqrt(to_obstacle[i]) - 0.5) * res;
+    signed_d[i] = std::clamp(d, -cap, cap);
+  }
+  return std::make_unique<SignedGrid>(box, std::move(signed_d));
+}
+
+}  // namespace
+
 struct StaticField::Impl {
-  double ox = 0, oy = 0, res = 0;
+  double ox = 0, oy = 0, res = 0, cap = 0;
   int width = 0, height = 0;
-  std::vector<double> values;   // signed distance at cell centres, row-major
   std::vector<float> extent;    // per static cell: its patch's longest bounding-box side (m); 0 elsewhere
   std::vector<char> obstacle;   // the map's obstacle cells, row-major
   std::vector<char> structure;  // the static (structure) cells, row-major
-  ceres::Grid2D<double, 1> grid;
-  ceres::BiCubicInterpolator<ceres::Grid2D<double, 1>> interp;
-  Impl(double ox_, double oy_, double res_, std::vector<double> v, int w, int h)
-      : ox(ox_),
-        oy(oy_),
-        res(res_),
-        width(w),
-        height(h),
-        values(std::move(v)),
-        grid(values.data(), 0, h, 0, w),
-        interp(grid) {}
+  // The field over the window's cells, and the points (fractional cell
+  // coordinates, cell centres at integers) where it is read: r in [r_lo,
+  // r_hi], c in [c_lo, c_hi] (infinite: the whole map).
+  std::unique_ptr<SignedGrid> near;
+  double r_lo = -std::numeric_limits<double>::infinity(), r_hi = std::numeric_limits<double>::infinity();
+  double c_lo = -std::numeric_limits<double>::infinity(), c_hi = std::numeric_limits<double>::infinity();
+  // The whole map's field, built when first read beyond the window.
+  mutable std::once_flag whole_once;
+  mutable std::unique_ptr<SignedGrid> whole;
+
+  bool in_window(double r, double c) const { return r >= r_lo && r <= r_hi && c >= c_lo && c <= c_hi; }
+  const SignedGrid& whole_grid() const {
+    if (std::isinf(r_hi)) return *near;
+    std::call_once(whole_once, [&] { whole = signed_grid(structure, width, {0, height, 0, width}, res, cap); });
+    return *whole;
+  }
+  double evaluate(const SignedGrid& g, double r, double c, double* gx, double* gy) const {
+    double f = 0, dfdr = 0, dfdc = 0;
+    g.interp.Evaluate(r, c, &f, &dfdr, &dfdc);
+    *gx = dfdc / res;
+    *gy = dfdr / res;
+    return f;
+  }
 };
 
 namespace {
@@ -173,55 +230,83 @@ std::vector<char> structure_sites(const evade::grid_map_t& m, const std::vector<
 
 }  // namespace
 
+namespace {
+
+// The window's cells: every cell of the 4 x 4 that interpolates a point
+// of the window (rows r_lo..r_hi, columns c_lo..c_hi in fractional cell
+// coordinates; beyond the map, its border cells, as ceres::Grid2D reads
+// them), and round each such cell every cell nearer than the cut (cap /
+// res + 0.5 cells) and one more, within the map. A cell's nearest site
+// (obstacle or free) within the cut is then in the window, and one beyond
+// it gives the cut either way: the window's value of each such cell is the
+// whole map's, bit for bit.
+CellBox window_cells(double r_lo, double r_hi, double c_lo, double c_hi, double res, double cap, int W, int H) {
+  const int margin = static_cast<int>(std::ceil(cap / res + 0.5)) + 1;
+  const auto lo = [&](double v, int n) { return static_cast<int>(std::clamp(std::floor(v) - 1.0, 0.0, n - 1.0)); };
+  const auto hi = [&](double v, int n) { return static_cast<int>(std::clamp(std::floor(v) + 2.0, 0.0, n - 1.0)); };
+  CellBox b;
+  b.r0 = std::max(0, lo(r_lo, H) - margin);
+  b.r1 = std::min(H, hi(r_hi, H) + margin + 1);
+  b.c0 = std::max(0, lo(c_lo, W) - margin);
+  b.c1 = std::min(W, hi(c_hi, W) + margin + 1);
+  return b;
+}
+
+}  // namespace
+
 std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
-                                                      const std::vector<Ellipse>& keep, const StaticFieldParams& p) {
-  if (!well_formed(map)) return nullptr;
+                                                      const std::vector<Ellipse>& keep, const StaticFieldParams& p,
+                                                      const FieldWindow& window) {
+  if (!well_formed(map) || !(window.x0 <= window.x1) || !(window.y0 <= window.y1)) return nullptr;
   const int W = map.width, H = map.height;
   // Structure without the movers' cells first; then the movers' cells
   // inside a kept ellipse that holds structure on its own stay static too
   // (a wall a walker passes keeps its cells), not those of a kept ellipse
   // without any (two walkers side by side, one standing, are no wall).
+  // Over the whole map: a patch's length is its whole length.
   std::vector<float> extent;
   std::vector<char> site = structure_sites(map, movers, {}, p, &extent);
   std::vector<Ellipse> anchored;
   for (const Ellipse& e : keep)
     if (largest_in(extent, W, H, map.origin[0], map.origin[1], map.resolution, e) > 0.0) anchored.push_back(e);
   if (!anchored.empty() && !movers.empty()) site = structure_sites(map, movers, anchored, p, &extent);
-  std::vector<char> free_site(site.size());
-  int n = 0;
-  for (size_t i = 0; i < site.size(); ++i) {
-    free_site[i] = !site[i];
-    n += site[i];
+  auto impl = std::make_shared<Impl>();
+  impl->ox = map.origin[0], impl->oy = map.origin[1], impl->res = map.resolution, impl->cap = p.max_distance_m;
+  impl->width = W, impl->height = H;
+  CellBox box{0, H, 0, W};
+  if (!window.whole()) {
+    impl->c_lo = (window.x0 - impl->ox) / impl->res - 0.5, impl->c_hi = (window.x1 - impl->ox) / impl->res - 0.5;
+    impl->r_lo = (window.y0 - impl->oy) / impl->res - 0.5, impl->r_hi = (window.y1 - impl->oy) / impl->res - 0.5;
+    box = window_cells(impl->r_lo, impl->r_hi, impl->c_lo, impl->c_hi, impl->res, impl->cap, W, H);
   }
-  const std::vector<double> to_obstacle = squared_distance_2d(site, W, H);
-  const std::vector<double> to_free = squared_distance_2d(free_site, W, H);
-  const double res = map.resolution, cap = p.max_distance_m;
-  std::vector<double> signed_d(site.size());
-  for (size_t i = 0; i < site.size(); ++i) {
-    const double d = site[i] ? -(std::sqrt(to_free[i]) - 0.5) * res : (std::sqrt(to_obstacle[i]) - 0.5) * res;
-    signed_d[i] = std::clamp(d, -cap, cap);
-  }
-  auto out = std::make_shared<StaticField>();
-  auto impl = std::make_shared<Impl>(map.origin[0], map.origin[1], res, std::move(signed_d), W, H);
+  impl->near = signed_grid(site, W, box, impl->res, impl->cap);
   impl->extent = std::move(extent);
   impl->obstacle.resize(site.size());
   for (int r = 0; r < H; ++r)
     for (int c = 0; c < W; ++c) impl->obstacle[static_cast<size_t>(r) * W + c] = map.obstacle[r][c] != 0;
+  auto out = std::make_shared<StaticField>();
+  out->static_cells_ = static_cast<int>(std::count(site.begin(), site.end(), 1));
   impl->structure = std::move(site);
   out->impl_ = std::move(impl);
-  out->static_cells_ = n;
   out->d_safe_ = p.d_safe_m;
   return out;
 }
 
 double StaticField::distance(double x, double y, double* gx, double* gy) const {
   // cell (r, c) has its centre at origin + (c + 0.5, r + 0.5) res
-  const double c = (x - impl_->ox) / impl_->res - 0.5, r = (y - impl_->oy) / impl_->res - 0.5;
-  double f = 0, dfdr = 0, dfdc = 0;
-  impl_->interp.Evaluate(r, c, &f, &dfdr, &dfdc);
-  *gx = dfdc / impl_->res;
-  *gy = dfdr / impl_->res;
-  return f;
+  const Impl& m = *impl_;
+  const double c = (x - m.ox) / m.res - 0.5, r = (y - m.oy) / m.res - 0.5;
+  if (!m.in_window(r, c)) {
+    *gx = *gy = 0.0;
+    return m.cap;  // beyond the window: far
+  }
+  return m.evaluate(*m.near, r, c, gx, gy);
+}
+
+double StaticField::map_distance(double x, double y, double* gx, double* gy) const {
+  const Impl& m = *impl_;
+  const double c = (x - m.ox) / m.res - 0.5, r = (y - m.oy) / m.res - 0.5;
+  return m.evaluate(m.in_window(r, c) ? *m.near : m.whole_grid(), r, c, gx, gy);
 }
 
 double StaticField::structure_extent(const Ellipse& e) const {

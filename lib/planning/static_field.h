@@ -28,9 +28,22 @@
 // boundary between them and the gradient points out of an obstacle too.
 // Between cell centres it is interpolated bicubically (ceres::Grid2D and
 // ceres::BiCubicInterpolator), with its gradient.
+//
+// The field is computed only over a window (FieldWindow: the points the
+// horizon can reach and the route the detour grid checks ahead,
+// planner_static.cpp) and, round it, every cell within max_distance_m.
+// Within the window each value and gradient is the one the whole map's
+// field gives, bit for bit (window_cells in static_field.cpp says why;
+// test StaticField.WindowReadsWhatTheWholeMapReads); beyond it the field
+// reads as far (max_distance_m, no gradient). Which cells are
+// structure is decided over the whole map, so that a wall crossing the
+// window's edge keeps its whole length.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -66,19 +79,42 @@ struct StaticFieldParams {
   }
 };
 
+// Where the field is read exactly: the points of the box [x0, x1] x
+// [y0, y1] (m, the map's frame); a bound not finite: the whole map.
+struct FieldWindow {
+  double x0 = -std::numeric_limits<double>::infinity(), x1 = std::numeric_limits<double>::infinity();
+  double y0 = -std::numeric_limits<double>::infinity(), y1 = std::numeric_limits<double>::infinity();
+  // The square of points within reach_m of (x, y) along each axis.
+  static FieldWindow around(double x, double y, double reach_m) {
+    return {x - reach_m, x + reach_m, y - reach_m, y + reach_m};
+  }
+  // Grown to hold (x, y).
+  void include(double x, double y) {
+    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  }
+  bool whole() const { return !std::isfinite(x0) || !std::isfinite(x1) || !std::isfinite(y0) || !std::isfinite(y1); }
+};
+
 class StaticField {
  public:
   // The field of `map`'s obstacle cells outside every `movers` ellipse
   // grown by mover_margin_m that lie in an 8-connected patch at least
   // min_structure_m long; a mover's cells inside a `keep` ellipse that
-  // holds such a patch without them stay in. Null
-  // when the map is malformed (sizes, resolution, non-finite origin).
+  // holds such a patch without them stay in; the distances computed
+  // within `window`. Null when the map is malformed (sizes, resolution,
+  // non-finite origin) or the window is (a bound NaN, x0 > x1 or y0 > y1).
   static std::shared_ptr<const StaticField> build(const evade::grid_map_t& map, const std::vector<Ellipse>& movers,
-                                                  const std::vector<Ellipse>& keep, const StaticFieldParams& p);
+                                                  const std::vector<Ellipse>& keep, const StaticFieldParams& p,
+                                                  const FieldWindow& window = {});
 
   // The signed distance (m) at (x, y) to the static cells' boundary and
-  // its gradient; outside the map, the value at its border.
+  // its gradient; outside the map, the value at its border; beyond the
+  // window, max_distance_m with gradient 0 (far).
   double distance(double x, double y, double* gx, double* gy) const;
+  // The same within the window; beyond it the whole map's field (computed
+  // on the first such call, once): for the detour grid, whose way round a
+  // blocked stretch can reach beyond the window.
+  double map_distance(double x, double y, double* gx, double* gy) const;
   // The footprint's h at pose (px, py, yaw): the smallest over the discs of
   // distance - radius - d_safe_m, with its derivatives in (x, y, yaw)
   // (second derivatives 0).

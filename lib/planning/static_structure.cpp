@@ -68,7 +68,7 @@ StaticStructure::Update StaticStructure::update(const Inputs& in) {
       }
     }
   }
-  field_ = StaticField::build(*map, movers, keep, p_);
+  field_ = StaticField::build(*map, movers, keep, p_, in.window);
   if (!field_) return Update::kInvalid;
   // A slow, observed track stands for its cells when its own cells are
   // structure: most of the obstacle cells in its ellipse (a wall's tile,

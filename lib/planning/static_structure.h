@@ -62,6 +62,7 @@ class StaticStructure {
   };
   struct Inputs {
     int64_t odometry_utime = 0;
+    FieldWindow window;  // where the field is read (StaticField::build; default: the whole map)
     const evade::prediction_list_t* predictions = nullptr;  // null: none yet
     const evade::obstacle_list_t* observed = nullptr;       // the last OBSTACLES (null: none)
     std::function<double(int64_t id)> track_age_s;          // how long a track id has been listed

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "box_map.h"
@@ -203,6 +204,114 @@ TEST(StaticField, DistanceTransformIsExact) {
           if (site[rr * W + cc]) best = std::min(best, double((r - rr) * (r - rr) + (c - cc) * (c - cc)));
       EXPECT_DOUBLE_EQ(d[r * W + c], best) << r << "," << c;
     }
+}
+
+// A 24 x 24 m map at 0.1 m (origin (-12, -12)) with the robot at (0, 0):
+// walls crossing the window's edges, a wall of which less than
+// min_structure_m lies inside the window's cells, a wall a mover stands
+// against (its cells inside a kept ellipse), a mover's cells, a bin and
+// scattered short patches; every cell an obstacle cell of a box.
+evade::grid_map_t window_test_map() {
+  evade::grid_map_t m{};
+  m.resolution = 0.1;
+  m.width = m.height = 240;
+  m.origin[0] = m.origin[1] = -12.0;
+  m.elevation.assign(240, std::vector<float>(240, 0.0f));
+  m.obstacle.assign(240, std::vector<int8_t>(240, 0));
+  const auto box = [&](double x0, double x1, double y0, double y1) {
+    for (int r = 0; r < 240; ++r)
+      for (int c = 0; c < 240; ++c) {
+        const double x = -12.0 + (c + 0.5) * 0.1, y = -12.0 + (r + 0.5) * 0.1;
+        if (x > x0 && x < x1 && y > y0 && y < y1) m.obstacle[r][c] = 1;
+      }
+  };
+  box(-11.0, 11.0, 2.0, 2.2);    // a wall across the window, through both edges
+  box(5.6, 11.5, -0.6, -0.4);    // a wall whose first 0.5 m only lie inside the window's cells
+  box(5.8, 5.9, -3.0, -1.0);     // a wall 30 cells beyond the last cell a read at the robot's reach touches
+  box(-1.8, -1.6, -11.0, -0.4);  // a wall from below, ending 0.4 m under the robot
+  box(1.0, 1.3, -1.0, -0.7);     // a bin (no structure)
+  box(-3.1, -2.8, 1.7, 2.0);     // a walker against the wall (a mover; the wall's cells kept)
+  box(2.0, 2.3, -2.3, -2.0);     // a walker in the open (a mover)
+  std::mt19937 rng(11);
+  for (int i = 0; i < 60; ++i) {  // scattered short patches and some longer pieces, away from (0, 0)
+    const double x = -11.5 + 23.0 * (rng() % 1000) / 1000.0, y = -11.5 + 23.0 * (rng() % 1000) / 1000.0;
+    const double len = 0.2 + 1.6 * (rng() % 100) / 100.0;
+    if (std::fabs(x) < 7.0 && std::fabs(y) < 7.0) continue;
+    if (rng() % 2)
+      box(x, x + len, y, y + 0.15);
+    else
+      box(x, x + 0.15, y, y + len);
+  }
+  return m;
+}
+
+bool same(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(StaticField, WindowReadsWhatTheWholeMapReads) {
+  const PlannerParams pp = jackal_params();
+  const double reach = static_field_reach_m(pp);
+  EXPECT_NEAR(reach, 25 * 0.1 * 1.0 + (0.46 / 2 - 0.46 / 6) + 0.05, 1e-9);
+  const evade::grid_map_t m = window_test_map();
+  const std::vector<Ellipse> movers{{-2.95, 1.85, 0.25, 0.25, 0.0}, {2.15, -2.15, 0.25, 0.25, 0.0}};
+  const std::vector<Ellipse> keep{{-3.0, 2.1, 1.5, 0.3, 0.0}, {1.15, -0.85, 0.3, 0.3, 0.0}, {8.0, -0.5, 2.0, 0.3, 0.0}};
+  const StaticFieldParams& sp = pp.static_field;
+  const auto whole = StaticField::build(m, movers, keep, sp);
+  ASSERT_TRUE(whole);
+  // the wall that barely enters the window is structure, the bin is not
+  double gx, gy;
+  EXPECT_LT(whole->distance(8.0, -0.5, &gx, &gy), 0.0);
+  EXPECT_GT(whole->distance(1.15, -0.85, &gx, &gy), 0.5);
+  // robots at the map's centre, near its edge and corner, and off it
+  for (const auto& [x0, y0] :
+       std::vector<std::pair<double, double>>{{0.0, 0.0}, {0.37, -0.21}, {-10.6, 3.3}, {11.2, 11.7}, {13.0, 0.0}}) {
+    // the robot's reach, and with the route 5 m ahead of it (the detour's)
+    FieldWindow ahead = FieldWindow::around(x0, y0, reach);
+    ahead.include(x0 + 5.0, y0 - 1.0);
+    const auto with_route = StaticField::build(m, movers, keep, sp, ahead);
+    const auto win = StaticField::build(m, movers, keep, sp, FieldWindow::around(x0, y0, reach));
+    ASSERT_TRUE(win && with_route);
+    EXPECT_EQ(win->static_cells(), whole->static_cells());
+    int compared = 0;
+    for (double y = ahead.y0; y <= ahead.y1; y += 0.0123)
+      for (double x = ahead.x0; x <= ahead.x1; x += 0.0123) {
+        double wgx, wgy, hgx, hgy;
+        const double h = whole->distance(x, y, &hgx, &hgy);
+        double w = with_route->distance(x, y, &wgx, &wgy);
+        ASSERT_TRUE(same(w, h) && same(wgx, hgx) && same(wgy, hgy)) << x << ", " << y << ": " << w << " " << h;
+        if (std::fabs(x - x0) > reach || std::fabs(y - y0) > reach) continue;
+        w = win->distance(x, y, &wgx, &wgy);
+        ASSERT_TRUE(same(w, h) && same(wgx, hgx) && same(wgy, hgy)) << x << ", " << y << ": " << w << " " << h;
+        ++compared;
+      }
+    EXPECT_GT(compared, 180000);
+    // every pose whose discs lie within the reach
+    std::mt19937 rng(3);
+    for (int i = 0; i < 2000; ++i) {
+      const double r = (reach - 0.2) * (rng() % 1000) / 1000.0, a = 2 * M_PI * (rng() % 1000) / 1000.0;
+      const double yaw = 2 * M_PI * (rng() % 1000) / 1000.0;
+      const BarrierValue bw = win->footprint_barrier(x0 + r * std::cos(a), y0 + r * std::sin(a), yaw, pp.footprint);
+      const BarrierValue bh = whole->footprint_barrier(x0 + r * std::cos(a), y0 + r * std::sin(a), yaw, pp.footprint);
+      ASSERT_TRUE(same(bw.h, bh.h) && same(bw.gx, bh.gx) && same(bw.gy, bh.gy) && same(bw.gth, bh.gth));
+    }
+    // beyond the reach: far, no gradient; the detour's reads: the whole map's
+    for (double x = -13.0; x <= 13.0; x += 0.173) {
+      const double y = y0 + reach + 0.01 + 0.3 * std::fabs(x);
+      double hgx, hgy;
+      EXPECT_EQ(win->distance(x, y, &gx, &gy), sp.max_distance_m);
+      EXPECT_EQ(gx, 0.0);
+      EXPECT_EQ(gy, 0.0);
+      const double w = win->map_distance(x, y, &gx, &gy), h = whole->distance(x, y, &hgx, &hgy);
+      ASSERT_TRUE(same(w, h) && same(gx, hgx) && same(gy, hgy)) << x << ", " << y;
+    }
+    // which tracks the field stands for does not depend on the window
+    for (const Ellipse& e : keep) {
+      EXPECT_EQ(win->structure_extent(e), whole->structure_extent(e));
+      EXPECT_EQ(win->own_cells(e).structure_share, whole->own_cells(e).structure_share);
+      EXPECT_EQ(win->own_cells(e).structure_extent_m, whole->own_cells(e).structure_extent_m);
+    }
+  }
+  EXPECT_FALSE(StaticField::build(m, movers, keep, sp, {1.0, 0.0, 0.0, 1.0}));
+  EXPECT_FALSE(StaticField::build(m, movers, keep, sp, {NAN, 1.0, 0.0, 1.0}));
 }
 
 TEST(StaticField, SignedDistanceIsZeroOnTheCellsEdgeAndAMoversCellsAreLeftOut) {
