@@ -26,6 +26,10 @@
 // unknown_speed_mps. Older slower tracks (bins, posts, walls) are left to
 // the constraints.
 //
+// With every_plan the bound is in every cycle's problem, certified plans
+// included (the invariant passive safety needs: a robot that enters the
+// recovery faster than the bound cannot always brake to it in time).
+//
 // The bound is one speed for every step of the plan (Problem::v_cap, below
 // what braking from the measured speed reaches only where braking cannot
 // get there yet): the plan is sent for one cycle, and the next cycle bounds
@@ -45,6 +49,7 @@ struct PassiveSafetyParams {
   double unknown_speed_mps = 1.6;    // a track younger than min_track_age_s moves at least this fast
   double min_track_age_s = 0.5;      // tracked this long, a track's speed is its prediction's
   double min_mover_speed_mps = 0.2;  // older tracks predicted slower than this are not movers
+  bool every_plan = false;           // the hard problem too: certified plans keep the bound (off: only the recovery's)
 
   template <class V>
   void fields(V& v) {
@@ -53,6 +58,7 @@ struct PassiveSafetyParams {
     v.field("unknown_speed_mps", unknown_speed_mps, config::between(0.0, 20.0));
     v.field("min_track_age_s", min_track_age_s, config::between(0.0, 10.0));
     v.field("min_mover_speed_mps", min_mover_speed_mps, config::between(0.0, 20.0));
+    v.field("every_plan", every_plan);
   }
 };
 
