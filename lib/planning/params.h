@@ -17,6 +17,7 @@
 #include "planning/guidance.h"
 #include "planning/modes.h"
 #include "planning/occlusion_speed.h"
+#include "planning/passive_safety.h"
 #include "planning/problem.h"
 #include "planning/static_field.h"
 
@@ -125,6 +126,8 @@ struct PlannerParams {
   GuidanceParams guidance;
   // Mode evade: the speed bound near hidden regions (occlusion_speed.h).
   OcclusionSpeedParams occlusion;
+  // Mode evade, no plan certified: the recovery's speed bound (passive_safety.h).
+  PassiveSafetyParams passive_safety;
   EscapeParams escape;  // mode evade: the turn on the spot out of d_safe
 
   // The decay of this mode's constraints: 1 - gamma (its GammaKey) for a
@@ -173,6 +176,7 @@ void PlannerParams::fields(V& v) {
   v.section("static_field", static_field);
   v.section("guidance", guidance);
   v.section("occlusion", occlusion);
+  v.section("passive_safety", passive_safety);
   v.section("solver", solver);
 }
 

@@ -5,6 +5,8 @@
 // most clearance. `own_motion`: the one relaxed problem of fallback.h, else
 // braking. Both start with the swerve restarts of the hard problem, which
 // they skip when braking misses it too and a relaxed problem follows.
+// Whatever either sends after the hard problem has failed goes no faster
+// than planner.passive_safety's bound (passive_safety.h) when it is on.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,6 +15,7 @@
 #include "planning/fallback.h"
 #include "planning/manoeuvres.h"
 #include "planning/outcome.h"
+#include "planning/passive_safety.h"
 #include "planning/planner_core.h"
 #include "planning/static_structure.h"
 
@@ -108,23 +111,30 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
     return evade::plan_t::STATUS_OK;
   }
   count("solver_infeasible");
+  const Problem bounded = passively_bounded(pb);  // what is sent from here on is not certified
   // A start inside d_safe, or a static obstacle whose ellipse swells with
   // its uncertainty, can leave the hard problem without any solution
   // (standing misses it too); then the relaxed one (see solve_elastic),
   // when there is something to relax.
   const std::optional<CeresMpcSolver> solver = can_relax ? budgeted_solver(*iterations) : std::nullopt;
   if (solver) {
-    const SolveResult rec = solver->solve_elastic(pb, warm_u, &relax);
+    const SolveResult rec = solver->solve_elastic(bounded, warm_u, &relax);
     *iterations += rec.iterations;
-    if (rec.finite && rec.feasible && relaxed_plan_stands(pb, rec.u)) {
+    if (rec.finite && rec.feasible && relaxed_plan_stands(bounded, rec.u)) {
       *u = rec.u;
       *res = rec;
-      if (escape_turn(pb, v0, w0, u)) count("escape_turn");
+      if (escape_turn(bounded, v0, w0, u)) count("escape_turn");
       return evade::plan_t::STATUS_RECOVERING;
     }
     if (rec.finite) candidates.push_back({rec.u, "mc_relaxed"});
   }
-  return most_clearance(pb, candidates, odom, v0, w0, u);
+  return most_clearance(bounded, candidates, odom, v0, w0, u);
+}
+
+Problem PlannerCore::passively_bounded(const Problem& pb) {
+  Problem bounded = pb;
+  if (p_.passive_safety.enabled && bound_passively(p_.passive_safety, &bounded)) count("passive_speed_bound");
+  return bounded;
 }
 
 OutcomeMargin PlannerCore::outcome_margin() const {
@@ -162,7 +172,7 @@ int8_t PlannerCore::recover_own_motion(const Problem& pb, const std::vector<doub
     *u = brake;
     return evade::plan_t::STATUS_STOPPING;
   }
-  *res = solve_fallback(*solver, pb, warm_u, brake);
+  *res = solve_fallback(*solver, passively_bounded(pb), warm_u, brake);
   *iterations += res->iterations;
   *u = res->u;
   count(res->feasible ? "fallback_relaxed" : "stopping");

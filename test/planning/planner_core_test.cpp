@@ -24,6 +24,7 @@
 #include "evade/prediction_list_t.hpp"
 #include "planning/obstacles.h"
 #include "planning/params.h"
+#include "planning/passive_safety.h"
 #include "planning/reference.h"
 
 namespace evade::planning {
@@ -116,16 +117,19 @@ struct RunResult {
   int contact_samples = 0;
   double max_contact_approach_mps = -1e9;
   std::vector<evade::plan_t> plan_log;
-  std::vector<double> robot_y;  // per plan
+  std::vector<double> robot_y;      // per plan
+  std::vector<double> robot_v;      // per plan, the robot's speed when it came
+  int64_t passive_speed_bound = 0;  // HEALTH counter passive_speed_bound at the end
 };
 
 // Closed loop (DriveHarness): odometry at 50 Hz, OBSTACLES and their
 // predictions at 10 Hz, the robot follows CMD_VEL exactly (unicycle).
 RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double duration_s, double route_end = 12.0,
-              double x0 = 0.0, double y0 = 0.0) {
+              double x0 = 0.0, double y0 = 0.0, double v0 = 0.0) {
   testing::RobotState start;
   start.x = x0;
   start.y = y0;
+  start.v = v0;
   testing::DriveHarness loop(p, start);
   const testing::RobotState& robot = loop.robot();
   RunResult out;
@@ -142,6 +146,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
         if (pl.status == evade::plan_t::STATUS_OK) ++out.ok;
         out.plan_log.push_back(pl);
         out.robot_y.push_back(robot.y);
+        out.robot_v.push_back(robot.v);
       },
       [&](const testing::DriveHarness::Step& s) {  // true clearance beyond d_safe
         for (const auto& ob : obs) {
@@ -163,6 +168,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   out.detour_movers = loop.core().counter("detour_movers");
   out.detour = loop.core().counter("detour");
   out.most_clearance = loop.core().counter("most_clearance");
+  out.passive_speed_bound = loop.core().counter("passive_speed_bound");
   for (const char* kind : {"mc_hard", "mc_dash", "mc_pull_over", "mc_swerve", "mc_swerve_restart", "mc_relaxed"})
     out.sent[kind] = loop.core().counter(kind);
   return out;
@@ -594,6 +600,72 @@ TEST(PlannerCore, TheRelaxedSolveKeepsItsShareOfASmallCycleBudget) {
   }
   ASSERT_GT(recovering, 0) << "the premise: the hard problem fails";
   EXPECT_EQ(r.most_clearance, 0) << "of " << recovering << " recovering cycles";
+}
+
+// planner.passive_safety: once the hard problem has failed (here the robot
+// starts inside d_safe of a bin), every plan sent goes no faster than the
+// speed from which the robot stands before a walker 1 m beside it could
+// reach it, though the walker is predicted to walk away; without the bound
+// the recovery sends faster plans. A walker far off bounds nothing: the
+// plans are those without the bound.
+TEST(PlannerCore, WithNoPlanCertifiedTheRobotGoesNoFasterThanItCanStandBeforeAMover) {
+  const SimObstacle bin{0.3, 0.4, 0.0, 0.0, 0.2};
+  const auto scene = [&](double walker_y) { return std::vector<SimObstacle>{bin, {0.0, walker_y, 0.0, -1.0, 0.3}}; };
+  PlannerParams on = default_params();
+  on.passive_safety.enabled = true;
+  on.passive_safety.min_track_age_s = 0.0;  // the bin is no mover from the start
+  PlannerParams off = on;
+  off.passive_safety.enabled = false;
+  // the bound of a plan's start against the walker where it is then
+  const auto bound_at = [&](const evade::plan_t& pl, double walker_y) {
+    const double t = (pl.utime - testing::DriveHarness::kStartUs) * 1e-6;
+    Problem pb;
+    pb.N = on.horizon_steps;
+    pb.dt = on.dt_s;
+    pb.x0 = pl.x[0];
+    pb.y0 = pl.y[0];
+    pb.yaw0 = pl.yaw[0];
+    pb.lim = on.limits;
+    pb.footprint = on.footprint;
+    ObstacleTrack w;
+    for (int k = 0; k <= pb.N; ++k) {
+      w.x.push_back(0.0);
+      w.y.push_back(walker_y - 1.0 * (t + k * pb.dt));
+      w.a.push_back(0.3);
+      w.b.push_back(0.3);
+      w.theta.push_back(0.0);
+    }
+    w.age_s = 1.0;
+    pb.obstacles = {w};
+    return passive_speed_bound(on.passive_safety, pb);
+  };
+  const double near_y = -1.3;
+  const RunResult bounded = run(on, scene(near_y), 1.5, 12.0, 0.0, 0.0, 1.0);
+  const RunResult unbounded = run(off, scene(near_y), 1.5, 12.0, 0.0, 0.0, 1.0);
+  int recovering = 0, faster_without = 0;
+  for (size_t i = 0; i < bounded.plan_log.size(); ++i) {
+    const evade::plan_t& pl = bounded.plan_log[i];
+    if (pl.status == evade::plan_t::STATUS_OK) continue;
+    ++recovering;
+    const double braking = bounded.robot_v[i] - on.limits.decel * on.dt_s;  // the least it can send
+    EXPECT_LE(pl.v[0], std::max(bound_at(pl, near_y), braking) + 0.02) << "plan " << i;
+  }
+  for (const evade::plan_t& pl : unbounded.plan_log)
+    if (pl.status != evade::plan_t::STATUS_OK && pl.v[0] > bound_at(pl, near_y) + 0.05) ++faster_without;
+  ASSERT_GT(recovering, 0) << "the premise: the hard problem fails";
+  EXPECT_GT(bounded.passive_speed_bound, 0);
+  EXPECT_GT(faster_without, 0) << "the premise: without the bound the recovery goes faster";
+
+  const RunResult far_on = run(on, scene(-9.0), 1.5, 12.0, 0.0, 0.0, 1.0);
+  const RunResult far_off = run(off, scene(-9.0), 1.5, 12.0, 0.0, 0.0, 1.0);
+  EXPECT_EQ(far_on.passive_speed_bound, 0);
+  ASSERT_EQ(far_on.plan_log.size(), far_off.plan_log.size());
+  int far_recovering = 0;
+  for (size_t i = 0; i < far_on.plan_log.size(); ++i) {
+    far_recovering += far_on.plan_log[i].status != evade::plan_t::STATUS_OK;
+    EXPECT_EQ(far_on.plan_log[i].v, far_off.plan_log[i].v) << "plan " << i;
+  }
+  EXPECT_GT(far_recovering, 0) << "the premise: the hard problem fails there too";
 }
 
 TEST(PlannerCore, LogReplayIsDeterministic) {

@@ -1,0 +1,81 @@
+// Mode evade, when no plan meets every D-CBF constraint: passive motion
+// safety (Fraichard's "passive safety": if a collision happens, the robot is
+// at rest). Whatever the recovery sends is bounded to a speed from which the
+// robot, still going for reaction_s and then braking at its deceleration
+// limit, is at rest before any nearby mover, going at its own speed in ANY
+// direction, could reach the front of its body, whatever the prediction says
+// about where it goes. The recovery's plans are judged against predictions
+// that can be metres wrong (a walker that turns round, a bike first tracked
+// late); this bound does not rely on them.
+//
+// A mover at body gap g (m) from the front of the robot, going at s (m/s),
+// reaches it no sooner than (g - d_robot) / s, d_robot the robot's way until
+// it stands; the robot at v stands after reaction_s + v / decel, having gone
+// v reaction_s + v^2 / (2 decel). It stands first when
+//   v reaction_s + v^2 / (2 decel) + s (reaction_s + v / decel) <= g,
+// so v <= decel (-p + sqrt(p^2 + 2 (g - s reaction_s) / decel)),
+// p = reaction_s + s / decel (0 when g <= s reaction_s).
+// The front of the body is the footprint's front disc: the robot never
+// reverses (PlannerParams::from_config), and a contact on its sides or rear
+// while it goes forward is no approach of its own (the metrics' fault rule,
+// docs/SPEC.md). The gap is the paper's line-ellipse distance from that
+// disc to the mover's step-0 ellipse less its inflation sigma (its own body).
+// A mover is any ellipse obstacle of the problem whose fastest predicted
+// step is at least min_mover_speed_mps; a track younger than
+// min_track_age_s (its speed not known yet) is one going at least
+// unknown_speed_mps. Older slower tracks (bins, posts, walls) are left to
+// the constraints.
+//
+// With every_plan the bound is in every cycle's problem, certified plans
+// included (the invariant passive safety needs: a robot that enters the
+// recovery faster than the bound cannot always brake to it in time).
+//
+// The bound is one speed for every step of the plan (Problem::v_cap, below
+// what braking from the measured speed reaches only where braking cannot
+// get there yet): the plan is sent for one cycle, and the next cycle bounds
+// again from where the robot and the movers are then.
+#pragma once
+
+#include <vector>
+
+#include "config/fields.h"
+#include "planning/problem.h"
+
+namespace evade::planning {
+
+struct PassiveSafetyParams {
+  bool enabled = false;              // mode evade, no plan certified: the recovery's speed bound (off: unbounded)
+  double reaction_s = 0.3;           // the robot goes on this long before it brakes: perception's age and a cycle
+  double unknown_speed_mps = 1.6;    // a track younger than min_track_age_s moves at least this fast
+  double min_track_age_s = 0.5;      // tracked this long, a track's speed is its prediction's
+  double min_mover_speed_mps = 0.2;  // older tracks predicted slower than this are not movers
+  bool every_plan = false;           // the hard problem too: certified plans keep the bound (off: only the recovery's)
+
+  template <class V>
+  void fields(V& v) {
+    v.field("enabled", enabled);
+    v.field("reaction_s", reaction_s, config::between(0.0, 5.0));
+    v.field("unknown_speed_mps", unknown_speed_mps, config::between(0.0, 20.0));
+    v.field("min_track_age_s", min_track_age_s, config::between(0.0, 10.0));
+    v.field("min_mover_speed_mps", min_mover_speed_mps, config::between(0.0, 20.0));
+    v.field("every_plan", every_plan);
+  }
+};
+
+// The largest speed (m/s, at least 0) from which the robot stands before a
+// mover at body gap gap_m going at mover_speed_mps could reach it (above).
+double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_s, double decel_mps2);
+
+// The fastest step of o's predicted centres (m/s; 0 without two steps).
+double fastest_predicted_speed(const ObstacleTrack& o, double dt);
+
+// The bound for pb: the least passive_safe_speed over pb's movers, at most
+// pb.lim.v_max (v_max: no mover).
+double passive_speed_bound(const PassiveSafetyParams& p, const Problem& pb);
+
+// pb with every v_cap at most passive_speed_bound (v_cap filled with v_max
+// first where empty); pb unchanged when the bound is v_max. Returns whether
+// it bound.
+bool bound_passively(const PassiveSafetyParams& p, Problem* pb);
+
+}  // namespace evade::planning
