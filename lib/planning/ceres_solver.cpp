@@ -1045,22 +1045,14 @@ bool settled_obstacle(const Problem& pb, const ObstacleTrack& o, const SolverOpt
   return speed <= opts.relax_max_obstacle_speed_mps && o.age_s >= opts.relax_min_track_age_s;
 }
 
-namespace {
-
-// Every step of o's predicted centre slower than relax_max_obstacle_speed_mps
-// (a mover turning round or braking can end the horizon where it began).
-bool still_at_every_step(const Problem& pb, const ObstacleTrack& o, const SolverOptions& opts) {
-  for (size_t k = 1; k < o.x.size() && k < o.y.size(); ++k)
-    if (std::hypot(o.x[k] - o.x[k - 1], o.y[k] - o.y[k - 1]) > opts.relax_max_obstacle_speed_mps * pb.dt) return false;
-  return true;
-}
-
-}  // namespace
-
 int hold_settled_obstacles(Problem* pb, const SolverOptions& opts) {
   int held = 0;
   for (ObstacleTrack& o : pb->obstacles) {
-    if (o.field || !settled_obstacle(*pb, o, opts) || !still_at_every_step(*pb, o, opts)) continue;
+    // every step slower too: a mover turning round or braking can end the
+    // horizon where it began
+    if (o.field || !settled_obstacle(*pb, o, opts) ||
+        fastest_predicted_speed(o, pb->dt) > opts.relax_max_obstacle_speed_mps)
+      continue;
     for (std::vector<double>* v : {&o.x, &o.y, &o.a, &o.b, &o.theta, &o.sigma})
       if (!v->empty()) std::fill(v->begin(), v->end(), v->front());
     ++held;

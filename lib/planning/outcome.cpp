@@ -38,13 +38,6 @@ double OutcomeMargin::at(double t_s, double speed_mps) const {
   return std::isfinite(m) ? std::clamp(m, 0.0, std::max(max_m, 0.0)) : 0.0;
 }
 
-double mean_predicted_speed(const ObstacleTrack& o, int N, double dt) {
-  if (N <= 0 || !(dt > 0) || o.x.size() <= static_cast<size_t>(N) || o.y.size() <= static_cast<size_t>(N)) return 0.0;
-  double path = 0.0;
-  for (int k = 1; k <= N; ++k) path += std::hypot(o.x[k] - o.x[k - 1], o.y[k] - o.y[k - 1]);
-  return std::isfinite(path) ? path / (N * dt) : 0.0;
-}
-
 Outcome plan_outcome(const Problem& pb, const std::vector<double>& states, double tolerance, int extend_steps,
                      const OutcomeMargin& margin) {
   // the footprint without the margin (barrier_h_at reads only these of a

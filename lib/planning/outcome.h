@@ -41,10 +41,6 @@ struct OutcomeMargin {
   double at(double t_s, double speed_mps) const;
 };
 
-// The mean speed of o's predicted centres over steps 0..N of dt (m/s; 0
-// without N steps or with a non-finite centre).
-double mean_predicted_speed(const ObstacleTrack& o, int N, double dt);
-
 struct Outcome {
   enum Kind { kClear = 0, kTheirs = 1, kOurs = 2 };  // in order of preference
   Kind kind = kClear;

@@ -15,17 +15,6 @@ double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_
   return decel_mps2 * (std::sqrt(p * p + 2.0 * g / decel_mps2) - p);
 }
 
-double fastest_predicted_speed(const ObstacleTrack& o, double dt) {
-  double v = 0.0;
-  if (!(dt > 0.0)) return v;
-  const size_t n = std::min(o.x.size(), o.y.size());
-  for (size_t k = 1; k < n; ++k) {
-    const double step = std::hypot(o.x[k] - o.x[k - 1], o.y[k] - o.y[k - 1]) / dt;
-    if (std::isfinite(step)) v = std::max(v, step);
-  }
-  return v;
-}
-
 double passive_speed_bound(const PassiveSafetyParams& p, const Problem& pb) {
   double bound = pb.lim.v_max;
   if (pb.footprint.offsets.empty()) return bound;

@@ -66,9 +66,6 @@ struct PassiveSafetyParams {
 // mover at body gap gap_m going at mover_speed_mps could reach it (above).
 double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_s, double decel_mps2);
 
-// The fastest step of o's predicted centres (m/s; 0 without two steps).
-double fastest_predicted_speed(const ObstacleTrack& o, double dt);
-
 // The bound for pb: the least passive_safe_speed over pb's movers, at most
 // pb.lim.v_max (v_max: no mover).
 double passive_speed_bound(const PassiveSafetyParams& p, const Problem& pb);

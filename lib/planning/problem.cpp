@@ -1,9 +1,28 @@
 #include "planning/problem.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace evade::planning {
+
+double fastest_predicted_speed(const ObstacleTrack& o, double dt) {
+  double v = 0.0;
+  if (!(dt > 0.0)) return v;
+  const size_t n = std::min(o.x.size(), o.y.size());
+  for (size_t k = 1; k < n; ++k) {
+    const double step = std::hypot(o.x[k] - o.x[k - 1], o.y[k] - o.y[k - 1]) / dt;
+    if (std::isfinite(step)) v = std::max(v, step);
+  }
+  return v;
+}
+
+double mean_predicted_speed(const ObstacleTrack& o, int N, double dt) {
+  if (N <= 0 || !(dt > 0) || o.x.size() <= static_cast<size_t>(N) || o.y.size() <= static_cast<size_t>(N)) return 0.0;
+  double path = 0.0;
+  for (int k = 1; k <= N; ++k) path += std::hypot(o.x[k] - o.x[k - 1], o.y[k] - o.y[k - 1]);
+  return std::isfinite(path) ? path / (N * dt) : 0.0;
+}
 
 double objective(const Problem& pb, const double* u) {
   std::vector<double> states(3 * (pb.N + 1));

@@ -73,6 +73,14 @@ struct ObstacleTrack {
   std::shared_ptr<const StaticField> field;  // static structure (static_field.h), else null
 };
 
+// How fast an obstacle's predicted centre goes, from its x, y over steps of
+// dt. The fastest step (m/s; non-finite steps skipped; 0 without two steps or
+// without dt > 0).
+double fastest_predicted_speed(const ObstacleTrack& o, double dt);
+// The mean over steps 0..N: the length of the centres' path over N dt (m/s;
+// 0 without N steps or with a non-finite centre).
+double mean_predicted_speed(const ObstacleTrack& o, int N, double dt);
+
 // The robot's body as discs along its heading: centres `offsets` (m,
 // forward of the base centre), each of `radius`. The default, one disc of
 // radius 0 at the centre, is the paper's point robot.
