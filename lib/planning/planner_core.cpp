@@ -346,7 +346,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   for (auto& o : pb.obstacles) {
     o.age_s = track_age_s(o.id, odom.utime);
   }
-  if (mode_.evade_layers && p_.passive_safety.every_plan) pb = passively_bounded(pb);
+  if (mode_.evade_layers && p_.passive_safety.every_plan) bound_speed_passively(&pb);
   if (p_.solver.hold_settled && mode_spec(p_.mode).evade_layers) {
     if (const int held = hold_settled_obstacles(&pb, p_.solver)) count("settled_held", held);
   }

@@ -145,9 +145,13 @@ class PlannerCore : public bus::Core {
   // False when solver.rank_outcome judges the relaxed plan u as meeting a
   // mover's body (plan_outcome): most_clearance decides among the candidates.
   bool relaxed_plan_stands(const Problem& pb, const std::vector<double>& u) const;
-  // pb with the passive-safety speed bound (passive_safety.h) when
-  // planner.passive_safety is on: the problem of every plan the recovery
-  // sends once the hard problem has failed.
+  // The passive-safety speed bound (passive_safety.h) put into *pb when
+  // planner.passive_safety is on and it binds; counted (HEALTH
+  // passive_speed_bound). Whether it bound.
+  bool bound_speed_passively(Problem* pb);
+  // pb so bound: the problem of every plan the recovery sends once the hard
+  // problem has failed (with every_plan, pb itself: make_problem bound the
+  // cycle's problem, once).
   Problem passively_bounded(const Problem& pb);
   OutcomeMargin outcome_margin() const;  // solver.outcome_margin_*
   bool braking_misses(const Problem& pb, const std::vector<double>& brake) const;

@@ -131,9 +131,16 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
   return most_clearance(bounded, candidates, odom, v0, w0, u);
 }
 
+bool PlannerCore::bound_speed_passively(Problem* pb) {
+  if (!p_.passive_safety.enabled || !bound_passively(p_.passive_safety, pb)) return false;
+  count("passive_speed_bound");
+  return true;
+}
+
 Problem PlannerCore::passively_bounded(const Problem& pb) {
   Problem bounded = pb;
-  if (p_.passive_safety.enabled && bound_passively(p_.passive_safety, &bounded)) count("passive_speed_bound");
+  // with every_plan the cycle's problem was bound already (make_problem)
+  if (!p_.passive_safety.every_plan) bound_speed_passively(&bounded);
   return bounded;
 }
 
