@@ -50,6 +50,7 @@
 #include <map>
 #include <string>
 
+#include "bus/core.h"
 #include "bus/log.h"
 #include "config/config.h"
 #include "evade/grid_map_t.hpp"
@@ -432,11 +433,6 @@ struct FieldCycle {
   evade::odometry_t odometry;
 };
 
-template <class T>
-bool decode(const evade::bus::LogEvent& e, T* out) {
-  return out->decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0;
-}
-
 // Each ELEVATION_MAP of the log with the last predictions, obstacles and
 // odometry before it (none in the log: no tracks, and the robot at the
 // map's centre, where the elevation map puts it).
@@ -445,10 +441,11 @@ std::vector<FieldCycle> field_cycles(const std::string& path) {
   FieldCycle cur;
   bool have_odom = false;
   evade::bus::for_each_event(path, [&](const evade::bus::LogEvent& e) {
-    if (e.channel == "OBSTACLE_PREDICTIONS") decode(e, &cur.predictions);
-    if (e.channel == "OBSTACLES") decode(e, &cur.observed);
-    if (e.channel == "ODOMETRY") have_odom = decode(e, &cur.odometry) || have_odom;
-    if (e.channel != "ELEVATION_MAP" || !decode(e, &cur.map)) return;
+    const auto decode = [&](auto* out) { return evade::bus::decode(e.data.data(), e.data.size(), out); };
+    if (e.channel == "OBSTACLE_PREDICTIONS") decode(&cur.predictions);
+    if (e.channel == "OBSTACLES") decode(&cur.observed);
+    if (e.channel == "ODOMETRY") have_odom = decode(&cur.odometry) || have_odom;
+    if (e.channel != "ELEVATION_MAP" || !decode(&cur.map)) return;
     if (!have_odom) {
       cur.odometry.x = cur.map.origin[0] + 0.5 * cur.map.width * cur.map.resolution;
       cur.odometry.y = cur.map.origin[1] + 0.5 * cur.map.height * cur.map.resolution;
