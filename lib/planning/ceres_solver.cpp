@@ -412,7 +412,16 @@ class InnerCost : public ceres::CostFunction {
     const int j = active_[a].j;
     double g;
     // dg/du = sum of (coefficient, state step, gradient) terms, or linear in u
-    if (j < R) {
+    BarrierValue c0, c1;  // a closing bound's h at steps k and k + 1
+    const bool closing = j >= R + pb_.num_barrier_constraints();
+    if (closing) {
+      const int c = j - R - pb_.num_barrier_constraints(), k = c % N;
+      const ClosingBound& cb = pb_.closing[c / N];
+      c0 = closing_barrier(pb_, cb, ro_.states.data() + 3 * k, jac != nullptr);
+      c1 = closing_barrier(pb_, cb, ro_.states.data() + 3 * (k + 1), jac != nullptr);
+      g = c1.h - c0.h + cb.step_m[k];
+      if (!pb_.relax.empty()) g += pb_.relax[j];
+    } else if (j < R) {
       g = constraint(pb_, ro_.states.data(), u, j);
     } else {
       const int i = (j - R) / N, k = (j - R) % N;
@@ -450,6 +459,11 @@ class InnerCost : public ceres::CostFunction {
         jr[2 * (k - 1) + c] -= coef * s;
         nz_[2 * r + 1] = 2 * (k - 1) + c;
       }
+    } else if (closing) {
+      const int k = (j - R) % N;
+      width_[r] = 2 * (k + 1);
+      ro_.add_state_row(pb_, k + 1, coef * c1.gx, coef * c1.gy, coef * c1.gth, jr);
+      ro_.add_state_row(pb_, k, -coef * c0.gx, -coef * c0.gy, -coef * c0.gth, jr);
     } else {
       const int i = (j - R) / N, k = (j - R) % N;
       const ObstacleTrack& o = pb_.obstacles[i];

@@ -99,6 +99,18 @@ struct Footprint {
   }
 };
 
+// A bound on the robot's approach to a fixed ellipse: for k = 0..N-1
+//   h(X_{k+1}) - h(X_k) + step_m[k] >= 0,
+// h the footprint's barrier against the ellipse (d_safe included; it
+// cancels): the robot's nearest disc closes on it by at most step_m[k] in
+// step k, so at most step_m[k] / dt m/s; going past or away from it is
+// free. The ellipse does not move (a mover's body where it is now).
+struct ClosingBound {
+  int64_t id = 0;  // the obstacle it was made from
+  double x = 0, y = 0, a = 0, b = 0, theta = 0;
+  std::vector<double> step_m;  // N
+};
+
 struct Problem {
   int N = 0;
   double dt = 0;
@@ -127,12 +139,16 @@ struct Problem {
   // Optional per-step upper bounds on v_k below lim.v_max (empty = none):
   // mode evade near hidden regions (occlusion_speed.h).
   std::vector<double> v_cap;
+  // Optional bounds on how fast the robot closes on given ellipses
+  // (ClosingBound, below; passive_safety.h).
+  std::vector<ClosingBound> closing;
 
   int num_controls() const { return 2 * N; }
   // 4 rate constraints per step (v up, v down, omega up, omega down), then N
-  // barrier constraints per obstacle.
+  // barrier constraints per obstacle, then N per closing bound.
   int num_rate_constraints() const { return 4 * N; }
-  int num_constraints() const { return 4 * N + static_cast<int>(obstacles.size()) * N; }
+  int num_barrier_constraints() const { return static_cast<int>(obstacles.size()) * N; }
+  int num_constraints() const { return 4 * N + num_barrier_constraints() + static_cast<int>(closing.size()) * N; }
 };
 
 inline double wrap_angle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
@@ -392,6 +408,21 @@ BarrierValue constraint_barrier(const Problem& pb, const ObstacleTrack& o, int k
   }
 }
 
+// The footprint's h against closing bound c's ellipse for a state (x, y,
+// yaw), for a Jet with its derivatives.
+inline BarrierValue closing_barrier(const Problem& pb, const ClosingBound& c, const double* state,
+                                    bool want_derivatives) {
+  const bool point = is_point(pb.footprint);
+  const double cyaw = point ? 1.0 : std::cos(state[2]), syaw = point ? 0.0 : std::sin(state[2]);
+  return footprint_barrier_trig(state[0], state[1], cyaw, syaw, c.x, c.y, c.a, c.b, std::cos(c.theta),
+                                std::sin(c.theta), pb.footprint, pb.d_safe, want_derivatives);
+}
+template <class T>
+T closing_h(const Problem& pb, const ClosingBound& c, const T* p) {
+  const double s[3] = {value_of(p[0]), value_of(p[1]), value_of(p[2])};
+  return lift_barrier(closing_barrier(pb, c, s, !std::is_same_v<T, double>), p[0], p[1], p[2]);
+}
+
 // Constraint j (>= 0 when satisfied), see Problem::num_constraints for the layout.
 template <class T>
 T constraint(const Problem& pb, const T* states, const T* u, int j) {
@@ -406,6 +437,13 @@ T constraint(const Problem& pb, const T* states, const T* u, int j) {
     return (now - prev) + T(down);                    // rate >= -down
   }
   const int jj = j - pb.num_rate_constraints();
+  if (jj >= pb.num_barrier_constraints()) {
+    const int c = jj - pb.num_barrier_constraints();
+    T g = closing_h<T>(pb, pb.closing[c / pb.N], states + 3 * (c % pb.N + 1)) -
+          closing_h<T>(pb, pb.closing[c / pb.N], states + 3 * (c % pb.N)) + T(pb.closing[c / pb.N].step_m[c % pb.N]);
+    if (!pb.relax.empty()) g = g + pb.relax[j];
+    return g;
+  }
   const ObstacleTrack& o = pb.obstacles[jj / pb.N];
   const int k = jj % pb.N;
   const T* p0 = states + 3 * k;

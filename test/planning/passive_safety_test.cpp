@@ -2,12 +2,16 @@
 // speed from which the robot stands before a mover going at its own speed
 // in any direction could reach its front; a mover predicted to walk away
 // bounds it as one walking towards it; far from every mover, or beside only
-// settled obstacles, nothing is bounded.
+// settled obstacles, nothing is bounded. towards_only bounds the speed at
+// which the robot closes on each mover, which braking always meets.
 #include "planning/passive_safety.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "test_problems.h"
 
@@ -58,7 +62,8 @@ TEST(PassiveSafety, FromTheBoundTheRobotStandsBeforeTheMoverCanReachIt) {
 }
 
 TEST(PassiveSafety, AWalkerBesideBoundsTheSpeedWhereverItIsPredictedToGo) {
-  const PassiveSafetyParams p;
+  PassiveSafetyParams p;
+  p.towards_only = false;
   // 1 m beside the robot, predicted to walk away from it at 1 m/s
   const Problem away = robot_and_walker(0.0, -1.3, 0.0, -1.0, 3.0);
   const double bound = passive_speed_bound(p, away);
@@ -108,6 +113,93 @@ TEST(PassiveSafety, AMoverBehindIsFartherFromTheFrontThanOneAhead) {
   const double ahead = passive_speed_bound(p, robot_and_walker(1.3, 0.0, 1.0, 0.0, 3.0));
   const double behind = passive_speed_bound(p, robot_and_walker(-1.3, 0.0, -1.0, 0.0, 3.0));
   EXPECT_LT(ahead, behind);
+}
+
+// The least slack of pb's closing-bound constraints for controls u.
+double closing_slack(const Problem& pb, const std::vector<double>& u) {
+  std::vector<double> states, g;
+  evaluate_constraints(pb, u.data(), &states, &g);
+  double least = std::numeric_limits<double>::infinity();
+  for (int j = pb.num_rate_constraints() + pb.num_barrier_constraints(); j < pb.num_constraints(); ++j)
+    least = std::min(least, g[static_cast<size_t>(j)]);
+  return least;
+}
+
+// Controls: turn on the spot by `turn` rad (within the omega and alpha
+// limits), then speed up to v; projected onto pb's limits.
+std::vector<double> turn_then_drive(const Problem& pb, double turn, double v) {
+  std::vector<double> u(static_cast<size_t>(pb.num_controls()), 0.0);
+  double left = turn, w = pb.omega_prev;
+  for (int k = 0; k < pb.N; ++k) {
+    // brake the turn in time: at most the speed from which alpha stops it within what is left
+    const double stop = std::sqrt(2.0 * pb.lim.alpha * std::fabs(left));
+    const double want = std::clamp(std::copysign(std::min(stop, pb.lim.omega_max), left), w - pb.lim.alpha * pb.dt,
+                                   w + pb.lim.alpha * pb.dt);
+    w = std::fabs(left) < 0.02 ? 0.0 : want;
+    u[2 * k + 1] = w;
+    left -= w * pb.dt;
+    u[2 * k] = std::fabs(left) < 0.05 ? v : 0.0;
+  }
+  project_controls(pb, &u);
+  return u;
+}
+
+// towards_only: a bike 3.5 m ahead of a robot at rest, coming at 5 m/s,
+// bounds how fast the robot closes on it, not how fast it goes: driving at
+// it is bounded, turning a quarter and driving out of its way at full
+// speed is not (the speed bound forbids both).
+TEST(PassiveSafety, TowardsOnlyBoundsTheApproachNotTheWayOut) {
+  PassiveSafetyParams p;
+  Problem pb = robot_and_walker(3.5, 0.0, -5.0, 0.0, 3.0);
+  pb.v_prev = 0.0;
+  pb.lim.omega_max = 2.0;  // the quarter turn fits the horizon with time to drive
+  const double bound = passive_speed_bound(p, pb);
+  ASSERT_LT(bound, 0.6);  // the premise: the bike binds
+  const std::vector<ClosingBound> bounds = passive_closing_bounds(p, pb);
+  ASSERT_EQ(bounds.size(), 1u);
+  EXPECT_EQ(bounds[0].id, 3);
+  ASSERT_EQ(bounds[0].step_m.size(), static_cast<size_t>(pb.N));
+  for (double s : bounds[0].step_m) EXPECT_GE(s, bound * pb.dt - 1e-12);
+  Problem towards = pb;
+  ASSERT_TRUE(bound_passively(p, &towards));
+  EXPECT_TRUE(towards.v_cap.empty());
+  ASSERT_EQ(towards.closing.size(), 1u);
+  EXPECT_EQ(towards.num_constraints(), pb.num_constraints() + pb.N);
+  const double tol = 1e-6;
+  EXPECT_LT(closing_slack(towards, turn_then_drive(pb, 0.0, 1.0)), -0.01) << "straight at it";
+  EXPECT_GE(closing_slack(towards, turn_then_drive(pb, 0.5 * M_PI, 1.0)), -tol) << "out of its way";
+  EXPECT_GE(closing_slack(towards, turn_then_drive(pb, -0.5 * M_PI, 1.0)), -tol) << "out of its way";
+  EXPECT_GE(closing_slack(towards, std::vector<double>(static_cast<size_t>(pb.num_controls()), 0.0)), -tol)
+      << "standing";
+  // the speed bound caps the way out too
+  p.towards_only = false;
+  Problem capped = pb;
+  ASSERT_TRUE(bound_passively(p, &capped));
+  EXPECT_TRUE(capped.closing.empty());
+  const std::vector<double> out = turn_then_drive(pb, 0.5 * M_PI, 1.0);
+  double fastest = 0.0;
+  for (int k = 0; k < pb.N; ++k) fastest = std::max(fastest, out[2 * static_cast<size_t>(k)]);
+  EXPECT_GT(fastest, capped.v_cap[0] + 0.1);
+}
+
+// Whatever the bound, braking from the measured controls meets it: the
+// bounds never ask more than braking gives (here a walker 0.6 m ahead of
+// a robot at 1 m/s, whose bound is 0).
+TEST(PassiveSafety, BrakingAlwaysMeetsTheClosingBounds) {
+  const PassiveSafetyParams p;
+  for (double v0 : {0.0, 0.5, 1.0}) {
+    Problem pb = robot_and_walker(0.21 + 0.6 + 0.3, 0.0, -1.0, 0.0, 3.0);
+    pb.v_prev = v0;
+    pb.omega_prev = 0.4;
+    ASSERT_TRUE(bound_passively(p, &pb));
+    std::vector<double> brake(static_cast<size_t>(pb.num_controls()), 0.0);
+    project_controls(pb, &brake);
+    EXPECT_GE(closing_slack(pb, brake), -1e-9) << "v0 " << v0;
+    // keeping the speed closes faster than that
+    if (v0 > 0) {
+      EXPECT_LT(closing_slack(pb, turn_then_drive(pb, 0.0, v0)), -0.01) << "v0 " << v0;
+    }
+  }
 }
 
 }  // namespace

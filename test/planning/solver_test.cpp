@@ -143,6 +143,7 @@ TEST(CeresSolver, AnalyticJacobianMatchesFiniteDifferences) {
   // barriers (CBF and distance form) switched on by large multipliers
   Problem pb = bench_problem(8);
   pb.obstacles[1].decay = 0.0;
+  pb.closing.push_back({9, 2.0, 0.6, 0.35, 0.25, 0.4, std::vector<double>(static_cast<size_t>(pb.N), 0.02)});
   const int n = pb.num_controls(), m = pb.num_constraints();
   std::vector<double> u(n);
   for (int k = 0; k < pb.N; ++k) {
@@ -171,6 +172,14 @@ TEST(CeresSolver, AnalyticJacobianMatchesFiniteDifferences) {
     }
   }
   EXPECT_GT(nonzero, nr);  // the check covered real derivatives
+  // each AL residual is -sqrt(rho) (g_j - lambda_j / rho) with g_j the
+  // constraint that feasibility is judged by (problem.h)
+  std::vector<double> states, g;
+  evaluate_constraints(pb, u.data(), &states, &g);
+  const int nc = num_cost_residuals(pb);
+  for (int j = 0; j < m; ++j)
+    EXPECT_NEAR(r[static_cast<size_t>(nc + j)], -std::sqrt(rho) * (g[static_cast<size_t>(j)] - lambda[j] / rho), 1e-9)
+        << "constraint " << j;
 }
 
 TEST(CeresSolver, FreePathTracksTheReference) {
