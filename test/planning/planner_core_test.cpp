@@ -327,6 +327,32 @@ TEST(PlannerCore, AnOncomingFastMoverIsGotOutOfTheWayOfFromRest) {
     }
 }
 
+// The same bikes with planner.passive_safety on every plan: bounding only
+// how fast the robot closes on each mover (towards_only) leaves it free to
+// get out of the way, and the footprint is never touched; one speed cap in
+// every direction keeps it standing in the bike's way, where it is hit.
+TEST(PlannerCore, BoundedOnlyTowardsMoversTheRobotStillGetsOutOfABikesWay) {
+  PlannerParams towards = default_params();
+  towards.passive_safety.enabled = true;
+  towards.passive_safety.every_plan = true;
+  towards.passive_safety.reaction_s = 0.15;
+  towards.passive_safety.towards_only = true;
+  PlannerParams capped = towards;
+  capped.passive_safety.towards_only = false;
+  const double contact = -towards.d_safe_m;
+  int capped_hit = 0;
+  for (double speed : {1.5, 2.0})
+    for (double offset : {0.0, 0.2, -0.2}) {
+      const std::vector<SimObstacle> bike = {{6.0, offset, -speed, 0.0, 0.5, 0.05}};
+      const RunResult r = run(towards, bike, 8.0);
+      EXPECT_EQ(r.nan, 0);
+      EXPECT_GT(r.passive_speed_bound, 0) << "the premise: the bike binds";
+      EXPECT_GE(r.min_h, contact) << "footprint's discs touched, speed " << speed << " offset " << offset;
+      capped_hit += run(capped, bike, 8.0).min_h < contact;
+    }
+  EXPECT_GT(capped_hit, 0) << "the premise: capped in every direction, the robot stands in the way";
+}
+
 // HEALTH says which recovery candidate was sent: every most_clearance
 // cycle counts exactly one kind (mc_*), and a kind switched off
 // (solver.dashes) is never sent. A fast mover head-on at a robot at rest
