@@ -412,14 +412,13 @@ class InnerCost : public ceres::CostFunction {
     const int j = active_[a].j;
     double g;
     // dg/du = sum of (coefficient, state step, gradient) terms, or linear in u
-    BarrierValue c0, c1;  // a closing bound's h at steps k and k + 1
-    const bool closing = j >= R + pb_.num_barrier_constraints();
-    if (closing) {
+    ReachValue rv;  // a reach bound's value and derivatives
+    const bool reach = j >= R + pb_.num_barrier_constraints();
+    if (reach) {
       const int c = j - R - pb_.num_barrier_constraints(), k = c % N;
-      const ClosingBound& cb = pb_.closing[c / N];
-      c0 = closing_barrier(pb_, cb, ro_.states.data() + 3 * k, jac != nullptr);
-      c1 = closing_barrier(pb_, cb, ro_.states.data() + 3 * (k + 1), jac != nullptr);
-      g = c1.h - c0.h + cb.step_m[k];
+      const double* x = ro_.states.data() + 3 * k;
+      rv = reach_value(pb_.reach[c / N], k, x[0], x[1], x[2], u[2 * k], jac != nullptr);
+      g = rv.g;
       if (!pb_.relax.empty()) g += pb_.relax[j];
     } else if (j < R) {
       g = constraint(pb_, ro_.states.data(), u, j);
@@ -459,11 +458,11 @@ class InnerCost : public ceres::CostFunction {
         jr[2 * (k - 1) + c] -= coef * s;
         nz_[2 * r + 1] = 2 * (k - 1) + c;
       }
-    } else if (closing) {
+    } else if (reach) {
       const int k = (j - R) % N;
       width_[r] = 2 * (k + 1);
-      ro_.add_state_row(pb_, k + 1, coef * c1.gx, coef * c1.gy, coef * c1.gth, jr);
-      ro_.add_state_row(pb_, k, -coef * c0.gx, -coef * c0.gy, -coef * c0.gth, jr);
+      ro_.add_state_row(pb_, k, coef * rv.gx, coef * rv.gy, coef * rv.gth, jr);
+      jr[2 * k] += coef * rv.gv;
     } else {
       const int i = (j - R) / N, k = (j - R) % N;
       const ObstacleTrack& o = pb_.obstacles[i];

@@ -31,7 +31,7 @@ std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem
       speed = std::max(speed, p.unknown_speed_mps);
     else if (speed < p.min_mover_speed_mps)
       continue;
-    MoverBound m{track, pb.lim.v_max};
+    MoverBound m{track, pb.lim.v_max, speed};
     remove_inflation(&m.body);
     const double gap = barrier_h_at(front, m.body, 0, start);
     if (!std::isfinite(gap)) continue;
@@ -47,35 +47,40 @@ double passive_speed_bound(const PassiveSafetyParams& p, const Problem& pb) {
   return bound;
 }
 
-std::vector<ClosingBound> passive_closing_bounds(const PassiveSafetyParams& p, const Problem& pb) {
-  std::vector<ClosingBound> out;
+std::vector<ReachBound> passive_reach_bounds(const PassiveSafetyParams& p, const Problem& pb) {
+  std::vector<ReachBound> out;
   std::vector<double> brake(static_cast<size_t>(pb.num_controls()), 0.0), states;
-  bool braked = false;
   for (const MoverBound& m : mover_bounds(p, pb)) {
     if (!(m.speed_mps < pb.lim.v_max)) continue;
-    if (!braked) {
+    if (states.empty()) {
       project_controls(pb, &brake);
       states.resize(3 * static_cast<size_t>(pb.N + 1));
       rollout(pb, brake.data(), states.data());
-      braked = true;
     }
-    ClosingBound c{m.body.id, m.body.x[0], m.body.y[0], m.body.a[0], m.body.b[0], m.body.theta[0], {}};
-    c.step_m.resize(static_cast<size_t>(pb.N));
+    ReachBound r;
+    r.id = m.body.id;
+    r.x = m.body.x[0], r.y = m.body.y[0], r.a = m.body.a[0], r.b = m.body.b[0], r.theta = m.body.theta[0];
+    r.speed_mps = m.mover_speed_mps;
+    r.reaction_s = p.reaction_s;
+    r.decel_mps2 = pb.lim.decel;
+    r.offset_m = *std::max_element(pb.footprint.offsets.begin(), pb.footprint.offsets.end());
+    r.radius_m = pb.footprint.radius;
+    r.allowance_m.assign(static_cast<size_t>(pb.N), 0.0);
     for (int k = 0; k < pb.N; ++k) {
-      const double braking_closes = closing_barrier(pb, c, &states[3 * static_cast<size_t>(k)], false).h -
-                                    closing_barrier(pb, c, &states[3 * static_cast<size_t>(k + 1)], false).h;
-      c.step_m[static_cast<size_t>(k)] = std::max(m.speed_mps * pb.dt, braking_closes);
+      const double* x = &states[3 * static_cast<size_t>(k)];
+      const double braking = reach_value(r, k, x[0], x[1], x[2], brake[2 * static_cast<size_t>(k)], false).g;
+      r.allowance_m[static_cast<size_t>(k)] = std::max(0.0, -braking);
     }
-    out.push_back(std::move(c));
+    out.push_back(std::move(r));
   }
   return out;
 }
 
 bool bound_passively(const PassiveSafetyParams& p, Problem* pb) {
-  if (p.towards_only) {
-    std::vector<ClosingBound> bounds = passive_closing_bounds(p, *pb);
+  if (p.braking_point) {
+    std::vector<ReachBound> bounds = passive_reach_bounds(p, *pb);
     if (bounds.empty()) return false;
-    for (ClosingBound& c : bounds) pb->closing.push_back(std::move(c));
+    for (ReachBound& r : bounds) pb->reach.push_back(std::move(r));
     return true;
   }
   const double bound = passive_speed_bound(p, *pb);

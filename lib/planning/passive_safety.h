@@ -35,15 +35,16 @@
 // get there yet): the plan is sent for one cycle, and the next cycle bounds
 // again from where the robot and the movers are then.
 //
-// With towards_only, each mover bounds only the speed at which the robot
-// closes on it (Problem::closing: the rate at which the footprint's
-// barrier against the mover's body, held where it is now, falls), at that
-// mover's passive_safe_speed, and never below what braking from the
-// measured controls closes. Going across a mover's way or away from it is
-// then free: a robot at rest in a bike's path turns and drives out of it,
-// which the speed bound forbids (it would stand, passive and in the way).
-// A contact then comes with the robot closing no faster than the bound,
-// the metrics' fault rule's quantity (docs/SPEC.md).
+// With braking_point, each mover bounds where braking ends instead
+// (Problem::reach, problem.h): at every step of the plan, the point where
+// the front disc stands if the robot goes on for reaction_s and then
+// brakes stays out of the mover's reach by then, the mover going at its
+// speed in any direction from where it is now. Driving straight at a mover
+// this is the speed bound; across its way the braking point moves aside,
+// so a robot at rest in a bike's path may turn and drive out of it, which
+// the speed bound forbids (it would stand, passive and in the way). Where
+// braking from the measured controls misses a step's bound, that step asks
+// no more than braking gives.
 #pragma once
 
 #include <vector>
@@ -60,7 +61,7 @@ struct PassiveSafetyParams {
   double min_track_age_s = 0.5;      // tracked this long, a track's speed is its prediction's
   double min_mover_speed_mps = 0.2;  // older tracks predicted slower than this are not movers
   bool every_plan = false;           // the hard problem too: certified plans keep the bound (off: only the recovery's)
-  bool towards_only = true;          // bound each mover's closing speed (off: the speed in every direction)
+  bool braking_point = true;         // bound where braking from each step ends (off: one speed in every direction)
 
   template <class V>
   void fields(V& v) {
@@ -70,7 +71,7 @@ struct PassiveSafetyParams {
     v.field("min_track_age_s", min_track_age_s, config::between(0.0, 10.0));
     v.field("min_mover_speed_mps", min_mover_speed_mps, config::between(0.0, 20.0));
     v.field("every_plan", every_plan);
-    v.field("towards_only", towards_only);
+    v.field("braking_point", braking_point);
   }
 };
 
@@ -82,7 +83,8 @@ double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_
 // passive_safe_speed (m/s, at most pb.lim.v_max).
 struct MoverBound {
   ObstacleTrack body;
-  double speed_mps = 0.0;
+  double speed_mps = 0.0;        // the robot's
+  double mover_speed_mps = 0.0;  // the mover's, as the bound takes it
 };
 std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem& pb);
 
@@ -90,13 +92,11 @@ std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem
 // pb.lim.v_max (v_max: no mover).
 double passive_speed_bound(const PassiveSafetyParams& p, const Problem& pb);
 
-// One closing bound (Problem::closing) per mover whose speed is below
-// v_max: step_m[k] its speed times dt, or what braking from pb's measured
-// controls (zero controls projected onto the limits) closes in step k
-// where that is more.
-std::vector<ClosingBound> passive_closing_bounds(const PassiveSafetyParams& p, const Problem& pb);
+// One reach bound (Problem::reach) per mover whose speed is below v_max,
+// for pb's footprint, reaction_s and decel.
+std::vector<ReachBound> passive_reach_bounds(const PassiveSafetyParams& p, const Problem& pb);
 
-// pb bounded (towards_only: closing bounds appended; else every v_cap at
+// pb bounded (braking_point: reach bounds appended; else every v_cap at
 // most passive_speed_bound, v_cap filled with v_max first where empty);
 // pb unchanged when no mover binds. Returns whether it bound.
 bool bound_passively(const PassiveSafetyParams& p, Problem* pb);

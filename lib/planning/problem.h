@@ -99,16 +99,22 @@ struct Footprint {
   }
 };
 
-// A bound on the robot's approach to a fixed ellipse: for k = 0..N-1
-//   h(X_{k+1}) - h(X_k) + step_m[k] >= 0,
-// h the footprint's barrier against the ellipse (d_safe included; it
-// cancels): the robot's nearest disc closes on it by at most step_m[k] in
-// step k, so at most step_m[k] / dt m/s; going past or away from it is
-// free. The ellipse does not move (a mover's body where it is now).
-struct ClosingBound {
-  int64_t id = 0;  // the obstacle it was made from
-  double x = 0, y = 0, a = 0, b = 0, theta = 0;
-  std::vector<double> step_m;  // N
+// Passive safety against one mover (passive_safety.h): for k = 0..N-1
+//   h(B_k) - radius_m - speed_mps (reaction_s + v_k / decel_mps2) + allowance_m[k] >= 0,
+// B_k = p_k + (offset_m + v_k reaction_s + v_k^2 / (2 decel_mps2)) (cos th_k, sin th_k)
+// the centre of the footprint's front disc where the robot, at X_k going
+// v_k, stands when it goes on for reaction_s and then brakes; h that
+// point's barrier against the mover's body now (d_safe 0). So the robot
+// would stand before the mover, going at speed_mps in any direction from
+// where it is now, could reach the front disc. allowance_m[k] is what
+// braking from the measured controls misses of it (0 where braking meets
+// it), so braking always meets it. v_k >= 0 (the planner never reverses).
+struct ReachBound {
+  int64_t id = 0;                                 // the obstacle it was made from
+  double x = 0, y = 0, a = 0, b = 0, theta = 0;   // the mover's body now
+  double speed_mps = 0, reaction_s = 0, decel_mps2 = 1;
+  double offset_m = 0, radius_m = 0;              // the front disc
+  std::vector<double> allowance_m;                // N
 };
 
 struct Problem {
@@ -139,16 +145,15 @@ struct Problem {
   // Optional per-step upper bounds on v_k below lim.v_max (empty = none):
   // mode evade near hidden regions (occlusion_speed.h).
   std::vector<double> v_cap;
-  // Optional bounds on how fast the robot closes on given ellipses
-  // (ClosingBound, below; passive_safety.h).
-  std::vector<ClosingBound> closing;
+  // Optional passive-safety bounds, one per mover (ReachBound, above).
+  std::vector<ReachBound> reach;
 
   int num_controls() const { return 2 * N; }
   // 4 rate constraints per step (v up, v down, omega up, omega down), then N
-  // barrier constraints per obstacle, then N per closing bound.
+  // barrier constraints per obstacle, then N per reach bound.
   int num_rate_constraints() const { return 4 * N; }
   int num_barrier_constraints() const { return static_cast<int>(obstacles.size()) * N; }
-  int num_constraints() const { return 4 * N + num_barrier_constraints() + static_cast<int>(closing.size()) * N; }
+  int num_constraints() const { return 4 * N + num_barrier_constraints() + static_cast<int>(reach.size()) * N; }
 };
 
 inline double wrap_angle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
@@ -408,19 +413,33 @@ BarrierValue constraint_barrier(const Problem& pb, const ObstacleTrack& o, int k
   }
 }
 
-// The footprint's h against closing bound c's ellipse for a state (x, y,
-// yaw), for a Jet with its derivatives.
-inline BarrierValue closing_barrier(const Problem& pb, const ClosingBound& c, const double* state,
-                                    bool want_derivatives) {
-  const bool point = is_point(pb.footprint);
-  const double cyaw = point ? 1.0 : std::cos(state[2]), syaw = point ? 0.0 : std::sin(state[2]);
-  return footprint_barrier_trig(state[0], state[1], cyaw, syaw, c.x, c.y, c.a, c.b, std::cos(c.theta),
-                                std::sin(c.theta), pb.footprint, pb.d_safe, want_derivatives);
+// Reach bound r's constraint at step k for the state (x, y, th) and speed v:
+// its value g and, with want_derivatives, dg/dx, dg/dy, dg/dth, dg/dv.
+struct ReachValue {
+  double g = 0, gx = 0, gy = 0, gth = 0, gv = 0;
+};
+inline ReachValue reach_value(const ReachBound& r, int k, double x, double y, double th, double v,
+                              bool want_derivatives) {
+  const double c = std::cos(th), s = std::sin(th);
+  const double len = r.offset_m + v * r.reaction_s + v * v / (2.0 * r.decel_mps2);
+  const BarrierValue b = barrier(x + len * c, y + len * s, r.x, r.y, r.a, r.b, r.theta, 0.0);
+  ReachValue out;
+  out.g = b.h - r.radius_m - r.speed_mps * (r.reaction_s + v / r.decel_mps2) + r.allowance_m[static_cast<size_t>(k)];
+  if (!want_derivatives) return out;
+  const double along = b.gx * c + b.gy * s;  // dh/dlen
+  out.gx = b.gx;
+  out.gy = b.gy;
+  out.gth = len * (-b.gx * s + b.gy * c);
+  out.gv = along * (r.reaction_s + v / r.decel_mps2) - r.speed_mps / r.decel_mps2;
+  return out;
 }
-template <class T>
-T closing_h(const Problem& pb, const ClosingBound& c, const T* p) {
-  const double s[3] = {value_of(p[0]), value_of(p[1]), value_of(p[2])};
-  return lift_barrier(closing_barrier(pb, c, s, !std::is_same_v<T, double>), p[0], p[1], p[2]);
+inline double lift_reach(const ReachValue& r, double, double, double, double) { return r.g; }
+template <class J>
+J lift_reach(const ReachValue& r, const J& x, const J& y, const J& th, const J& v) {
+  J out;
+  out.a = r.g;
+  out.v = r.gx * x.v + r.gy * y.v + r.gth * th.v + r.gv * v.v;
+  return out;
 }
 
 // Constraint j (>= 0 when satisfied), see Problem::num_constraints for the layout.
@@ -438,9 +457,11 @@ T constraint(const Problem& pb, const T* states, const T* u, int j) {
   }
   const int jj = j - pb.num_rate_constraints();
   if (jj >= pb.num_barrier_constraints()) {
-    const int c = jj - pb.num_barrier_constraints();
-    T g = closing_h<T>(pb, pb.closing[c / pb.N], states + 3 * (c % pb.N + 1)) -
-          closing_h<T>(pb, pb.closing[c / pb.N], states + 3 * (c % pb.N)) + T(pb.closing[c / pb.N].step_m[c % pb.N]);
+    const int c = jj - pb.num_barrier_constraints(), k = c % pb.N;
+    const T* x = states + 3 * k;
+    const ReachValue r = reach_value(pb.reach[c / pb.N], k, value_of(x[0]), value_of(x[1]), value_of(x[2]),
+                                     value_of(u[2 * k]), !std::is_same_v<T, double>);
+    T g = lift_reach(r, x[0], x[1], x[2], u[2 * k]);
     if (!pb.relax.empty()) g = g + pb.relax[j];
     return g;
   }

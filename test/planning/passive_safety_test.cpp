@@ -2,8 +2,8 @@
 // speed from which the robot stands before a mover going at its own speed
 // in any direction could reach its front; a mover predicted to walk away
 // bounds it as one walking towards it; far from every mover, or beside only
-// settled obstacles, nothing is bounded. towards_only bounds the speed at
-// which the robot closes on each mover, which braking always meets.
+// settled obstacles, nothing is bounded. braking_point keeps where braking
+// from each step ends out of each mover's reach, which braking meets.
 #include "planning/passive_safety.h"
 
 #include <gtest/gtest.h>
@@ -63,7 +63,7 @@ TEST(PassiveSafety, FromTheBoundTheRobotStandsBeforeTheMoverCanReachIt) {
 
 TEST(PassiveSafety, AWalkerBesideBoundsTheSpeedWhereverItIsPredictedToGo) {
   PassiveSafetyParams p;
-  p.towards_only = false;
+  p.braking_point = false;
   // 1 m beside the robot, predicted to walk away from it at 1 m/s
   const Problem away = robot_and_walker(0.0, -1.3, 0.0, -1.0, 3.0);
   const double bound = passive_speed_bound(p, away);
@@ -115,8 +115,8 @@ TEST(PassiveSafety, AMoverBehindIsFartherFromTheFrontThanOneAhead) {
   EXPECT_LT(ahead, behind);
 }
 
-// The least slack of pb's closing-bound constraints for controls u.
-double closing_slack(const Problem& pb, const std::vector<double>& u) {
+// The least slack of pb's reach-bound constraints for controls u.
+double reach_slack(const Problem& pb, const std::vector<double>& u) {
   std::vector<double> states, g;
   evaluate_constraints(pb, u.data(), &states, &g);
   double least = std::numeric_limits<double>::infinity();
@@ -144,38 +144,50 @@ std::vector<double> turn_then_drive(const Problem& pb, double turn, double v) {
   return u;
 }
 
-// towards_only: a bike 3.5 m ahead of a robot at rest, coming at 5 m/s,
-// bounds how fast the robot closes on it, not how fast it goes: driving at
+// Driving straight at a mover, the braking point's bound is the speed
+// bound: at the bound's speed the first step's constraint is met exactly.
+TEST(PassiveSafety, HeadOnTheBrakingPointIsTheSpeedBound) {
+  const PassiveSafetyParams p;
+  for (double x : {1.5, 2.5, 4.0}) {
+    Problem pb = robot_and_walker(x, 0.0, -1.0, 0.0, 3.0);
+    const double bound = passive_speed_bound(p, pb);
+    ASSERT_GT(bound, 0.05);
+    ASSERT_LT(bound, pb.lim.v_max);
+    const std::vector<ReachBound> bounds = passive_reach_bounds(p, pb);
+    ASSERT_EQ(bounds.size(), 1u);
+    EXPECT_EQ(bounds[0].id, 3);
+    EXPECT_EQ(bounds[0].allowance_m[0], 0.0);  // braking from 1 m/s meets it
+    EXPECT_NEAR(reach_value(bounds[0], 0, pb.x0, pb.y0, pb.yaw0, bound, false).g, 0.0, 1e-9) << "x " << x;
+    EXPECT_LT(reach_value(bounds[0], 0, pb.x0, pb.y0, pb.yaw0, bound + 0.05, false).g, 0.0) << "x " << x;
+  }
+}
+
+// A walker 1.8 m ahead of a robot at rest, walking at 1 m/s: driving at
 // it is bounded, turning a quarter and driving out of its way at full
 // speed is not (the speed bound forbids both).
-TEST(PassiveSafety, TowardsOnlyBoundsTheApproachNotTheWayOut) {
+TEST(PassiveSafety, TheBrakingPointBoundsTheApproachNotTheWayOut) {
   PassiveSafetyParams p;
-  Problem pb = robot_and_walker(3.5, 0.0, -5.0, 0.0, 3.0);
+  Problem pb = robot_and_walker(1.8, 0.0, -1.0, 0.0, 3.0);
   pb.v_prev = 0.0;
   pb.lim.omega_max = 2.0;  // the quarter turn fits the horizon with time to drive
   const double bound = passive_speed_bound(p, pb);
-  ASSERT_LT(bound, 0.6);  // the premise: the bike binds
-  const std::vector<ClosingBound> bounds = passive_closing_bounds(p, pb);
-  ASSERT_EQ(bounds.size(), 1u);
-  EXPECT_EQ(bounds[0].id, 3);
-  ASSERT_EQ(bounds[0].step_m.size(), static_cast<size_t>(pb.N));
-  for (double s : bounds[0].step_m) EXPECT_GE(s, bound * pb.dt - 1e-12);
-  Problem towards = pb;
-  ASSERT_TRUE(bound_passively(p, &towards));
-  EXPECT_TRUE(towards.v_cap.empty());
-  ASSERT_EQ(towards.closing.size(), 1u);
-  EXPECT_EQ(towards.num_constraints(), pb.num_constraints() + pb.N);
+  ASSERT_LT(bound, 0.8);  // the premise: the walker binds
+  Problem reach = pb;
+  ASSERT_TRUE(bound_passively(p, &reach));
+  EXPECT_TRUE(reach.v_cap.empty());
+  ASSERT_EQ(reach.reach.size(), 1u);
+  EXPECT_EQ(reach.num_constraints(), pb.num_constraints() + pb.N);
   const double tol = 1e-6;
-  EXPECT_LT(closing_slack(towards, turn_then_drive(pb, 0.0, 1.0)), -0.01) << "straight at it";
-  EXPECT_GE(closing_slack(towards, turn_then_drive(pb, 0.5 * M_PI, 1.0)), -tol) << "out of its way";
-  EXPECT_GE(closing_slack(towards, turn_then_drive(pb, -0.5 * M_PI, 1.0)), -tol) << "out of its way";
-  EXPECT_GE(closing_slack(towards, std::vector<double>(static_cast<size_t>(pb.num_controls()), 0.0)), -tol)
+  EXPECT_LT(reach_slack(reach, turn_then_drive(pb, 0.0, 1.0)), -0.05) << "straight at it";
+  EXPECT_GE(reach_slack(reach, turn_then_drive(pb, 0.5 * M_PI, 1.0)), -tol) << "out of its way";
+  EXPECT_GE(reach_slack(reach, turn_then_drive(pb, -0.5 * M_PI, 1.0)), -tol) << "out of its way";
+  EXPECT_GE(reach_slack(reach, std::vector<double>(static_cast<size_t>(pb.num_controls()), 0.0)), -tol)
       << "standing";
   // the speed bound caps the way out too
-  p.towards_only = false;
+  p.braking_point = false;
   Problem capped = pb;
   ASSERT_TRUE(bound_passively(p, &capped));
-  EXPECT_TRUE(capped.closing.empty());
+  EXPECT_TRUE(capped.reach.empty());
   const std::vector<double> out = turn_then_drive(pb, 0.5 * M_PI, 1.0);
   double fastest = 0.0;
   for (int k = 0; k < pb.N; ++k) fastest = std::max(fastest, out[2 * static_cast<size_t>(k)]);
@@ -184,22 +196,26 @@ TEST(PassiveSafety, TowardsOnlyBoundsTheApproachNotTheWayOut) {
 
 // Whatever the bound, braking from the measured controls meets it: the
 // bounds never ask more than braking gives (here a walker 0.6 m ahead of
-// a robot at 1 m/s, whose bound is 0).
-TEST(PassiveSafety, BrakingAlwaysMeetsTheClosingBounds) {
+// a robot at up to 1 m/s, coming at 1 m/s; at 1 m/s braking misses the
+// bound at the first steps).
+TEST(PassiveSafety, BrakingAlwaysMeetsTheReachBounds) {
   const PassiveSafetyParams p;
+  bool missed = false;
   for (double v0 : {0.0, 0.5, 1.0}) {
     Problem pb = robot_and_walker(0.21 + 0.6 + 0.3, 0.0, -1.0, 0.0, 3.0);
     pb.v_prev = v0;
     pb.omega_prev = 0.4;
     ASSERT_TRUE(bound_passively(p, &pb));
+    for (double a : pb.reach[0].allowance_m) missed |= a > 0.0;
     std::vector<double> brake(static_cast<size_t>(pb.num_controls()), 0.0);
     project_controls(pb, &brake);
-    EXPECT_GE(closing_slack(pb, brake), -1e-9) << "v0 " << v0;
-    // keeping the speed closes faster than that
+    EXPECT_GE(reach_slack(pb, brake), -1e-9) << "v0 " << v0;
+    // keeping the speed reaches further than that
     if (v0 > 0) {
-      EXPECT_LT(closing_slack(pb, turn_then_drive(pb, 0.0, v0)), -0.01) << "v0 " << v0;
+      EXPECT_LT(reach_slack(pb, turn_then_drive(pb, 0.0, v0)), -0.01) << "v0 " << v0;
     }
   }
+  EXPECT_TRUE(missed) << "the premise: some step asks more than braking gives";
 }
 
 }  // namespace

@@ -327,18 +327,18 @@ TEST(PlannerCore, AnOncomingFastMoverIsGotOutOfTheWayOfFromRest) {
     }
 }
 
-// The same bikes with planner.passive_safety on every plan: bounding only
-// how fast the robot closes on each mover (towards_only) leaves it free to
-// get out of the way, and the footprint is never touched; one speed cap in
-// every direction keeps it standing in the bike's way, where it is hit.
-TEST(PlannerCore, BoundedOnlyTowardsMoversTheRobotStillGetsOutOfABikesWay) {
+// The same bikes with planner.passive_safety on every plan: bounding where
+// braking ends (braking_point) leaves the robot free to get out of the
+// way, and the footprint is never touched; one speed cap in every
+// direction keeps it standing in the bike's way, where it is hit.
+TEST(PlannerCore, BoundedByItsBrakingPointTheRobotStillGetsOutOfABikesWay) {
   PlannerParams towards = default_params();
   towards.passive_safety.enabled = true;
   towards.passive_safety.every_plan = true;
   towards.passive_safety.reaction_s = 0.15;
-  towards.passive_safety.towards_only = true;
+  towards.passive_safety.braking_point = true;
   PlannerParams capped = towards;
-  capped.passive_safety.towards_only = false;
+  capped.passive_safety.braking_point = false;
   const double contact = -towards.d_safe_m;
   int capped_hit = 0;
   for (double speed : {1.5, 2.0})
@@ -640,7 +640,7 @@ TEST(PlannerCore, WithNoPlanCertifiedTheRobotGoesNoFasterThanItCanStandBeforeAMo
   PlannerParams on = default_params();
   on.passive_safety.enabled = true;
   on.passive_safety.min_track_age_s = 0.0;  // the bin is no mover from the start
-  on.passive_safety.towards_only = false;     // the speed in every direction (towards_only: passive_safety_test)
+  on.passive_safety.braking_point = false;    // one speed in every direction (braking_point: passive_safety_test)
   PlannerParams off = on;
   off.passive_safety.enabled = false;
   // the bound of a plan's start against the walker where it is then

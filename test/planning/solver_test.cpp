@@ -143,7 +143,11 @@ TEST(CeresSolver, AnalyticJacobianMatchesFiniteDifferences) {
   // barriers (CBF and distance form) switched on by large multipliers
   Problem pb = bench_problem(8);
   pb.obstacles[1].decay = 0.0;
-  pb.closing.push_back({9, 2.0, 0.6, 0.35, 0.25, 0.4, std::vector<double>(static_cast<size_t>(pb.N), 0.02)});
+  ReachBound reach;  // a mover 2 m ahead, 0.6 m aside
+  reach.x = 2.0, reach.y = 0.6, reach.a = 0.35, reach.b = 0.25, reach.theta = 0.4;
+  reach.speed_mps = 1.2, reach.reaction_s = 0.2, reach.decel_mps2 = 1.5, reach.offset_m = 0.14, reach.radius_m = 0.17;
+  reach.allowance_m.assign(static_cast<size_t>(pb.N), 0.05);
+  pb.reach.push_back(reach);
   const int n = pb.num_controls(), m = pb.num_constraints();
   std::vector<double> u(n);
   for (int k = 0; k < pb.N; ++k) {
