@@ -1154,6 +1154,7 @@ SolveResult CeresMpcSolver::solve_elastic(const Problem& pb_in, const std::vecto
   // and around.
   Problem pb = pb_in;
   pb.relax = relax ? *relax : barrier_relaxation(pb_in, opts_);
+  pb.relax.resize(static_cast<size_t>(pb.num_constraints()), 0.0);  // constraints added since: not relaxed
   // Starts: the given one, braking (zero controls projected onto the rate
   // limits), and a turn on the spot to either side followed by driving off;
   // braking alone would leave the robot standing (feasible, as h stays
