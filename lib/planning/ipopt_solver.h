@@ -7,6 +7,8 @@
 // it and Ceres can start from the same point. Eliminating
 // the states by the dynamics gives exactly Ceres' single-shooting problem:
 // same cost, same bounds, same rate limits, same barrier constraints.
+// The planner's own additions to the paper's problem (Problem::v_cap,
+// relax, reach, own_motion, penetration_weight) are not in its NLP.
 // Used by the benchmark and as a cross-check in tests, not by the planner.
 #pragma once
 
