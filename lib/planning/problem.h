@@ -110,11 +110,11 @@ struct Footprint {
 // braking from the measured controls misses of it (0 where braking meets
 // it), so braking always meets it. v_k >= 0 (the planner never reverses).
 struct ReachBound {
-  int64_t id = 0;                                 // the obstacle it was made from
-  double x = 0, y = 0, a = 0, b = 0, theta = 0;   // the mover's body now
+  int64_t id = 0;                                // the obstacle it was made from
+  double x = 0, y = 0, a = 0, b = 0, theta = 0;  // the mover's body now
   double speed_mps = 0, reaction_s = 0, decel_mps2 = 1;
-  double offset_m = 0, radius_m = 0;              // the front disc
-  std::vector<double> allowance_m;                // N
+  double offset_m = 0, radius_m = 0;  // the front disc
+  std::vector<double> allowance_m;    // N
 };
 
 struct Problem {

@@ -182,8 +182,7 @@ TEST(PassiveSafety, TheBrakingPointBoundsTheApproachNotTheWayOut) {
   EXPECT_LT(reach_slack(reach, turn_then_drive(pb, 0.0, 1.0)), -0.05) << "straight at it";
   EXPECT_GE(reach_slack(reach, turn_then_drive(pb, 0.5 * M_PI, 1.0)), -tol) << "out of its way";
   EXPECT_GE(reach_slack(reach, turn_then_drive(pb, -0.5 * M_PI, 1.0)), -tol) << "out of its way";
-  EXPECT_GE(reach_slack(reach, std::vector<double>(static_cast<size_t>(pb.num_controls()), 0.0)), -tol)
-      << "standing";
+  EXPECT_GE(reach_slack(reach, std::vector<double>(static_cast<size_t>(pb.num_controls()), 0.0)), -tol) << "standing";
   // the speed bound caps the way out too
   p.braking_point = false;
   Problem capped = pb;

@@ -640,7 +640,7 @@ TEST(PlannerCore, WithNoPlanCertifiedTheRobotGoesNoFasterThanItCanStandBeforeAMo
   PlannerParams on = default_params();
   on.passive_safety.enabled = true;
   on.passive_safety.min_track_age_s = 0.0;  // the bin is no mover from the start
-  on.passive_safety.braking_point = false;    // one speed in every direction (braking_point: passive_safety_test)
+  on.passive_safety.braking_point = false;  // one speed in every direction (braking_point: passive_safety_test)
   PlannerParams off = on;
   off.passive_safety.enabled = false;
   // the bound of a plan's start against the walker where it is then
