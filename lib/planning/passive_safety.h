@@ -55,12 +55,12 @@
 namespace evade::planning {
 
 struct PassiveSafetyParams {
-  bool enabled = false;              // mode evade, no plan certified: the recovery's speed bound (off: unbounded)
-  double reaction_s = 0.3;           // the robot goes on this long before it brakes: perception's age and a cycle
+  bool enabled = true;               // mode evade: the bound (off: unbounded)
+  double reaction_s = 0.15;          // the robot goes on this long before it brakes: perception's age and a cycle
   double unknown_speed_mps = 1.6;    // a track younger than min_track_age_s moves at least this fast
   double min_track_age_s = 0.5;      // tracked this long, a track's speed is its prediction's
   double min_mover_speed_mps = 0.2;  // older tracks predicted slower than this are not movers
-  bool every_plan = false;           // the hard problem too: certified plans keep the bound (off: only the recovery's)
+  bool every_plan = true;            // the hard problem too: certified plans keep the bound (off: only the recovery's)
   bool braking_point = true;         // bound where braking from each step ends (off: one speed in every direction)
 
   template <class V>

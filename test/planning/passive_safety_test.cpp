@@ -23,6 +23,14 @@ using testing::straight_problem;
 
 constexpr double kDecel = 1.5;  // testing::default_limits()
 
+// The defaults with a 0.3 s reaction, twice config/robot.yaml's: the
+// distances below are chosen so that the walkers bind with it.
+PassiveSafetyParams slow_reaction() {
+  PassiveSafetyParams p;
+  p.reaction_s = 0.3;
+  return p;
+}
+
 // The 0.42 x 0.31 m robot at the origin heading +x at 1 m/s, and a walker of
 // radius 0.3 m at (x, y) walking at (vx, vy), tracked age_s.
 Problem robot_and_walker(double x, double y, double vx, double vy, double age_s) {
@@ -62,7 +70,7 @@ TEST(PassiveSafety, FromTheBoundTheRobotStandsBeforeTheMoverCanReachIt) {
 }
 
 TEST(PassiveSafety, AWalkerBesideBoundsTheSpeedWhereverItIsPredictedToGo) {
-  PassiveSafetyParams p;
+  PassiveSafetyParams p = slow_reaction();
   p.braking_point = false;
   // 1 m beside the robot, predicted to walk away from it at 1 m/s
   const Problem away = robot_and_walker(0.0, -1.3, 0.0, -1.0, 3.0);
@@ -84,7 +92,7 @@ TEST(PassiveSafety, AWalkerBesideBoundsTheSpeedWhereverItIsPredictedToGo) {
 }
 
 TEST(PassiveSafety, FarFromEveryMoverNothingIsBounded) {
-  const PassiveSafetyParams p;
+  const PassiveSafetyParams p = slow_reaction();
   Problem pb = robot_and_walker(0.0, -8.0, 0.0, 1.0, 3.0);
   EXPECT_EQ(passive_speed_bound(p, pb), pb.lim.v_max);
   EXPECT_FALSE(bound_passively(p, &pb));
@@ -95,7 +103,7 @@ TEST(PassiveSafety, FarFromEveryMoverNothingIsBounded) {
 }
 
 TEST(PassiveSafety, SettledObstaclesAreNotMoversYoungTracksAreFast) {
-  const PassiveSafetyParams p;
+  const PassiveSafetyParams p = slow_reaction();
   // a bin 0.4 m ahead, tracked 3 s, standing: the constraints' alone
   const Problem bin = robot_and_walker(0.21 + 0.4 + 0.3, 0.0, 0.0, 0.0, 3.0);
   EXPECT_EQ(passive_speed_bound(p, bin), bin.lim.v_max);
@@ -109,7 +117,7 @@ TEST(PassiveSafety, SettledObstaclesAreNotMoversYoungTracksAreFast) {
 }
 
 TEST(PassiveSafety, AMoverBehindIsFartherFromTheFrontThanOneAhead) {
-  const PassiveSafetyParams p;
+  const PassiveSafetyParams p = slow_reaction();
   const double ahead = passive_speed_bound(p, robot_and_walker(1.3, 0.0, 1.0, 0.0, 3.0));
   const double behind = passive_speed_bound(p, robot_and_walker(-1.3, 0.0, -1.0, 0.0, 3.0));
   EXPECT_LT(ahead, behind);
@@ -147,7 +155,7 @@ std::vector<double> turn_then_drive(const Problem& pb, double turn, double v) {
 // Driving straight at a mover, the braking point's bound is the speed
 // bound: at the bound's speed the first step's constraint is met exactly.
 TEST(PassiveSafety, HeadOnTheBrakingPointIsTheSpeedBound) {
-  const PassiveSafetyParams p;
+  const PassiveSafetyParams p = slow_reaction();
   for (double x : {1.2, 1.6, 2.0}) {
     Problem pb = robot_and_walker(x, 0.0, -1.0, 0.0, 3.0);
     pb.v_prev = 0.0;
@@ -167,7 +175,7 @@ TEST(PassiveSafety, HeadOnTheBrakingPointIsTheSpeedBound) {
 // it is bounded, turning a quarter and driving out of its way at full
 // speed is not (the speed bound forbids both).
 TEST(PassiveSafety, TheBrakingPointBoundsTheApproachNotTheWayOut) {
-  PassiveSafetyParams p;
+  PassiveSafetyParams p = slow_reaction();
   Problem pb = robot_and_walker(1.8, 0.0, -1.0, 0.0, 3.0);
   pb.v_prev = 0.0;
   pb.lim.omega_max = 2.0;  // the quarter turn fits the horizon with time to drive
@@ -199,7 +207,7 @@ TEST(PassiveSafety, TheBrakingPointBoundsTheApproachNotTheWayOut) {
 // a robot at up to 1 m/s, coming at 1 m/s; at 1 m/s braking misses the
 // bound at the first steps).
 TEST(PassiveSafety, BrakingAlwaysMeetsTheReachBounds) {
-  const PassiveSafetyParams p;
+  const PassiveSafetyParams p = slow_reaction();
   bool missed = false;
   for (double v0 : {0.0, 0.5, 1.0}) {
     Problem free = robot_and_walker(0.21 + 0.6 + 0.3, 0.0, -1.0, 0.0, 3.0);
