@@ -1,6 +1,9 @@
-// Mode evade, when no plan meets every D-CBF constraint: passive motion
-// safety (Fraichard's "passive safety": if a collision happens, the robot is
-// at rest). Whatever the recovery sends is bounded to a speed from which the
+// Mode evade: passive motion safety (Fraichard's "passive safety": if a
+// collision happens, the robot is at rest). The defaults (config/robot.yaml)
+// put it into every plan (every_plan) in its braking-point form
+// (braking_point, below); the first form, described first, bounds the
+// recovery's plans when no plan meets every D-CBF constraint.
+// Whatever the recovery sends is bounded to a speed from which the
 // robot, still going for reaction_s and then braking at its deceleration
 // limit, is at rest before any nearby mover, going at its own speed in ANY
 // direction, could reach the front of its body, whatever the prediction says
