@@ -15,12 +15,19 @@ double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_
   return decel_mps2 * (std::sqrt(p * p + 2.0 * g / decel_mps2) - p);
 }
 
+namespace {
+
+// The offset (m) of the footprint's front disc; fp has at least one disc.
+double front_offset_m(const Footprint& fp) { return *std::max_element(fp.offsets.begin(), fp.offsets.end()); }
+
+}  // namespace
+
 std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem& pb) {
   std::vector<MoverBound> out;
   if (pb.footprint.offsets.empty()) return out;
   // the front disc alone, without d_safe (barrier_h_at reads only these)
   Problem front;
-  front.footprint.offsets = {*std::max_element(pb.footprint.offsets.begin(), pb.footprint.offsets.end())};
+  front.footprint.offsets = {front_offset_m(pb.footprint)};
   front.footprint.radius = pb.footprint.radius;
   front.d_safe = 0.0;
   const double start[3] = {pb.x0, pb.y0, pb.yaw0};
@@ -50,12 +57,14 @@ double passive_speed_bound(const PassiveSafetyParams& p, const Problem& pb) {
 std::vector<ReachBound> passive_reach_bounds(const PassiveSafetyParams& p, const Problem& pb) {
   std::vector<ReachBound> out;
   std::vector<double> brake(static_cast<size_t>(pb.num_controls()), 0.0), states;
+  double offset = 0.0;
   for (const MoverBound& m : mover_bounds(p, pb)) {
     if (!(m.speed_mps < pb.lim.v_max)) continue;
-    if (states.empty()) {
+    if (states.empty()) {  // once, for the first binding mover
       project_controls(pb, &brake);
       states.resize(3 * static_cast<size_t>(pb.N + 1));
       rollout(pb, brake.data(), states.data());
+      offset = front_offset_m(pb.footprint);  // a mover means a footprint (mover_bounds)
     }
     ReachBound r;
     r.id = m.body.id;
@@ -63,7 +72,7 @@ std::vector<ReachBound> passive_reach_bounds(const PassiveSafetyParams& p, const
     r.speed_mps = m.mover_speed_mps;
     r.reaction_s = p.reaction_s;
     r.decel_mps2 = pb.lim.decel;
-    r.offset_m = *std::max_element(pb.footprint.offsets.begin(), pb.footprint.offsets.end());
+    r.offset_m = offset;
     r.radius_m = pb.footprint.radius;
     r.allowance_m.assign(static_cast<size_t>(pb.N), 0.0);
     for (int k = 0; k < pb.N; ++k) {
