@@ -145,6 +145,10 @@ struct StaticField::Impl {
   mutable std::once_flag whole_once;
   mutable std::unique_ptr<SignedGrid> whole;
 
+  // The fractional cell coordinates of a point: cell (r, c) has its centre
+  // at origin + (c + 0.5, r + 0.5) res.
+  double col(double x) const { return (x - ox) / res - 0.5; }
+  double row(double y) const { return (y - oy) / res - 0.5; }
   bool in_window(double r, double c) const { return r >= r_lo && r <= r_hi && c >= c_lo && c <= c_hi; }
   const SignedGrid& whole_grid() const {
     if (std::isinf(r_hi)) return *near;
@@ -275,8 +279,8 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
   impl->width = W, impl->height = H;
   CellBox box{0, H, 0, W};
   if (!window.whole()) {
-    impl->c_lo = (window.x0 - impl->ox) / impl->res - 0.5, impl->c_hi = (window.x1 - impl->ox) / impl->res - 0.5;
-    impl->r_lo = (window.y0 - impl->oy) / impl->res - 0.5, impl->r_hi = (window.y1 - impl->oy) / impl->res - 0.5;
+    impl->c_lo = impl->col(window.x0), impl->c_hi = impl->col(window.x1);
+    impl->r_lo = impl->row(window.y0), impl->r_hi = impl->row(window.y1);
     box = window_cells(impl->r_lo, impl->r_hi, impl->c_lo, impl->c_hi, impl->res, impl->cap, W, H);
   }
   impl->near = signed_grid(site, W, box, impl->res, impl->cap);
@@ -293,9 +297,8 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
 }
 
 double StaticField::distance(double x, double y, double* gx, double* gy) const {
-  // cell (r, c) has its centre at origin + (c + 0.5, r + 0.5) res
   const Impl& m = *impl_;
-  const double c = (x - m.ox) / m.res - 0.5, r = (y - m.oy) / m.res - 0.5;
+  const double c = m.col(x), r = m.row(y);
   if (!m.in_window(r, c)) {
     *gx = *gy = 0.0;
     return m.cap;  // beyond the window: far
@@ -305,7 +308,7 @@ double StaticField::distance(double x, double y, double* gx, double* gy) const {
 
 double StaticField::map_distance(double x, double y, double* gx, double* gy) const {
   const Impl& m = *impl_;
-  const double c = (x - m.ox) / m.res - 0.5, r = (y - m.oy) / m.res - 0.5;
+  const double c = m.col(x), r = m.row(y);
   return m.evaluate(m.in_window(r, c) ? *m.near : m.whole_grid(), r, c, gx, gy);
 }
 
