@@ -247,25 +247,26 @@ class InnerCost : public ceres::CostFunction {
     ro_.compute(pb_, u, jac != nullptr);
     derivatives_ = jac != nullptr;
     headings();
-    // An evaluation with derivatives at the controls of the last one without
-    // (Ceres evaluates the Jacobian where its line search has just evaluated
-    // the cost) takes each nearest disc from it.
+    // Each nearest disc is computed once per controls: an evaluation at the
+    // controls of the last one (Ceres evaluates the Jacobian where its line
+    // search has just evaluated the cost) takes those it computed.
     const size_t stages = pb_.obstacles.size() * static_cast<size_t>(N + 1);
-    reuse_stages_ = derivatives_ && static_cast<int>(stage_u_.size()) == n && std::equal(u, u + n, stage_u_.begin());
-    if (!derivatives_) {
+    if (static_cast<int>(stage_u_.size()) != n || !std::equal(u, u + n, stage_u_.begin())) {
       stage_u_.assign(u, u + n);
       stage_.resize(stages);
       staged_.assign(stages, 0);
     }
-    if (jac) std::fill(jac, jac + static_cast<size_t>(full_rows_) * n, 0.0);
+    // Rows are zeroed as they are written (row_of): in the compressed form
+    // only live rows are read, and most constraint rows are dead.
+    if (jac && !compressed_) std::fill(jac, jac + static_cast<size_t>(full_rows_) * n, 0.0);
     live_.assign(full_rows_, kRowDense);
     nz_.assign(2 * static_cast<size_t>(full_rows_), -1);
     width_.assign(full_rows_, n);
     int r = cost_rows(u, residuals, jac);
-    // barrier values and gradients h_i(X_k), each computed once although
-    // two constraints (k-1 -> k and k -> k+1) use it
-    bar_.resize(pb_.obstacles.size() * (N + 1));
-    have_.assign(bar_.size(), 0);
+    // barrier gradients h_i(X_k), each computed once although two
+    // constraints (k-1 -> k and k -> k+1) use it, and only for live rows
+    bar_.resize(stages);
+    have_.assign(stages, 0);
     for (size_t a = 0; a < active_.size(); ++a, ++r) constraint_row(a, r, u, residuals, jac);
     r = penetration_rows(r, residuals, jac);
     for (int q = 0; q < r; ++q)
@@ -273,12 +274,20 @@ class InnerCost : public ceres::CostFunction {
     return true;
   }
 
+  // Row r of the Jacobian jac, zeroed unless the whole of jac was.
+  double* row_of(double* jac, int r) const {
+    const int n = pb_.num_controls();
+    double* jr = jac + static_cast<size_t>(r) * n;
+    if (compressed_) std::fill(jr, jr + n, 0.0);
+    return jr;
+  }
+
   // The cost residuals, in the order of cost_residuals() in problem.h, and
   // their Jacobian rows (jac: unless null); returns the next row.
   int cost_rows(const double* u, double* residuals, double* jac) const {
     const int n = pb_.num_controls(), N = pb_.N;
     const double* xs = ro_.states.data();
-    auto row = [&](int r) { return jac + static_cast<size_t>(r) * n; };
+    auto row = [&](int r) { return row_of(jac, r); };
     int r = 0;
     const double sq_xy = std::sqrt(pb_.w.q_xy), sq_yaw = std::sqrt(pb_.w.q_yaw);
     for (int k = 1; k <= N; ++k) {
@@ -309,8 +318,9 @@ class InnerCost : public ceres::CostFunction {
       nz_[2 * r] = i;
       nz_[2 * r + 1] = i + 2;
       if (jac) {
-        row(r)[i + 2] = ss[i % 2];
-        row(r)[i] = -ss[i % 2];
+        double* jr = row(r);
+        jr[i + 2] = ss[i % 2];
+        jr[i] = -ss[i % 2];
       }
     }
     return r;
@@ -328,60 +338,88 @@ class InnerCost : public ceres::CostFunction {
     }
   }
 
-  // h_i(X_k) of the current rollout, computed on first use (its derivatives
-  // only when the evaluation wants a Jacobian).
-  const BarrierValue& barrier_of(int i, int k) const {
+  // The nearest disc of obstacle i to the rollout's state k, computed on
+  // first use at these controls (an obstacle of the static field has none:
+  // its value and gradient come together, in bar_).
+  const FootprintStage& stage_of(int i, int k) const {
     const double* xs = ro_.states.data();
     const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k;
-    if (!have_[idx]) {
+    if (!staged_[idx]) {
       const ObstacleTrack& o = pb_.obstacles[i];
-      if (o.field) {
-        bar_[idx] = barrier_at(pb_, o, k, xs + 3 * k);  // static_field.h
-        have_[idx] = 1;
-        return bar_[idx];
-      }
-      const double cyaw = heading_[2 * k], syaw = heading_[2 * k + 1];
-      const double c = orientation_[2 * idx], sn = orientation_[2 * idx + 1];
-      const FootprintStage t = reuse_stages_ && staged_[idx]
-                                   ? stage_[idx]
-                                   : footprint_stage(xs[3 * k], xs[3 * k + 1], cyaw, syaw, o.x[k], o.y[k], o.a[k],
-                                                     o.b[k], c, sn, pb_.footprint, pb_.d_safe);
-      if (derivatives_) {
-        bar_[idx] = footprint_derivatives(t, cyaw, syaw, o.a[k], o.b[k], c, sn);
-      } else {
-        bar_[idx] = BarrierValue{};
-        bar_[idx].h = t.h;
-        stage_[idx] = t;
-        staged_[idx] = 1;
-      }
-      have_[idx] = 1;
+      stage_[idx] =
+          footprint_stage(xs[3 * k], xs[3 * k + 1], heading_[2 * k], heading_[2 * k + 1], o.x[k], o.y[k], o.a[k],
+                          o.b[k], orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint, pb_.d_safe);
+      staged_[idx] = 1;
     }
+    return stage_[idx];
+  }
+
+  // h_i(X_k) of the current rollout.
+  double value_of(int i, int k) const {
+    if (pb_.obstacles[i].field) return barrier_of(i, k).h;
+    return stage_of(i, k).h;
+  }
+
+  // h_i(X_k) and, when the evaluation wants a Jacobian, its derivatives:
+  // computed on first use (a row whose AL term is off needs value_of only).
+  const BarrierValue& barrier_of(int i, int k) const {
+    const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k;
+    if (have_[idx]) return bar_[idx];
+    const ObstacleTrack& o = pb_.obstacles[i];
+    if (o.field) {
+      bar_[idx] = barrier_at(pb_, o, k, ro_.states.data() + 3 * k);  // static_field.h
+    } else if (derivatives_) {
+      bar_[idx] = footprint_derivatives(stage_of(i, k), heading_[2 * k], heading_[2 * k + 1], o.a[k], o.b[k],
+                                        orientation_[2 * idx], orientation_[2 * idx + 1]);
+    } else {
+      bar_[idx] = BarrierValue{};
+      bar_[idx].h = stage_of(i, k).h;
+    }
+    have_[idx] = 1;
     return bar_[idx];
   }
 
-  // h of the robot at step k against obstacle i at step k + 1 (the fallback's
-  // own-motion links, Problem::own_motion).
-  BarrierValue own_motion_barrier(int i, int k) const {
+  // The nearest disc of the robot at step k to obstacle i at step k + 1
+  // (the fallback's own-motion links, Problem::own_motion), and its h and
+  // derivatives.
+  FootprintStage own_motion_stage(int i, int k) const {
     const double* xs = ro_.states.data();
     const ObstacleTrack& o = pb_.obstacles[i];
-    if (o.field) return barrier_of(i, k);
     const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k + 1;
-    return footprint_barrier_trig(xs[3 * k], xs[3 * k + 1], heading_[2 * k], heading_[2 * k + 1], o.x[k + 1],
-                                  o.y[k + 1], o.a[k + 1], o.b[k + 1], orientation_[2 * idx], orientation_[2 * idx + 1],
-                                  pb_.footprint, pb_.d_safe, derivatives_);
+    return footprint_stage(xs[3 * k], xs[3 * k + 1], heading_[2 * k], heading_[2 * k + 1], o.x[k + 1], o.y[k + 1],
+                           o.a[k + 1], o.b[k + 1], orientation_[2 * idx], orientation_[2 * idx + 1], pb_.footprint,
+                           pb_.d_safe);
+  }
+  BarrierValue own_motion_derivatives(int i, int k, const FootprintStage& t) const {
+    const ObstacleTrack& o = pb_.obstacles[i];
+    const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k + 1;
+    return footprint_derivatives(t, heading_[2 * k], heading_[2 * k + 1], o.a[k + 1], o.b[k + 1], orientation_[2 * idx],
+                                 orientation_[2 * idx + 1]);
   }
 
   // The second term of barrier link (i, k): decay h(X_k, O_k), or in the
-  // own-motion form decay' h(X_k, O_k+1) (problem.h); *coef its factor.
-  BarrierValue link_start(int i, int k, double* coef) const {
+  // own-motion form decay' h(X_k, O_k+1) (problem.h). Its h, its factor
+  // (*coef), and (link_start_derivatives) its derivatives.
+  struct LinkStart {
+    double h = 0, coef = 0;
+    FootprintStage own;  // the own-motion form's nearest disc
+  };
+  LinkStart link_start(int i, int k) const {
     const ObstacleTrack& o = pb_.obstacles[i];
-    if (!pb_.own_motion) {
-      *coef = o.decay;
-      return barrier_of(i, k);
+    LinkStart s;
+    if (!pb_.own_motion || o.field) {
+      s.h = value_of(i, k);
+      s.coef = pb_.own_motion && s.h <= 0.0 ? 1.0 : o.decay;
+      return s;
     }
-    const BarrierValue b0 = own_motion_barrier(i, k);
-    *coef = b0.h <= 0.0 ? 1.0 : o.decay;
-    return b0;
+    s.own = own_motion_stage(i, k);
+    s.h = s.own.h;
+    s.coef = s.h <= 0.0 ? 1.0 : o.decay;
+    return s;
+  }
+  BarrierValue link_start_derivatives(int i, int k, const LinkStart& s) const {
+    if (!pb_.own_motion || pb_.obstacles[i].field) return barrier_of(i, k);
+    return own_motion_derivatives(i, k, s.own);
   }
 
   // Rows from r: sqrt(penetration_weight) min(0, h_i(X_k)) for every
@@ -389,18 +427,20 @@ class InnerCost : public ceres::CostFunction {
   // the next row.
   int penetration_rows(int r, double* residuals, double* jac) const {
     if (penetration_rows_ == 0) return r;
-    const int n = pb_.num_controls(), N = pb_.N;
+    const int N = pb_.N;
     const double w = std::sqrt(pb_.penetration_weight);
     for (int i = 0; i < static_cast<int>(pb_.obstacles.size()); ++i)
       for (int k = 1; k <= N; ++k, ++r) {
-        const BarrierValue& b = barrier_of(i, k);
-        residuals[r] = b.h < 0 ? w * b.h : 0.0;
-        if (b.h >= 0) {
+        const double h = value_of(i, k);
+        residuals[r] = h < 0 ? w * h : 0.0;
+        if (h >= 0) {
           live_[r] = kRowDead;
           continue;
         }
         width_[r] = 2 * k;
-        if (jac) ro_.add_state_row(pb_, k, w * b.gx, w * b.gy, w * b.gth, jac + static_cast<size_t>(r) * n);
+        if (!jac) continue;
+        const BarrierValue& b = barrier_of(i, k);
+        ro_.add_state_row(pb_, k, w * b.gx, w * b.gy, w * b.gth, row_of(jac, r));
       }
     return r;
   }
@@ -408,11 +448,12 @@ class InnerCost : public ceres::CostFunction {
   // Row r: the AL (or elastic) residual of active constraint a, and its
   // Jacobian row (jac: unless null).
   void constraint_row(size_t a, int r, const double* u, double* residuals, double* jac) const {
-    const int n = pb_.num_controls(), N = pb_.N, R = pb_.num_rate_constraints();
+    const int N = pb_.N, R = pb_.num_rate_constraints();
     const int j = active_[a].j;
     double g;
     // dg/du = sum of (coefficient, state step, gradient) terms, or linear in u
-    ReachValue rv;  // a reach bound's value and derivatives
+    ReachValue rv;    // a reach bound's value and derivatives
+    LinkStart start;  // a barrier link's second term
     const bool reach = j >= R + pb_.num_barrier_constraints();
     if (reach) {
       const int c = j - R - pb_.num_barrier_constraints(), k = c % N;
@@ -425,11 +466,10 @@ class InnerCost : public ceres::CostFunction {
     } else {
       const int i = (j - R) / N, k = (j - R) % N;
       const ObstacleTrack& o = pb_.obstacles[i];
-      g = barrier_of(i, k + 1).h;
+      g = value_of(i, k + 1);
       if (o.decay != 0.0 || pb_.own_motion) {
-        double c0 = 0;
-        const BarrierValue b0 = link_start(i, k, &c0);
-        g -= c0 * b0.h;
+        start = link_start(i, k);
+        g -= start.coef * start.h;
       }
       if (!pb_.relax.empty()) g += pb_.relax[j];
     }
@@ -447,7 +487,7 @@ class InnerCost : public ceres::CostFunction {
     else if (j < R)
       live_[r] = kRowSparse;
     if (!jac || coef == 0) return;
-    double* jr = jac + static_cast<size_t>(r) * n;
+    double* jr = row_of(jac, r);
     if (j < R) {
       const int k = j / 4, which = j % 4;
       const int c = which < 2 ? 0 : 1;
@@ -470,9 +510,8 @@ class InnerCost : public ceres::CostFunction {
       width_[r] = 2 * (k + 1);
       ro_.add_state_row(pb_, k + 1, coef * b1.gx, coef * b1.gy, coef * b1.gth, jr);
       if (o.decay != 0.0 || pb_.own_motion) {
-        double c0 = 0;
-        const BarrierValue b0 = link_start(i, k, &c0);
-        const double d = -coef * c0;
+        const BarrierValue b0 = link_start_derivatives(i, k, start);
+        const double d = -coef * start.coef;
         ro_.add_state_row(pb_, k, d * b0.gx, d * b0.gy, d * b0.gth, jr);
       }
     }
@@ -493,13 +532,12 @@ class InnerCost : public ceres::CostFunction {
   mutable std::vector<double> cost_u_;         // the controls of the last cost_only evaluation ...
   mutable double cost_norm_ = 0;               // ... its |r| ...
   mutable bool cost_ok_ = false;               // ... and whether it succeeded
-  mutable std::vector<double> stage_u_;        // the controls of the last evaluation without derivatives ...
-  mutable std::vector<FootprintStage> stage_;  // ... the nearest disc of each obstacle and step it computed
-  mutable std::vector<char> staged_;           // ... where it did
-  mutable bool reuse_stages_ = false;          // this evaluation is at stage_u_
+  mutable std::vector<double> stage_u_;        // the controls of stage_ ...
+  mutable std::vector<FootprintStage> stage_;  // ... the nearest disc of each obstacle and step computed there
+  mutable std::vector<char> staged_;           // ... where it was
   mutable std::vector<double> heading_;        // cos, sin of the heading at each step (headings())
   mutable bool derivatives_ = true;            // whether this evaluation computes the barriers' derivatives
-  mutable std::vector<char> have_;
+  mutable std::vector<char> have_;             // bar_ computed in this evaluation
   // per full row: zero, at most two nonzero Jacobian entries, or dense
   static constexpr char kRowDead = 0, kRowSparse = 1, kRowDense = 2;
   mutable std::vector<char> live_;
