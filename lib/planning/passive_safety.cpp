@@ -85,6 +85,47 @@ std::vector<ReachBound> passive_reach_bounds(const PassiveSafetyParams& p, const
   return out;
 }
 
+namespace {
+
+// Whether every reach bound of pb holds at step k from state x going v.
+bool reach_holds(const Problem& pb, int k, const double* x, double v) {
+  for (const ReachBound& r : pb.reach)
+    if (reach_value(r, k, x[0], x[1], x[2], v, false).g < 0.0) return false;
+  return true;
+}
+
+// The fastest speed in [lo, hi] at which reach_holds, given that lo holds
+// and hi does not (bisection to 1 mm/s).
+double fastest_holding(const Problem& pb, int k, const double* x, double lo, double hi) {
+  while (hi - lo > 1e-3) {
+    const double mid = 0.5 * (lo + hi);
+    (reach_holds(pb, k, x, mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+}  // namespace
+
+bool project_onto_reach(const Problem& pb, std::vector<double>* u) {
+  if (pb.reach.empty() || u->size() < static_cast<size_t>(pb.num_controls())) return false;
+  double x[3] = {pb.x0, pb.y0, pb.yaw0};
+  double v_prev = std::clamp(pb.v_prev, pb.lim.v_min, pb.lim.v_max);
+  bool lowered = false;
+  for (int k = 0; k < pb.N; ++k) {
+    double& v = (*u)[2 * static_cast<size_t>(k)];
+    const double w = (*u)[2 * static_cast<size_t>(k) + 1];
+    const double v_lo = std::max(pb.lim.v_min, v_prev - pb.lim.decel * pb.dt);
+    v = std::max(v_lo, std::min(v, v_prev + pb.lim.accel * pb.dt));  // a lower speed before
+    if (v > v_lo && !reach_holds(pb, k, x, v)) {
+      v = reach_holds(pb, k, x, v_lo) ? fastest_holding(pb, k, x, v_lo, v) : v_lo;
+      lowered = true;
+    }
+    unicycle_step(v, w, pb.dt, &x[0], &x[1], &x[2]);
+    v_prev = v;
+  }
+  return lowered;
+}
+
 bool bound_passively(const PassiveSafetyParams& p, Problem* pb) {
   if (p.braking_point) {
     std::vector<ReachBound> bounds = passive_reach_bounds(p, *pb);

@@ -65,6 +65,7 @@ struct PassiveSafetyParams {
   double min_mover_speed_mps = 0.2;  // older tracks predicted slower than this are not movers
   bool every_plan = true;            // the hard problem too: certified plans keep the bound (off: only the recovery's)
   bool braking_point = true;         // bound where braking from each step ends (off: one speed in every direction)
+  bool slow_chosen = true;  // the recovery's chosen plan slowed onto the reach bounds where it comes to no worse
 
   template <class V>
   void fields(V& v) {
@@ -75,6 +76,7 @@ struct PassiveSafetyParams {
     v.field("min_mover_speed_mps", min_mover_speed_mps, config::between(0.0, 20.0));
     v.field("every_plan", every_plan);
     v.field("braking_point", braking_point);
+    v.field("slow_chosen", slow_chosen);
   }
 };
 
@@ -98,6 +100,14 @@ double passive_speed_bound(const PassiveSafetyParams& p, const Problem& pb);
 // One reach bound (Problem::reach) per mover whose speed is below v_max,
 // for pb's footprint, reaction_s and decel.
 std::vector<ReachBound> passive_reach_bounds(const PassiveSafetyParams& p, const Problem& pb);
+
+// u (controls of pb, within its limits: project_controls) with each speed
+// lowered, step by step and no lower than braking from the step before
+// allows, until every reach bound of pb holds at its step (the turn rates
+// kept). A step where even braking misses keeps braking's speed (its
+// allowance covers braking from the measured controls, not from
+// elsewhere). Returns whether it lowered any speed.
+bool project_onto_reach(const Problem& pb, std::vector<double>* u);
 
 // pb bounded (braking_point: reach bounds appended; else every v_cap at
 // most passive_speed_bound, v_cap filled with v_max first where empty);

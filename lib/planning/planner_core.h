@@ -163,6 +163,12 @@ class PlannerCore : public bus::Core {
   // last feasible plan shifted, braking) the one with the most clearance.
   int8_t most_clearance(const Problem& pb, const std::vector<Attempt>& attempts, const evade::odometry_t& odom,
                         double v0, double w0, std::vector<double>* u);
+  // passive_safety.slow_chosen: u, the recovery's chosen plan (into
+  // structure when `into`; coming to `kind` against the predictions),
+  // slowed onto the reach bounds (project_onto_reach), unless the slowed
+  // plan goes into structure where u did not or comes to a worse kind.
+  // Returns whether it slowed u.
+  bool slow_onto_reach(const Problem& pb, bool into, Outcome::Kind kind, std::vector<double>* u) const;
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;
   // PlannerParams::escape_*: when *u (a relaxed plan) makes no headway from

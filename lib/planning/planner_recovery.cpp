@@ -207,14 +207,17 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
   // plan whose body stays clear ranks above one that a mover walks into,
   // which ranks above one that drives into a mover. Getting aside in a
   // narrow passage beats standing in the mover's lane; standing beats
-  // driving on into it.
+  // driving on into it. With passive_safety.slow_chosen the chosen plan is
+  // then slowed onto passive safety's reach bounds (slow_onto_reach): the
+  // side and the way stay the ranking's, the speed becomes one from which
+  // the robot can still brake out of each mover's reach.
   struct Candidate {
     std::vector<double> u;
     int8_t status;
     const char* counter;
     const char* label = nullptr;  // an attempt's kind (Attempt::label)
     bool into = false;
-    Outcome outcome;
+    Outcome outcome{};
     double h = 0.0, shortfall = 0.0;
   };
   std::vector<Candidate> candidates;
@@ -248,9 +251,22 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
     if (better) chosen = &c;
   }
   *u = chosen->u;
+  if (p_.passive_safety.slow_chosen && slow_onto_reach(pb, chosen->into, chosen->outcome.kind, u)) count("mc_slowed");
   count(chosen->counter);
   if (chosen->label) count(chosen->label);
   return chosen->status;
+}
+
+bool PlannerCore::slow_onto_reach(const Problem& pb, bool into, Outcome::Kind kind, std::vector<double>* u) const {
+  std::vector<double> slowed = *u;
+  if (!project_onto_reach(pb, &slowed)) return false;
+  const double tie = p_.solver.constraint_tolerance;
+  std::vector<double> states(3 * static_cast<size_t>(pb.N + 1));
+  rollout(pb, slowed.data(), states.data());
+  if (!into && structure_intrusion(pb, states) > tie) return false;
+  if (p_.solver.rank_outcome && plan_outcome(pb, states, tie, pb.N, outcome_margin()).kind > kind) return false;
+  *u = std::move(slowed);
+  return true;
 }
 
 bool PlannerCore::escape_turn(const Problem& pb, double v0, double omega0, std::vector<double>* u) const {

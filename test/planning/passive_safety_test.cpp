@@ -227,5 +227,38 @@ TEST(PassiveSafety, BrakingAlwaysMeetsTheReachBounds) {
   EXPECT_TRUE(missed) << "the premise: some step asks more than braking gives";
 }
 
+// project_onto_reach slows a plan that drives at a walker until every
+// step keeps the bound, within the rate limits; braking, and a plan it
+// projected already, stay as they are.
+TEST(PassiveSafety, ProjectionSlowsAPlanOntoTheReachBounds) {
+  const PassiveSafetyParams p = slow_reaction();
+  Problem pb = robot_and_walker(1.8, 0.0, -1.0, 0.0, 3.0);
+  pb.v_prev = 0.8;
+  ASSERT_TRUE(bound_passively(p, &pb));
+  std::vector<double> on = turn_then_drive(pb, 0.0, 1.0);
+  ASSERT_LT(reach_slack(pb, on), -0.05);  // the premise
+  ASSERT_TRUE(project_onto_reach(pb, &on));
+  EXPECT_GE(reach_slack(pb, on), -1e-6);
+  std::vector<double> states, g;
+  evaluate_constraints(pb, on.data(), &states, &g);
+  for (int j = 0; j < pb.num_rate_constraints(); ++j) EXPECT_GE(g[static_cast<size_t>(j)], -1e-9) << "rate " << j;
+  // no slower than it must: at step 0 a little faster misses the bound
+  ASSERT_LT(on[0], 0.8);
+  ASSERT_GT(on[0], 0.8 - kDecel * pb.dt);
+  double g_faster = std::numeric_limits<double>::infinity();
+  for (const ReachBound& r : pb.reach)
+    g_faster = std::min(g_faster, reach_value(r, 0, 0, 0, 0, on[0] + 0.005, false).g);
+  EXPECT_LT(g_faster, 0.0);
+  std::vector<double> brake(static_cast<size_t>(pb.num_controls()), 0.0);
+  project_controls(pb, &brake);
+  const std::vector<double> braking = brake;
+  EXPECT_FALSE(project_onto_reach(pb, &brake));
+  EXPECT_EQ(brake, braking);
+  // projecting again changes nothing
+  const std::vector<double> once = on;
+  EXPECT_FALSE(project_onto_reach(pb, &on));
+  EXPECT_EQ(on, once);
+}
+
 }  // namespace
 }  // namespace evade::planning
