@@ -245,7 +245,6 @@ class InnerCost : public ceres::CostFunction {
   bool evaluate_full(const double* u, double* residuals, double* jac) const {
     const int n = pb_.num_controls(), N = pb_.N;
     ro_.compute(pb_, u, jac != nullptr);
-    derivatives_ = jac != nullptr;
     headings();
     // Each nearest disc is computed once per controls: an evaluation at the
     // controls of the last one (Ceres evaluates the Jacobian where its line
@@ -360,21 +359,17 @@ class InnerCost : public ceres::CostFunction {
     return stage_of(i, k).h;
   }
 
-  // h_i(X_k) and, when the evaluation wants a Jacobian, its derivatives:
-  // computed on first use (a row whose AL term is off needs value_of only).
+  // h_i(X_k) and its derivatives, computed on first use: rows that are
+  // written to the Jacobian ask for them, every other use takes value_of.
   const BarrierValue& barrier_of(int i, int k) const {
     const size_t idx = static_cast<size_t>(i) * (pb_.N + 1) + k;
     if (have_[idx]) return bar_[idx];
     const ObstacleTrack& o = pb_.obstacles[i];
-    if (o.field) {
+    if (o.field)
       bar_[idx] = barrier_at(pb_, o, k, ro_.states.data() + 3 * k);  // static_field.h
-    } else if (derivatives_) {
+    else
       bar_[idx] = footprint_derivatives(stage_of(i, k), heading_[2 * k], heading_[2 * k + 1], o.a[k], o.b[k],
                                         orientation_[2 * idx], orientation_[2 * idx + 1]);
-    } else {
-      bar_[idx] = BarrierValue{};
-      bar_[idx].h = stage_of(i, k).h;
-    }
     have_[idx] = 1;
     return bar_[idx];
   }
@@ -536,7 +531,6 @@ class InnerCost : public ceres::CostFunction {
   mutable std::vector<FootprintStage> stage_;  // ... the nearest disc of each obstacle and step computed there
   mutable std::vector<char> staged_;           // ... where it was
   mutable std::vector<double> heading_;        // cos, sin of the heading at each step (headings())
-  mutable bool derivatives_ = true;            // whether this evaluation computes the barriers' derivatives
   mutable std::vector<char> have_;             // bar_ computed in this evaluation
   // per full row: zero, at most two nonzero Jacobian entries, or dense
   static constexpr char kRowDead = 0, kRowSparse = 1, kRowDense = 2;

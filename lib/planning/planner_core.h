@@ -163,6 +163,11 @@ class PlannerCore : public bus::Core {
   // last feasible plan shifted, braking) the one with the most clearance.
   int8_t most_clearance(const Problem& pb, const std::vector<Attempt>& attempts, const evade::odometry_t& odom,
                         double v0, double w0, std::vector<double>* u);
+  // How most_clearance judges a plan's rollout `states`: whether it goes
+  // deeper into structure's margin than the tolerance (structure_intrusion),
+  // and with solver.rank_outcome what it comes to against the predictions
+  // (plan_outcome over 2N steps; else kClear).
+  void judge_recovery_plan(const Problem& pb, const std::vector<double>& states, bool* into, Outcome* outcome) const;
   // passive_safety.slow_chosen: u, the recovery's chosen plan (into
   // structure when `into`; coming to `kind` against the predictions),
   // slowed onto the reach bounds (project_onto_reach), unless the slowed

@@ -235,8 +235,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
     // from k = 1: where the robot is now is the same for every plan
     c.h = min_barrier(pb, states, 1);
     c.shortfall = barrier_shortfall(pb, states);
-    c.into = structure_intrusion(pb, states) > tie;
-    if (p_.solver.rank_outcome) c.outcome = plan_outcome(pb, states, tie, N, outcome_margin());
+    judge_recovery_plan(pb, states, &c.into, &c.outcome);
   }
   const Candidate* chosen = nullptr;  // ties: the first in the list
   for (const Candidate& c : candidates) {
@@ -257,14 +256,22 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
   return chosen->status;
 }
 
+void PlannerCore::judge_recovery_plan(const Problem& pb, const std::vector<double>& states, bool* into,
+                                      Outcome* outcome) const {
+  const double tie = p_.solver.constraint_tolerance;
+  *into = structure_intrusion(pb, states) > tie;
+  *outcome = p_.solver.rank_outcome ? plan_outcome(pb, states, tie, pb.N, outcome_margin()) : Outcome{};
+}
+
 bool PlannerCore::slow_onto_reach(const Problem& pb, bool into, Outcome::Kind kind, std::vector<double>* u) const {
   std::vector<double> slowed = *u;
   if (!project_onto_reach(pb, &slowed)) return false;
-  const double tie = p_.solver.constraint_tolerance;
   std::vector<double> states(3 * static_cast<size_t>(pb.N + 1));
   rollout(pb, slowed.data(), states.data());
-  if (!into && structure_intrusion(pb, states) > tie) return false;
-  if (p_.solver.rank_outcome && plan_outcome(pb, states, tie, pb.N, outcome_margin()).kind > kind) return false;
+  bool slowed_into = false;
+  Outcome slowed_outcome;
+  judge_recovery_plan(pb, states, &slowed_into, &slowed_outcome);
+  if ((slowed_into && !into) || slowed_outcome.kind > kind) return false;
   *u = std::move(slowed);
   return true;
 }
