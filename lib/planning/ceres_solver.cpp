@@ -41,14 +41,12 @@ struct Rollout {
   void compute(const Problem& pb, const double* u, bool with_sensitivities) {
     const int N = pb.N;
     states.resize(3 * (N + 1));
-    if (!with_sensitivities) {
-      rollout(pb, u, states.data());
-      return;
-    }
     // each step's cos and sin kept from the rollout for the sensitivities
+    // and the footprint's headings
     cos_th.resize(N);
     sin_th.resize(N);
     rollout(pb, u, states.data(), cos_th.data(), sin_th.data());
+    if (!with_sensitivities) return;
     sx.assign(N + 1, 0.0);
     sy.assign(N + 1, 0.0);
     const double dt2 = pb.dt * pb.dt;
@@ -118,7 +116,8 @@ class InnerCost : public ceres::CostFunction {
     // evaluate_full) added directly, the dense ones (tracking, barriers)
     // by rank updates.
     using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+    Eigen::MatrixXd& A = normal_;
+    A.setZero(n, n);
     Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
     accumulate_sparse_rows(&A, &b);
     accumulate_dense_rows(&A, &b);
@@ -135,12 +134,12 @@ class InnerCost : public ceres::CostFunction {
     // A tiny ridge keeps the factorization defined when some weights are zero.
     const double ridge = kCompressionRidge * std::max(1.0, A.diagonal().maxCoeff());
     A.diagonal().array() += ridge;
-    const Eigen::LLT<Eigen::MatrixXd> llt(A);
+    Eigen::LLT<Eigen::MatrixXd>& llt = llt_;
+    llt.compute(A);
     if (llt.info() != Eigen::Success) return false;
-    const Eigen::MatrixXd U = llt.matrixU();  // A = U^T U
     const Eigen::VectorXd rc = llt.matrixL().solve(b);
     Eigen::Map<RowMajor>(jac, n + 1, n).setZero();
-    Eigen::Map<RowMajor>(jac, n, n) = U;
+    Eigen::Map<RowMajor>(jac, n, n) = llt.matrixU();  // A = U^T U
     for (int i = 0; i < n; ++i) residuals[i] = rc[i];
     residuals[n] = std::sqrt(std::max(0.0, rr - rc.squaredNorm()));
     return std::isfinite(residuals[n]);
@@ -221,7 +220,7 @@ class InnerCost : public ceres::CostFunction {
     bucket_rows_.assign(buckets, {});
     for (int row = 0; row < full_rows_; ++row)
       if (live_[row] == kRowDense && width_[row] > 0) bucket_rows_[(width_[row] - 1) / kWidthBucket].push_back(row);
-    Eigen::MatrixXd D;
+    Eigen::MatrixXd& D = dense_;
     if (A) D.setZero(n, n);
     for (int bk = 0; bk < buckets; ++bk) {
       const auto& rows = bucket_rows_[bk];
@@ -326,14 +325,16 @@ class InnerCost : public ceres::CostFunction {
   }
 
   // The cosine and sine of the rollout's heading at every step, once for
-  // every obstacle (1 and 0 for a point robot, whose h ignores the heading).
+  // every obstacle (1 and 0 for a point robot, whose h ignores the heading):
+  // the rollout's own up to step N - 1.
   void headings() const {
     const double* xs = ro_.states.data();
     const bool point = is_point(pb_.footprint);
-    heading_.resize(2 * static_cast<size_t>(pb_.N + 1));
-    for (int k = 0; k <= pb_.N; ++k) {
-      heading_[2 * k] = point ? 1.0 : std::cos(xs[3 * k + 2]);
-      heading_[2 * k + 1] = point ? 0.0 : std::sin(xs[3 * k + 2]);
+    const int N = pb_.N;
+    heading_.resize(2 * static_cast<size_t>(N + 1));
+    for (int k = 0; k <= N; ++k) {
+      heading_[2 * k] = point ? 1.0 : k < N ? ro_.cos_th[k] : std::cos(xs[3 * k + 2]);
+      heading_[2 * k + 1] = point ? 0.0 : k < N ? ro_.sin_th[k] : std::sin(xs[3 * k + 2]);
     }
   }
 
@@ -453,7 +454,7 @@ class InnerCost : public ceres::CostFunction {
     if (reach) {
       const int c = j - R - pb_.num_barrier_constraints(), k = c % N;
       const double* x = ro_.states.data() + 3 * k;
-      rv = reach_value(pb_.reach[c / N], k, x[0], x[1], x[2], u[2 * k], jac != nullptr);
+      rv = reach_value_cs(pb_.reach[c / N], k, x[0], x[1], ro_.cos_th[k], ro_.sin_th[k], u[2 * k], jac != nullptr);
       g = rv.g;
       if (!pb_.relax.empty()) g += pb_.relax[j];
     } else if (j < R) {
@@ -541,6 +542,8 @@ class InnerCost : public ceres::CostFunction {
   mutable std::vector<std::vector<int>> bucket_rows_;
   mutable Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> block_;
   mutable Eigen::VectorXd block_r_;
+  mutable Eigen::MatrixXd normal_, dense_;   // Evaluate's J^T J and its dense rows' part
+  mutable Eigen::LLT<Eigen::MatrixXd> llt_;  // and its factorization
   int full_rows_ = 0;
   int penetration_rows_ = 0;  // Problem::penetration_weight: one per obstacle and step
   bool compressed_ = true;

@@ -42,17 +42,69 @@ double squared_penetration(const Problem& pb, const std::vector<double>& states)
   double sum = 0;
   for (const auto& o : pb.obstacles)
     for (int k = 1; k <= pb.N; ++k) {
-      const double h = barrier_at(pb, o, k, &states[3 * k]).h;
+      const double h = barrier_h_at(pb, o, k, &states[3 * k]);
       if (h < 0) sum += h * h;
     }
   return sum;
 }
 
+namespace {
+
+// h of obstacle o at its steps 0..N for the rollout's states at the same
+// steps (heading trig in cyaw, syaw): barrier_h_at's value at each, with
+// the obstacle's orientation trig computed once per step.
+void barrier_row(const Problem& pb, const ObstacleTrack& o, const double* states, const double* cyaw,
+                 const double* syaw, double* h) {
+  for (int k = 0; k <= pb.N; ++k) {
+    const double* x = states + 3 * k;
+    if (o.field) {
+      h[k] = static_field_barrier(*o.field, x[0], x[1], x[2], pb.footprint).h;
+      continue;
+    }
+    h[k] = footprint_stage(x[0], x[1], cyaw[k], syaw[k], o.x[k], o.y[k], o.a[k], o.b[k], std::cos(o.theta[k]),
+                           std::sin(o.theta[k]), pb.footprint, pb.d_safe)
+               .h;
+  }
+}
+
+// The barrier constraints of constraint<double> (j = R + i N + k) into g,
+// each h computed once although two links use it: the same values.
+void barrier_constraints(const Problem& pb, const double* states, double* g) {
+  const int N = pb.N, R = pb.num_rate_constraints();
+  const bool point = is_point(pb.footprint);
+  std::vector<double> cyaw(N + 1), syaw(N + 1), h(N + 1);
+  for (int k = 0; k <= N; ++k) {
+    cyaw[k] = point ? 1.0 : std::cos(states[3 * k + 2]);
+    syaw[k] = point ? 0.0 : std::sin(states[3 * k + 2]);
+  }
+  for (size_t i = 0; i < pb.obstacles.size(); ++i) {
+    const ObstacleTrack& o = pb.obstacles[i];
+    barrier_row(pb, o, states, cyaw.data(), syaw.data(), h.data());
+    for (int k = 0; k < N; ++k) {
+      const int j = R + static_cast<int>(i) * N + k;
+      double v = h[k + 1];
+      if (o.decay != 0.0 || pb.own_motion) {
+        // the own-motion form's first term is the state at k against the obstacle at k + 1
+        const double h0 = pb.own_motion ? barrier_h_at(pb, o, k + 1, states + 3 * k) : h[k];
+        const double decay = pb.own_motion && h0 <= 0.0 ? 1.0 : o.decay;
+        v = v - decay * h0;
+      }
+      if (!pb.relax.empty()) v = v + pb.relax[j];
+      g[j] = v;
+    }
+  }
+}
+
+}  // namespace
+
 void evaluate_constraints(const Problem& pb, const double* u, std::vector<double>* states, std::vector<double>* g) {
   states->assign(3 * (pb.N + 1), 0.0);
   rollout(pb, u, states->data());
   g->resize(pb.num_constraints());
-  for (int j = 0; j < pb.num_constraints(); ++j) (*g)[j] = constraint(pb, states->data(), u, j);
+  const int R = pb.num_rate_constraints(), B = pb.num_barrier_constraints();
+  for (int j = 0; j < R; ++j) (*g)[j] = constraint(pb, states->data(), u, j);
+  barrier_constraints(pb, states->data(), g->data());
+  for (int j = R + B; j < pb.num_constraints(); ++j) (*g)[j] = constraint(pb, states->data(), u, j);
 }
 
 double max_violation(const Problem& pb, const double* u) {
@@ -66,15 +118,15 @@ double max_violation(const Problem& pb, const double* u) {
 double min_barrier(const Problem& pb, const std::vector<double>& states, int first_step) {
   double best = kNoObstacleBarrier;
   for (const auto& o : pb.obstacles)
-    for (int k = first_step; k <= pb.N; ++k) best = std::min(best, barrier_at(pb, o, k, &states[3 * k]).h);
+    for (int k = first_step; k <= pb.N; ++k) best = std::min(best, barrier_h_at(pb, o, k, &states[3 * k]));
   return best;
 }
 
 double barrier_slack(const Problem& pb, const ObstacleTrack& o, const std::vector<double>& states) {
   double slack = std::numeric_limits<double>::infinity();
   for (int k = 0; k < pb.N; ++k) {
-    const double h0 = barrier_at(pb, o, k, &states[3 * k]).h;
-    const double h1 = barrier_at(pb, o, k + 1, &states[3 * (k + 1)]).h;
+    const double h0 = barrier_h_at(pb, o, k, &states[3 * k]);
+    const double h1 = barrier_h_at(pb, o, k + 1, &states[3 * (k + 1)]);
     slack = std::min(slack, h1 - o.decay * h0);
   }
   return slack;

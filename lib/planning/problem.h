@@ -418,20 +418,26 @@ BarrierValue constraint_barrier(const Problem& pb, const ObstacleTrack& o, int k
 struct ReachValue {
   double g = 0, gx = 0, gy = 0, gth = 0, gv = 0;
 };
-inline ReachValue reach_value(const ReachBound& r, int k, double x, double y, double th, double v,
-                              bool want_derivatives) {
-  const double c = std::cos(th), s = std::sin(th);
+// The same with the heading's cosine c and sine s known.
+inline ReachValue reach_value_cs(const ReachBound& r, int k, double x, double y, double c, double s, double v,
+                                 bool want_derivatives) {
   const double len = r.offset_m + v * r.reaction_s + v * v / (2.0 * r.decel_mps2);
-  const BarrierValue b = barrier(x + len * c, y + len * s, r.x, r.y, r.a, r.b, r.theta, 0.0);
+  const double ct = std::cos(r.theta), st = std::sin(r.theta);
+  const BarrierStage t = barrier_stage(x + len * c, y + len * s, r.x, r.y, r.a, r.b, ct, st, 0.0);
   ReachValue out;
-  out.g = b.h - r.radius_m - r.speed_mps * (r.reaction_s + v / r.decel_mps2) + r.allowance_m[static_cast<size_t>(k)];
+  out.g = t.h - r.radius_m - r.speed_mps * (r.reaction_s + v / r.decel_mps2) + r.allowance_m[static_cast<size_t>(k)];
   if (!want_derivatives) return out;
+  const BarrierValue b = barrier_derivatives(t, r.a, r.b, ct, st, false);
   const double along = b.gx * c + b.gy * s;  // dh/dlen
   out.gx = b.gx;
   out.gy = b.gy;
   out.gth = len * (-b.gx * s + b.gy * c);
   out.gv = along * (r.reaction_s + v / r.decel_mps2) - r.speed_mps / r.decel_mps2;
   return out;
+}
+inline ReachValue reach_value(const ReachBound& r, int k, double x, double y, double th, double v,
+                              bool want_derivatives) {
+  return reach_value_cs(r, k, x, y, std::cos(th), std::sin(th), v, want_derivatives);
 }
 inline double lift_reach(const ReachValue& r, double, double, double, double) { return r.g; }
 template <class J>

@@ -111,6 +111,42 @@ TEST(Barrier, SlackIsTheSmallestOfAnObstaclesConstraints) {
   EXPECT_GT(barrier_slack(pb, pb.obstacles[1], states), 0.0);
 }
 
+// evaluate_constraints computes each barrier once for both links that use
+// it; every g_j is constraint<double>'s bit for bit: point robot and
+// footprint, decay 0 and not, the own-motion form, relaxations, reach bounds.
+TEST(Barrier, EvaluatedConstraintsAreEachConstraintsValue) {
+  for (int variant = 0; variant < 5; ++variant) {
+    Problem pb = straight_problem(0.1, -0.2, 0.3, 0.6, 0.8);
+    if (variant != 0) pb.footprint = Footprint::covering(0.93, 0.70, 3);
+    pb.obstacles.push_back(
+        moving_obstacle(1, 2.5, 0.4, -1.2, 0.1, 0.5, 0.3, 0.4, variant == 1 ? 0.0 : 0.9, pb.N, pb.dt));
+    pb.obstacles.push_back(moving_obstacle(2, 1.0, -0.5, 0.0, 0.0, 0.3, 0.3, 0.0, 0.8, pb.N, pb.dt));
+    pb.own_motion = variant == 2;
+    if (variant == 3) {
+      pb.relax.assign(pb.num_constraints(), 0.0);
+      for (size_t j = 0; j < pb.relax.size(); ++j) pb.relax[j] = 0.01 * static_cast<double>(j % 7);
+    }
+    if (variant == 4) {
+      ReachBound r;
+      r.x = 2.0, r.y = 0.5, r.a = 0.3, r.b = 0.25, r.theta = 0.2, r.speed_mps = 1.2, r.reaction_s = 0.2;
+      r.decel_mps2 = 1.5, r.offset_m = 0.3, r.radius_m = 0.25;
+      r.allowance_m.assign(pb.N, 0.05);
+      pb.reach.push_back(r);
+    }
+    std::vector<double> u(pb.num_controls());
+    for (int k = 0; k < pb.N; ++k) u[2 * k] = 0.5 + 0.01 * k, u[2 * k + 1] = 0.3 * std::sin(0.4 * k);
+    std::vector<double> states, g;
+    evaluate_constraints(pb, u.data(), &states, &g);
+    ASSERT_EQ(static_cast<int>(g.size()), pb.num_constraints());
+    int inside = 0;
+    for (int j = 0; j < pb.num_constraints(); ++j) {
+      EXPECT_EQ(g[j], constraint(pb, states.data(), u.data(), j)) << "variant " << variant << " j " << j;
+      if (g[j] < 0) ++inside;
+    }
+    EXPECT_GT(inside, 0) << "variant " << variant;  // the head-on mover is met: some links fail
+  }
+}
+
 // Covering discs hold the whole rectangle, and against a round obstacle h
 // + d_safe is the body's clearance less at most the discs' excess.
 TEST(Footprint, CoveringDiscsHoldTheRectangle) {
