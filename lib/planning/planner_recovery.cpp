@@ -13,7 +13,6 @@
 
 #include "evade/plan_t.hpp"
 #include "planning/fallback.h"
-#include "planning/local_solves.h"
 #include "planning/manoeuvres.h"
 #include "planning/outcome.h"
 #include "planning/passive_safety.h"
@@ -66,17 +65,11 @@ bool PlannerCore::braking_misses(const Problem& pb, const std::vector<double>& b
 void PlannerCore::swerve_restarts(const Problem& pb, int reserve, SolveResult* res, int* iterations,
                                   std::vector<Attempt>* tried) {
   if (!p_.solver.swerves) return;
-  // Both sides side by side (local_solves.h), each within the budget fixed
-  // before either starts; the cycle is charged the busier thread's share.
-  // The left one is taken first, as one after the other would.
-  const std::optional<CeresMpcSolver> solver = budgeted_solver(*iterations, reserve);
-  if (!solver) return;
-  const int budget = solver->options().max_total_iterations;
-  const std::vector<SolveStart> starts = {{swerve_controls(pb, 1.0)}, {swerve_controls(pb, -1.0)}};
-  const std::vector<int> budgets = {budget, budget};
-  const std::vector<SolveResult> alts = solve_side_by_side(pb, starts, p_.solver, budgets, p_.guidance.threads);
-  *iterations += critical_iterations(alts, assign_threads(budgets, p_.guidance.threads));
-  for (const SolveResult& alt : alts) {
+  for (double side : {1.0, -1.0}) {
+    const std::optional<CeresMpcSolver> solver = budgeted_solver(*iterations, reserve);
+    if (!solver) return;
+    SolveResult alt = solver->solve(pb, swerve_controls(pb, side));
+    *iterations += alt.iterations;
     count("solver_restart");
     if (alt.finite && tried) tried->push_back({alt.u, "mc_swerve_restart"});
     if (alt.finite && alt.feasible) {
