@@ -50,23 +50,6 @@ double squared_penetration(const Problem& pb, const std::vector<double>& states)
 
 namespace {
 
-// h of obstacle o at its steps 0..N for the rollout's states at the same
-// steps (heading trig in cyaw, syaw): barrier_h_at's value at each, with
-// the obstacle's orientation trig computed once per step.
-void barrier_row(const Problem& pb, const ObstacleTrack& o, const double* states, const double* cyaw,
-                 const double* syaw, double* h) {
-  for (int k = 0; k <= pb.N; ++k) {
-    const double* x = states + 3 * k;
-    if (o.field) {
-      h[k] = static_field_barrier(*o.field, x[0], x[1], x[2], pb.footprint).h;
-      continue;
-    }
-    h[k] = footprint_stage(x[0], x[1], cyaw[k], syaw[k], o.x[k], o.y[k], o.a[k], o.b[k], std::cos(o.theta[k]),
-                           std::sin(o.theta[k]), pb.footprint, pb.d_safe)
-               .h;
-  }
-}
-
 // The barrier constraints of constraint<double> (j = R + i N + k) into g,
 // each h computed once although two links use it: the same values.
 void barrier_constraints(const Problem& pb, const double* states, double* g) {
@@ -79,13 +62,13 @@ void barrier_constraints(const Problem& pb, const double* states, double* g) {
   }
   for (size_t i = 0; i < pb.obstacles.size(); ++i) {
     const ObstacleTrack& o = pb.obstacles[i];
-    barrier_row(pb, o, states, cyaw.data(), syaw.data(), h.data());
+    for (int k = 0; k <= N; ++k) h[k] = barrier_h_trig(pb, o, k, states + 3 * k, cyaw[k], syaw[k]);
     for (int k = 0; k < N; ++k) {
       const int j = R + static_cast<int>(i) * N + k;
       double v = h[k + 1];
       if (o.decay != 0.0 || pb.own_motion) {
         // the own-motion form's first term is the state at k against the obstacle at k + 1
-        const double h0 = pb.own_motion ? barrier_h_at(pb, o, k + 1, states + 3 * k) : h[k];
+        const double h0 = pb.own_motion ? barrier_h_trig(pb, o, k + 1, states + 3 * k, cyaw[k], syaw[k]) : h[k];
         const double decay = pb.own_motion && h0 <= 0.0 ? 1.0 : o.decay;
         v = v - decay * h0;
       }

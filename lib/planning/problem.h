@@ -389,15 +389,22 @@ double value_of(const J& x) {
   return x.a;
 }
 
-// h alone of obstacle o at its step k for a state (x, y, yaw): barrier_at's
-// h without its derivatives.
-inline double barrier_h_at(const Problem& pb, const ObstacleTrack& o, int k, const double* state) {
+// h alone of obstacle o at its step k for a state (x, y, yaw) whose
+// heading's cosine and sine are cyaw and syaw (1 and 0 for a point robot;
+// unused for the static field).
+inline double barrier_h_trig(const Problem& pb, const ObstacleTrack& o, int k, const double* state, double cyaw,
+                             double syaw) {
   if (o.field) return static_field_barrier(*o.field, state[0], state[1], state[2], pb.footprint).h;
-  const bool point = is_point(pb.footprint);
-  const double cyaw = point ? 1.0 : std::cos(state[2]), syaw = point ? 0.0 : std::sin(state[2]);
   return footprint_stage(state[0], state[1], cyaw, syaw, o.x[k], o.y[k], o.a[k], o.b[k], std::cos(o.theta[k]),
                          std::sin(o.theta[k]), pb.footprint, pb.d_safe)
       .h;
+}
+
+// The same with the heading's trig computed here: barrier_at's h without
+// its derivatives.
+inline double barrier_h_at(const Problem& pb, const ObstacleTrack& o, int k, const double* state) {
+  const bool trig = !o.field && !is_point(pb.footprint);
+  return barrier_h_trig(pb, o, k, state, trig ? std::cos(state[2]) : 1.0, trig ? std::sin(state[2]) : 0.0);
 }
 
 // The barrier of constraint(): for double its value alone (lift_barrier
