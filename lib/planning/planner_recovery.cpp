@@ -201,7 +201,10 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
   // dash aside that falls further short at its first steps.
   // With the static field in the problem, a plan that takes the robot
   // deeper into structure's margin ranks below every plan that does not
-  // (a dash into a wall is a contact of the robot's own making); next,
+  // (a dash into a wall is a contact of the robot's own making), and of
+  // plans that all do, one whose body goes less far into the structure
+  // itself ranks first (with every way into a wall's margin, the one
+  // farthest from a walker is often the one that hits the wall); next,
   // with solver.rank_outcome, what the plan comes to against what moves
   // (plan_outcome, outcome.h: the bodies, not the inflated ellipses): a
   // plan whose body stays clear ranks above one that a mover walks into,
@@ -216,8 +219,7 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
     int8_t status;
     const char* counter;
     const char* label = nullptr;  // an attempt's kind (Attempt::label)
-    bool into = false;
-    Outcome outcome{};
+    Judgement judged{};
     double h = 0.0, shortfall = 0.0;
   };
   std::vector<Candidate> candidates;
@@ -235,43 +237,48 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
     // from k = 1: where the robot is now is the same for every plan
     c.h = min_barrier(pb, states, 1);
     c.shortfall = barrier_shortfall(pb, states);
-    judge_recovery_plan(pb, states, &c.into, &c.outcome);
+    c.judged = judge_recovery_plan(pb, states);
   }
   const Candidate* chosen = nullptr;  // ties: the first in the list
   for (const Candidate& c : candidates) {
     const Candidate* b = chosen;
+    const Judgement* cj = &c.judged;
+    const Judgement* bj = b ? &b->judged : nullptr;
     const bool better =
-        !b                                  ? true
-        : c.into != b->into                 ? !c.into
-        : c.outcome.kind != b->outcome.kind ? c.outcome.kind < b->outcome.kind
-        : c.outcome.kind != Outcome::kClear && std::fabs(c.outcome.clearance - b->outcome.clearance) > tie
-            ? c.outcome.clearance > b->outcome.clearance
+        !b                                           ? true
+        : cj->into != bj->into                       ? !cj->into
+        : std::fabs(cj->contact - bj->contact) > tie ? cj->contact < bj->contact
+        : cj->outcome.kind != bj->outcome.kind       ? cj->outcome.kind < bj->outcome.kind
+        : cj->outcome.kind != Outcome::kClear && std::fabs(cj->outcome.clearance - bj->outcome.clearance) > tie
+            ? cj->outcome.clearance > bj->outcome.clearance
             : c.h > b->h + tie || (c.h > b->h - tie && c.shortfall < b->shortfall - 1e-9);
     if (better) chosen = &c;
   }
   *u = chosen->u;
-  if (p_.passive_safety.slow_chosen && slow_onto_reach(pb, chosen->into, chosen->outcome.kind, u)) count("mc_slowed");
+  if (p_.passive_safety.slow_chosen && slow_onto_reach(pb, chosen->judged, u)) count("mc_slowed");
   count(chosen->counter);
   if (chosen->label) count(chosen->label);
   return chosen->status;
 }
 
-void PlannerCore::judge_recovery_plan(const Problem& pb, const std::vector<double>& states, bool* into,
-                                      Outcome* outcome) const {
+PlannerCore::Judgement PlannerCore::judge_recovery_plan(const Problem& pb, const std::vector<double>& states) const {
   const double tie = p_.solver.constraint_tolerance;
-  *into = structure_intrusion(pb, states) > tie;
-  *outcome = p_.solver.rank_outcome ? plan_outcome(pb, states, tie, pb.N, outcome_margin()) : Outcome{};
+  Judgement j;
+  j.into = structure_intrusion(pb, states) > tie;
+  j.contact = j.into ? structure_contact(pb, states) : 0.0;
+  if (p_.solver.rank_outcome) j.outcome = plan_outcome(pb, states, tie, pb.N, outcome_margin());
+  return j;
 }
 
-bool PlannerCore::slow_onto_reach(const Problem& pb, bool into, Outcome::Kind kind, std::vector<double>* u) const {
+bool PlannerCore::slow_onto_reach(const Problem& pb, const Judgement& judged, std::vector<double>* u) const {
   std::vector<double> slowed = *u;
   if (!project_onto_reach(pb, &slowed)) return false;
   std::vector<double> states(3 * static_cast<size_t>(pb.N + 1));
   rollout(pb, slowed.data(), states.data());
-  bool slowed_into = false;
-  Outcome slowed_outcome;
-  judge_recovery_plan(pb, states, &slowed_into, &slowed_outcome);
-  if ((slowed_into && !into) || slowed_outcome.kind > kind) return false;
+  const Judgement s = judge_recovery_plan(pb, states);
+  const double tie = p_.solver.constraint_tolerance;
+  if ((s.into && !judged.into) || s.contact > judged.contact + tie || s.outcome.kind > judged.outcome.kind)
+    return false;
   *u = std::move(slowed);
   return true;
 }

@@ -43,6 +43,10 @@ namespace evade::planning {
 // a field). A recovery plan that drives into a wall to get away from a
 // walker trades a contact of its own making for one that may not come.
 double structure_intrusion(const Problem& pb, const std::vector<double>& states);
+// The same for the body itself: how far the rollout takes the footprint's
+// discs into the structure's cells (the field's h below -d_safe) beyond
+// where they start. Positive only where structure_intrusion is too.
+double structure_contact(const Problem& pb, const std::vector<double>& states);
 
 class StaticStructure {
  public:

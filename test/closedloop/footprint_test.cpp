@@ -81,5 +81,29 @@ TEST(Footprint, AScoutMeetingAWalkerInANarrowerLaneNeverDrivesIntoIt) {
               m.contacts.size());
 }
 
+// The same lane on slower and faster planning computers: lockstep charges
+// each Ceres iteration `planner_per_iteration_s`, so the plans arrive
+// earlier or later and the recovery judges other candidates. Whatever the
+// speed, the Scout must drive neither into the walker nor into a wall
+// (before the recovery ranked plans into a wall by how deep the body
+// goes, at 1.36 and 1.5 times today's cost it hit the right wall at
+// 0.57 m/s, picking of the plans into the wall's margin the one farthest
+// from the walker).
+TEST(Footprint, AScoutInTheNarrowerLaneCollidesAtFaultAtNoPlanningSpeed) {
+  for (const char* cost : {"0.000060", "0.000080", "0.000120", "0.000150"}) {
+    const std::string name = std::string("scout_lane030_") + cost;
+    const metrics::RunMetrics m = run_corridor(
+        config_with({kScoutLength,
+                     kScoutWidth,
+                     {"planner_per_iteration_s: 0.000099", std::string("planner_per_iteration_s: ") + cost}},
+                    name),
+        name, "corridor_scout_lane030.yaml");
+    EXPECT_TRUE(m.reached_goal) << cost;
+    EXPECT_EQ(m.collisions_at_fault, 0) << cost << " s per iteration";
+    std::printf("[figures] corridor_scout_lane030 at %s s per iteration: min clearance %.3f m, %zu contacts\n", cost,
+                m.min_dist_m, m.contacts.size());
+  }
+}
+
 }  // namespace
 }  // namespace evade::closedloop
