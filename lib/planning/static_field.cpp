@@ -296,6 +296,18 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
   return out;
 }
 
+std::vector<StaticField::LatticeCell> StaticField::structure_cells() const {
+  const Impl& m = *impl_;
+  const int64_t cx = std::llround(m.ox / m.res), cy = std::llround(m.oy / m.res);
+  std::vector<LatticeCell> out;
+  for (int r = 0; r < m.height; ++r)
+    for (int c = 0; c < m.width; ++c)
+      if (m.structure[static_cast<size_t>(r) * m.width + c]) out.push_back({c + cx, r + cy});
+  return out;
+}
+
+double StaticField::resolution() const { return impl_->res; }
+
 double StaticField::distance(double x, double y, double* gx, double* gy) const {
   const Impl& m = *impl_;
   const double c = m.col(x), r = m.row(y);

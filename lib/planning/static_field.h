@@ -65,6 +65,7 @@ struct StaticFieldParams {
   double max_distance_m = 3.0;   // the field is cut at this distance (beyond it the constraint is inactive)
   double min_structure_m = 1.0;  // static cells count only in a connected patch at least this long (structure)
   double min_structure_share = 0.5;  // a slow track with this share of structure among its cells stands for them
+  double blind_radius_m = 0.5;  // structure seen before stays while within this of the robot, where the LiDAR sees nothing
   template <class V>
   void fields(V& v) {
     v.field("enabled", enabled);
@@ -76,6 +77,7 @@ struct StaticFieldParams {
     v.field("max_distance_m", max_distance_m, config::between(0.1, 100.0));
     v.field("min_structure_m", min_structure_m, config::between(0.0, 100.0));
     v.field("min_structure_share", min_structure_share, config::between(0.0, 1.0));
+    v.field("blind_radius_m", blind_radius_m, config::between(0.0, 10.0));
   }
 };
 
@@ -134,6 +136,14 @@ class StaticField {
   Own own_cells(const Ellipse& e) const;
   int static_cells() const { return static_cells_; }
   double d_safe() const { return d_safe_; }
+  // A cell of the odometry frame's lattice of the map's resolution: map
+  // column c is ix = c + round(origin x / resolution), row r likewise.
+  struct LatticeCell {
+    int64_t ix = 0, iy = 0;
+  };
+  // The structure cells (the static cells the field is the distance to).
+  std::vector<LatticeCell> structure_cells() const;
+  double resolution() const;
 
  private:
   struct Impl;

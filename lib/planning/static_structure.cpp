@@ -41,6 +41,26 @@ void StaticStructure::clear() {
   maps_.clear();
   field_.reset();
   static_ids_.clear();
+  remembered_.clear();
+}
+
+bool StaticStructure::add_remembered(const evade::grid_map_t& map, evade::grid_map_t* with) const {
+  if (p_.blind_radius_m <= 0 || remembered_.empty() || map.resolution != remembered_res_ ||
+      !std::isfinite(map.robot_x) || !std::isfinite(map.robot_y) || !std::isfinite(map.origin[0]) ||
+      !std::isfinite(map.origin[1]) || map.obstacle.size() != static_cast<size_t>(std::max(0, map.height)))
+    return false;
+  const double res = map.resolution, r2 = p_.blind_radius_m * p_.blind_radius_m;
+  const int64_t cx = std::llround(map.origin[0] / res), cy = std::llround(map.origin[1] / res);
+  bool added = false;
+  for (const StaticField::LatticeCell& cell : remembered_) {
+    const int64_t c = cell.ix - cx, r = cell.iy - cy;
+    if (c < 0 || r < 0 || r >= map.height || c >= static_cast<int64_t>(map.obstacle[r].size())) continue;
+    const double dx = map.origin[0] + (c + 0.5) * res - map.robot_x, dy = map.origin[1] + (r + 0.5) * res - map.robot_y;
+    if (dx * dx + dy * dy > r2 || map.obstacle[r][c]) continue;
+    if (!added) *with = map, added = true;
+    with->obstacle[r][c] = 1;
+  }
+  return added;
 }
 
 const evade::grid_map_t* StaticStructure::nearest_map(int64_t utime) const {
@@ -81,8 +101,11 @@ StaticStructure::Update StaticStructure::update(const Inputs& in) {
       }
     }
   }
+  evade::grid_map_t with_remembered;
+  if (add_remembered(*map, &with_remembered)) map = &with_remembered;
   field_ = StaticField::build(*map, movers, keep, p_, in.window);
   if (!field_) return Update::kInvalid;
+  if (p_.blind_radius_m > 0) remembered_ = field_->structure_cells(), remembered_res_ = field_->resolution();
   // A slow, observed track stands for its cells when its own cells are
   // structure: most of the obstacle cells in its ellipse (a wall's tile,
   // even the short piece at a door's edge). A person or a bin beside a

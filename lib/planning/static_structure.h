@@ -55,7 +55,8 @@ class StaticStructure {
   // Keeps `m` (the last kMapsKept: a map and the predictions made from its
   // scan arrive about 1 ms apart).
   void keep_map(const evade::grid_map_t& m);
-  // Forgets the maps and the field (a new odometry epoch).
+  // Forgets the maps, the field and the remembered structure (a new
+  // odometry epoch).
   void clear();
 
   // What one cycle's update found.
@@ -71,6 +72,13 @@ class StaticStructure {
     const evade::obstacle_list_t* observed = nullptr;       // the last OBSTACLES (null: none)
     std::function<double(int64_t id)> track_age_s;          // how long a track id has been listed
   };
+  // What the LiDAR cannot see is not free: within blind_radius_m of the
+  // robot (its min_range_m, where returns are dropped) a map has no cells,
+  // so the structure cells of the last field that lie there are added to
+  // the map's obstacle cells before the field is built (a door's edge
+  // the robot passes within 0.4 m of stays in the field). A remembered
+  // cell is kept while it stays structure; outside the blind zone the map
+  // decides again.
   Update update(const Inputs& in);
 
   // This cycle's field (null without one).
@@ -91,11 +99,17 @@ class StaticStructure {
  private:
   const evade::grid_map_t* nearest_map(int64_t utime) const;
   static bool observed(int64_t id, const Inputs& in);
+  // `map` with the remembered structure cells inside its blind zone
+  // added to its obstacle cells, in *with; false (and *with untouched)
+  // when there are none.
+  bool add_remembered(const evade::grid_map_t& map, evade::grid_map_t* with) const;
 
   StaticFieldParams p_;
   std::deque<evade::grid_map_t> maps_;
   std::shared_ptr<const StaticField> field_;
   std::vector<int64_t> static_ids_;  // sorted
+  std::vector<StaticField::LatticeCell> remembered_;  // the last field's structure cells
+  double remembered_res_ = 0;                         // their lattice's resolution (m)
 };
 
 }  // namespace evade::planning

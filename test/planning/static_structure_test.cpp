@@ -302,5 +302,71 @@ TEST(StaticStructure, APlanIntoTheWallItselfGoesAsDeepAsItsBodyDoes) {
   EXPECT_EQ(structure_contact(pb, into), 0.0);
 }
 
+// The map as it comes from a scan with the robot at (x, y): every cell
+// whose centre is within 0.45 m of it empty (the LiDAR drops returns
+// nearer than its min_range_m).
+evade::grid_map_t scan_map(const std::vector<Box>& boxes, int64_t utime, double x, double y) {
+  evade::grid_map_t m = map_of(boxes, utime);
+  m.robot_x = x;
+  m.robot_y = y;
+  for (int r = 0; r < m.height; ++r)
+    for (int c = 0; c < m.width; ++c)
+      if (std::hypot(m.origin[0] + (c + 0.5) * m.resolution - x, m.origin[1] + (r + 0.5) * m.resolution - y) < 0.45)
+        m.obstacle[r][c] = 0;
+  return m;
+}
+
+TEST(StaticStructure, AWallTheRobotComesWithinTheLidarsMinRangeOfStaysInTheField) {
+  StaticStructure s{StaticFieldParams{}};
+  Scene sc;
+  const auto build = [&](const evade::grid_map_t& m) {
+    s.keep_map(m);
+    sc.predictions.utime = m.utime;
+    return s.update(sc.inputs(m.utime));
+  };
+  // seen from 2 m, then from 0.3 m off its face (x 3.0), where the scan
+  // has none of its cells within 0.45 m
+  ASSERT_EQ(build(scan_map({kWall}, kT0, 1.0, 0.0)), StaticStructure::Update::kBuilt);
+  EXPECT_NEAR(distance_at(s, 2.7, 0.0), 0.3, 0.02);
+  const evade::grid_map_t near = scan_map({kWall}, kT0 + 100'000, 2.7, 0.0);
+  ASSERT_EQ(build(near), StaticStructure::Update::kBuilt);
+  EXPECT_NEAR(distance_at(s, 2.7, 0.0), 0.3, 0.02);
+  // and again while the robot stays there
+  ASSERT_EQ(build(scan_map({kWall}, kT0 + 200'000, 2.7, 0.0)), StaticStructure::Update::kBuilt);
+  EXPECT_NEAR(distance_at(s, 2.7, 0.0), 0.3, 0.02);
+  // off, or forgotten (a new odometry epoch): the wall starts 0.45 m off
+  // the robot in the scan, and the field says so
+  StaticFieldParams off;
+  off.blind_radius_m = 0.0;
+  StaticStructure s_off{off};
+  s_off.keep_map(scan_map({kWall}, kT0, 1.0, 0.0));
+  sc.predictions.utime = kT0;
+  ASSERT_EQ(s_off.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
+  s_off.keep_map(near);
+  sc.predictions.utime = near.utime;
+  ASSERT_EQ(s_off.update(sc.inputs(near.utime)), StaticStructure::Update::kBuilt);
+  EXPECT_GT(distance_at(s_off, 2.7, 0.0), 0.4);
+  s.clear();
+  ASSERT_EQ(build(near), StaticStructure::Update::kBuilt);
+  EXPECT_GT(distance_at(s, 2.7, 0.0), 0.4);
+}
+
+TEST(StaticStructure, StructureThatIsGoneWhereTheLidarSeesIsNotRemembered) {
+  StaticStructure s{StaticFieldParams{}};
+  Scene sc;
+  const auto build = [&](const evade::grid_map_t& m) {
+    s.keep_map(m);
+    sc.predictions.utime = m.utime;
+    return s.update(sc.inputs(m.utime));
+  };
+  ASSERT_EQ(build(scan_map({kWall}, kT0, 1.0, 0.0)), StaticStructure::Update::kBuilt);
+  // the wall's cells are gone from a scan that sees where they were
+  ASSERT_EQ(build(scan_map({}, kT0 + 100'000, 1.0, 0.0)), StaticStructure::Update::kBuilt);
+  EXPECT_EQ(s.field()->static_cells(), 0);
+  // so the robot coming up to where the wall stood finds nothing there
+  ASSERT_EQ(build(scan_map({}, kT0 + 200'000, 2.7, 0.0)), StaticStructure::Update::kBuilt);
+  EXPECT_EQ(s.field()->static_cells(), 0);
+}
+
 }  // namespace
 }  // namespace evade::planning
