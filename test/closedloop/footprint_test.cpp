@@ -105,5 +105,20 @@ TEST(Footprint, AScoutInTheNarrowerLaneCollidesAtFaultAtNoPlanningSpeed) {
   }
 }
 
+// The default robot lets a walker through a 0.84 m gap, then turns into
+// it past the lower edge's end within 0.4 m: the LiDAR drops returns that
+// near, so the edge's last 0.25 m leaves the elevation map as the robot
+// comes up to it. Without the static field's memory of what it saw there
+// (static_field.blind_radius_m) the robot's corner hit the edge at
+// 0.39 m/s, every plan feasible.
+TEST(Footprint, TurningIntoANarrowGapTheRobotMissesTheEdgeItNoLongerSees) {
+  const metrics::RunMetrics m =
+      run_corridor(config_with({}, "doorway_blind_edge"), "doorway_blind_edge", "doorway_blind_edge.yaml");
+  EXPECT_TRUE(m.reached_goal);
+  EXPECT_EQ(m.collisions_at_fault, 0);
+  for (const auto& c : m.contacts) EXPECT_GE(c.obstacle_id, 2) << "a door edge touched at " << c.t_start_s << " s";
+  std::printf("[figures] doorway_blind_edge: min clearance %.3f m, %zu contacts\n", m.min_dist_m, m.contacts.size());
+}
+
 }  // namespace
 }  // namespace evade::closedloop
