@@ -65,7 +65,7 @@ struct StaticFieldParams {
   double max_distance_m = 3.0;   // the field is cut at this distance (beyond it the constraint is inactive)
   double min_structure_m = 1.0;  // static cells count only in a connected patch at least this long (structure)
   double min_structure_share = 0.5;  // a slow track with this share of structure among its cells stands for them
-  double blind_radius_m = 0.5;       // structure stays in the field while within this of the robot (LiDAR blind)
+  double blind_radius_m = 0.45;      // structure stays in the field while within this of the robot (LiDAR blind)
   template <class V>
   void fields(V& v) {
     v.field("enabled", enabled);

@@ -49,14 +49,13 @@ bool StaticStructure::add_remembered(const evade::grid_map_t& map, evade::grid_m
       !std::isfinite(map.robot_x) || !std::isfinite(map.robot_y) || !std::isfinite(map.origin[0]) ||
       !std::isfinite(map.origin[1]) || map.obstacle.size() != static_cast<size_t>(std::max(0, map.height)))
     return false;
-  const double res = map.resolution, r2 = p_.blind_radius_m * p_.blind_radius_m;
+  const double res = map.resolution;
   const int64_t cx = std::llround(map.origin[0] / res), cy = std::llround(map.origin[1] / res);
   bool added = false;
   for (const StaticField::LatticeCell& cell : remembered_) {
     const int64_t c = cell.ix - cx, r = cell.iy - cy;
     if (c < 0 || r < 0 || r >= map.height || c >= static_cast<int64_t>(map.obstacle[r].size())) continue;
-    const double dx = map.origin[0] + (c + 0.5) * res - map.robot_x, dy = map.origin[1] + (r + 0.5) * res - map.robot_y;
-    if (dx * dx + dy * dy > r2 || map.obstacle[r][c]) continue;
+    if (!in_blind_disc(map, cell) || map.obstacle[r][c]) continue;
     if (!added) *with = map, added = true;
     with->obstacle[r][c] = 1;
   }
@@ -73,6 +72,27 @@ const evade::grid_map_t* StaticStructure::nearest_map(int64_t utime) const {
 bool StaticStructure::observed(int64_t id, const Inputs& in) {
   return in.observed && std::any_of(in.observed->obstacles.begin(), in.observed->obstacles.end(),
                                     [&](const evade::obstacle_t& o) { return o.id == id; });
+}
+
+bool StaticStructure::in_blind_disc(const evade::grid_map_t& map, const StaticField::LatticeCell& cell) const {
+  const double res = map.resolution;
+  const double dx = (cell.ix + 0.5) * res - map.robot_x, dy = (cell.iy + 0.5) * res - map.robot_y;
+  return dx * dx + dy * dy <= p_.blind_radius_m * p_.blind_radius_m;
+}
+
+void StaticStructure::remember(const evade::grid_map_t& map) {
+  // what the map saw (outside the blind disc) from this field; inside it,
+  // what was seen before it came into the disc, not refreshed from the
+  // cells added for it (the map's cells flicker at an edge: refreshed,
+  // the disc would keep every cell that was ever marked there)
+  std::vector<StaticField::LatticeCell> kept;
+  if (map.resolution == remembered_res_)
+    for (const StaticField::LatticeCell& cell : remembered_)
+      if (in_blind_disc(map, cell)) kept.push_back(cell);
+  for (const StaticField::LatticeCell& cell : field_->structure_cells())
+    if (!in_blind_disc(map, cell)) kept.push_back(cell);
+  remembered_ = std::move(kept);
+  remembered_res_ = map.resolution;
 }
 
 StaticStructure::Update StaticStructure::update(const Inputs& in) {
@@ -105,7 +125,7 @@ StaticStructure::Update StaticStructure::update(const Inputs& in) {
   if (add_remembered(*map, &with_remembered)) map = &with_remembered;
   field_ = StaticField::build(*map, movers, keep, p_, in.window);
   if (!field_) return Update::kInvalid;
-  if (p_.blind_radius_m > 0) remembered_ = field_->structure_cells(), remembered_res_ = field_->resolution();
+  if (p_.blind_radius_m > 0) remember(*map);
   // A slow, observed track stands for its cells when its own cells are
   // structure: most of the obstacle cells in its ellipse (a wall's tile,
   // even the short piece at a door's edge). A person or a bin beside a

@@ -76,9 +76,9 @@ class StaticStructure {
   // robot (its min_range_m, where returns are dropped) a map has no cells,
   // so the structure cells of the last field that lie there are added to
   // the map's obstacle cells before the field is built (a door's edge
-  // the robot passes within 0.4 m of stays in the field). A remembered
-  // cell is kept while it stays structure; outside the blind zone the map
-  // decides again.
+  // the robot passes within 0.4 m of stays in the field). Inside the disc
+  // the memory is what the maps saw before the cell came into it; outside
+  // it the map decides again.
   Update update(const Inputs& in);
 
   // This cycle's field (null without one).
@@ -103,11 +103,16 @@ class StaticStructure {
   // added to its obstacle cells, in *with; false (and *with untouched)
   // when there are none.
   bool add_remembered(const evade::grid_map_t& map, evade::grid_map_t* with) const;
+  // Whether a lattice cell's centre lies within blind_radius_m of the
+  // map's robot position.
+  bool in_blind_disc(const evade::grid_map_t& map, const StaticField::LatticeCell& cell) const;
+  // The remembered cells after this cycle's field (of `map`).
+  void remember(const evade::grid_map_t& map);
 
   StaticFieldParams p_;
   std::deque<evade::grid_map_t> maps_;
   std::shared_ptr<const StaticField> field_;
-  std::vector<int64_t> static_ids_;  // sorted
+  std::vector<int64_t> static_ids_;                   // sorted
   std::vector<StaticField::LatticeCell> remembered_;  // the last field's structure cells
   double remembered_res_ = 0;                         // their lattice's resolution (m)
 };
