@@ -249,16 +249,23 @@ TEST(StaticStructure, TheFieldIsFromTheKeptMapNearestThePredictions) {
   EXPECT_NEAR(distance_at(s, 5.5, 0.05), 0.5, 0.02);
 }
 
-TEST(StaticStructure, APlanIntoTheWallsMarginIntrudesOneAlongItDoesNot) {
-  StaticStructure s{StaticFieldParams{}};
-  s.keep_map(map_of({kWall}, kT0));
+// kWall's field in a problem of 3 steps for one disc of radius 0.2 m,
+// the robot at (2.5, 0).
+Problem wall_problem(StaticStructure* s) {
+  s->keep_map(map_of({kWall}, kT0));
   Scene sc;
   sc.predictions.utime = kT0;
-  ASSERT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
+  EXPECT_EQ(s->update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
   Problem pb;
   pb.N = 3;
   pb.footprint.radius = 0.2;
-  s.apply(2.5, 0.0, 0.9, &pb);
+  s->apply(2.5, 0.0, 0.9, &pb);
+  return pb;
+}
+
+TEST(StaticStructure, APlanIntoTheWallsMarginIntrudesOneAlongItDoesNot) {
+  StaticStructure s{StaticFieldParams{}};
+  Problem pb = wall_problem(&s);
   ASSERT_EQ(pb.obstacles.size(), 1u);
   // the wall's face at x 3.0: h = 3.0 - x - 0.2 - d_safe (0.03)
   const std::vector<double> into{2.5, 0.0, 0.0, 2.7, 0.0, 0.0, 2.9, 0.0, 0.0, 3.0, 0.0, 0.0};
@@ -275,14 +282,7 @@ TEST(StaticStructure, APlanIntoTheWallsMarginIntrudesOneAlongItDoesNot) {
 
 TEST(StaticStructure, APlanIntoTheWallItselfGoesAsDeepAsItsBodyDoes) {
   StaticStructure s{StaticFieldParams{}};
-  s.keep_map(map_of({kWall}, kT0));
-  Scene sc;
-  sc.predictions.utime = kT0;
-  ASSERT_EQ(s.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
-  Problem pb;
-  pb.N = 3;
-  pb.footprint.radius = 0.2;
-  s.apply(2.5, 0.0, 0.9, &pb);
+  Problem pb = wall_problem(&s);
   ASSERT_EQ(pb.obstacles.size(), 1u);
   // the disc's edge ends on the wall's face (x 2.8 + 0.2): into the margin
   // by d_safe (0.03), not into the wall
@@ -316,55 +316,47 @@ evade::grid_map_t scan_map(const std::vector<Box>& boxes, int64_t utime, double 
   return m;
 }
 
+// s given the map m and predictions (none) stamped with its utime.
+StaticStructure::Update fed(StaticStructure* s, const evade::grid_map_t& m) {
+  Scene sc;
+  sc.predictions.utime = m.utime;
+  s->keep_map(m);
+  return s->update(sc.inputs(m.utime));
+}
+
 TEST(StaticStructure, AWallTheRobotComesWithinTheLidarsMinRangeOfStaysInTheField) {
   StaticStructure s{StaticFieldParams{}};
-  Scene sc;
-  const auto build = [&](const evade::grid_map_t& m) {
-    s.keep_map(m);
-    sc.predictions.utime = m.utime;
-    return s.update(sc.inputs(m.utime));
-  };
   // seen from 2 m, then from 0.3 m off its face (x 3.0), where the scan
   // has none of its cells within 0.45 m
-  ASSERT_EQ(build(scan_map({kWall}, kT0, 1.0, 0.0)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, scan_map({kWall}, kT0, 1.0, 0.0)), StaticStructure::Update::kBuilt);
   EXPECT_NEAR(distance_at(s, 2.7, 0.0), 0.3, 0.02);
   const evade::grid_map_t near = scan_map({kWall}, kT0 + 100'000, 2.7, 0.0);
-  ASSERT_EQ(build(near), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, near), StaticStructure::Update::kBuilt);
   EXPECT_NEAR(distance_at(s, 2.7, 0.0), 0.3, 0.02);
   // and again while the robot stays there
-  ASSERT_EQ(build(scan_map({kWall}, kT0 + 200'000, 2.7, 0.0)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, scan_map({kWall}, kT0 + 200'000, 2.7, 0.0)), StaticStructure::Update::kBuilt);
   EXPECT_NEAR(distance_at(s, 2.7, 0.0), 0.3, 0.02);
   // off, or forgotten (a new odometry epoch): the wall starts 0.45 m off
   // the robot in the scan, and the field says so
   StaticFieldParams off;
   off.blind_radius_m = 0.0;
   StaticStructure s_off{off};
-  s_off.keep_map(scan_map({kWall}, kT0, 1.0, 0.0));
-  sc.predictions.utime = kT0;
-  ASSERT_EQ(s_off.update(sc.inputs(kT0)), StaticStructure::Update::kBuilt);
-  s_off.keep_map(near);
-  sc.predictions.utime = near.utime;
-  ASSERT_EQ(s_off.update(sc.inputs(near.utime)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s_off, scan_map({kWall}, kT0, 1.0, 0.0)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s_off, near), StaticStructure::Update::kBuilt);
   EXPECT_GT(distance_at(s_off, 2.7, 0.0), 0.4);
   s.clear();
-  ASSERT_EQ(build(near), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, near), StaticStructure::Update::kBuilt);
   EXPECT_GT(distance_at(s, 2.7, 0.0), 0.4);
 }
 
 TEST(StaticStructure, StructureThatIsGoneWhereTheLidarSeesIsNotRemembered) {
   StaticStructure s{StaticFieldParams{}};
-  Scene sc;
-  const auto build = [&](const evade::grid_map_t& m) {
-    s.keep_map(m);
-    sc.predictions.utime = m.utime;
-    return s.update(sc.inputs(m.utime));
-  };
-  ASSERT_EQ(build(scan_map({kWall}, kT0, 1.0, 0.0)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, scan_map({kWall}, kT0, 1.0, 0.0)), StaticStructure::Update::kBuilt);
   // the wall's cells are gone from a scan that sees where they were
-  ASSERT_EQ(build(scan_map({}, kT0 + 100'000, 1.0, 0.0)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, scan_map({}, kT0 + 100'000, 1.0, 0.0)), StaticStructure::Update::kBuilt);
   EXPECT_EQ(s.field()->static_cells(), 0);
   // so the robot coming up to where the wall stood finds nothing there
-  ASSERT_EQ(build(scan_map({}, kT0 + 200'000, 2.7, 0.0)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, scan_map({}, kT0 + 200'000, 2.7, 0.0)), StaticStructure::Update::kBuilt);
   EXPECT_EQ(s.field()->static_cells(), 0);
 }
 
