@@ -165,8 +165,8 @@ class PlannerCore : public bus::Core {
                         double v0, double w0, std::vector<double>* u);
   // How most_clearance judges a plan's rollout.
   struct Judgement {
-    bool into = false;     // deeper into structure's margin than the tolerance (structure_intrusion)
-    double contact = 0.0;  // m, how far the body goes into structure beyond its start (structure_contact)
+    bool into = false;     // deeper into structure's margin than the tolerance (structure_depth's margin)
+    double contact = 0.0;  // m, how far the body goes into structure beyond its start (structure_depth's body)
     Outcome outcome{};  // with solver.rank_outcome, against the predictions (plan_outcome over 2N steps; else kClear)
   };
   Judgement judge_recovery_plan(const Problem& pb, const std::vector<double>& states) const;

@@ -264,8 +264,9 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
 PlannerCore::Judgement PlannerCore::judge_recovery_plan(const Problem& pb, const std::vector<double>& states) const {
   const double tie = p_.solver.constraint_tolerance;
   Judgement j;
-  j.into = structure_intrusion(pb, states) > tie;
-  j.contact = j.into ? structure_contact(pb, states) : 0.0;
+  const StructureDepth depth = structure_depth(pb, states);
+  j.into = depth.margin > tie;
+  j.contact = j.into ? depth.body : 0.0;
   if (p_.solver.rank_outcome) j.outcome = plan_outcome(pb, states, tie, pb.N, outcome_margin());
   return j;
 }

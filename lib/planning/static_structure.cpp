@@ -9,28 +9,24 @@
 
 namespace evade::planning {
 
-namespace {
-
-// max(0, min(h_0, -level) - h_k) over the field obstacles of pb and k >= 1,
-// with level 0 (the margin's edge) or each field's d_safe (the body's).
-double depth_below(const Problem& pb, const std::vector<double>& states, bool body) {
-  double worst = 0.0;
+StructureDepth structure_depth(const Problem& pb, const std::vector<double>& states) {
+  StructureDepth d;
   for (const ObstacleTrack& o : pb.obstacles) {
     if (!o.field) continue;
-    const double level = body ? o.field->d_safe() : 0.0;
-    const double floor = std::min(-level, barrier_at(pb, o, 0, &states[0]).h);
-    for (int k = 1; k <= pb.N; ++k) worst = std::max(worst, floor - barrier_at(pb, o, k, &states[3 * k]).h);
+    const double h0 = barrier_at(pb, o, 0, &states[0]).h;
+    const double margin_floor = std::min(0.0, h0), body_floor = std::min(-o.field->d_safe(), h0);
+    for (int k = 1; k <= pb.N; ++k) {
+      const double h = barrier_at(pb, o, k, &states[3 * k]).h;
+      d.margin = std::max(d.margin, margin_floor - h);
+      d.body = std::max(d.body, body_floor - h);
+    }
   }
-  return worst;
+  return d;
 }
-
-}  // namespace
 
 double structure_intrusion(const Problem& pb, const std::vector<double>& states) {
-  return depth_below(pb, states, false);
+  return structure_depth(pb, states).margin;
 }
-
-double structure_contact(const Problem& pb, const std::vector<double>& states) { return depth_below(pb, states, true); }
 
 void StaticStructure::keep_map(const evade::grid_map_t& m) {
   maps_.push_back(m);

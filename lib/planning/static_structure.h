@@ -37,16 +37,23 @@
 
 namespace evade::planning {
 
-// How far a plan's rollout (`states`, 3 (N + 1)) takes the footprint into
-// the static field's margin beyond where it starts: over the field
-// obstacles of pb, max(0, min(h_0, 0) - h_k), largest over k >= 1 (0 without
-// a field). A recovery plan that drives into a wall to get away from a
-// walker trades a contact of its own making for one that may not come.
+// How far a plan's rollout (`states`, 3 (N + 1)) takes the footprint
+// into static structure beyond where it starts, over the field obstacles
+// of pb and k >= 1 (0 without a field), from one evaluation of the field
+// per step:
+// - margin: into the field's margin, max(0, min(h_0, 0) - h_k). A
+//   recovery plan that drives into a wall to get away from a walker
+//   trades a contact of its own making for one that may not come.
+// - body: the discs into the structure's cells themselves (h below
+//   -d_safe), max(0, min(h_0, -d_safe) - h_k). Positive only where
+//   margin is too.
+struct StructureDepth {
+  double margin = 0.0;
+  double body = 0.0;
+};
+StructureDepth structure_depth(const Problem& pb, const std::vector<double>& states);
+// structure_depth's margin alone.
 double structure_intrusion(const Problem& pb, const std::vector<double>& states);
-// The same for the body itself: how far the rollout takes the footprint's
-// discs into the structure's cells (the field's h below -d_safe) beyond
-// where they start. Positive only where structure_intrusion is too.
-double structure_contact(const Problem& pb, const std::vector<double>& states);
 
 class StaticStructure {
  public:

@@ -288,18 +288,18 @@ TEST(StaticStructure, APlanIntoTheWallItselfGoesAsDeepAsItsBodyDoes) {
   // by d_safe (0.03), not into the wall
   const std::vector<double> to_face{2.5, 0.0, 0.0, 2.6, 0.0, 0.0, 2.7, 0.0, 0.0, 2.8, 0.0, 0.0};
   EXPECT_NEAR(structure_intrusion(pb, to_face), 0.03, 0.01);
-  EXPECT_LT(structure_contact(pb, to_face), 0.005);
+  EXPECT_LT(structure_depth(pb, to_face).body, 0.005);
   // its centre on the face: the body 0.2 m into the wall
   const std::vector<double> into{2.5, 0.0, 0.0, 2.7, 0.0, 0.0, 2.9, 0.0, 0.0, 3.0, 0.0, 0.0};
-  EXPECT_NEAR(structure_contact(pb, into), 0.2, 0.02);
-  EXPECT_GT(structure_intrusion(pb, into), structure_contact(pb, into));
+  EXPECT_NEAR(structure_depth(pb, into).body, 0.2, 0.02);
+  EXPECT_GT(structure_intrusion(pb, into), structure_depth(pb, into).body);
   // from a start already touching (0.05 m in), only going further in counts
   const std::vector<double> touching{2.85, 0.0, 0.0, 2.85, 0.2, 0.0, 2.9, 0.4, 0.0, 2.95, 0.4, 0.0};
-  EXPECT_NEAR(structure_contact(pb, touching), 0.1, 0.02);
+  EXPECT_NEAR(structure_depth(pb, touching).body, 0.1, 0.02);
   const std::vector<double> backing{2.85, 0.0, 0.0, 2.8, 0.0, 0.0, 2.7, 0.0, 0.0, 2.6, 0.0, 0.0};
-  EXPECT_EQ(structure_contact(pb, backing), 0.0);
+  EXPECT_EQ(structure_depth(pb, backing).body, 0.0);
   pb.obstacles.clear();
-  EXPECT_EQ(structure_contact(pb, into), 0.0);
+  EXPECT_EQ(structure_depth(pb, into).body, 0.0);
 }
 
 // The map as it comes from a scan with the robot at (x, y): every cell
