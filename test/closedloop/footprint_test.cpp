@@ -4,54 +4,19 @@
 // metrics (which use the true footprint) see no contact.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
-#include "bus/log.h"
-#include "closedloop/closed_loop.h"
-#include "closedloop/run_monitor.h"
-#include "config/config.h"
-#include "metrics/run_metrics.h"
-#include "sim/scenario.h"
+#include "scene_run.h"
 
 namespace evade::closedloop {
 namespace {
 
-const std::string kSource = EVADE_SOURCE_DIR;
+using testing::config_with;
 
-// config/robot.yaml with each `from` replaced by its `to` (each must occur).
-std::string config_with(const std::vector<std::pair<std::string, std::string>>& edits, const std::string& name) {
-  std::ifstream in(kSource + "/config/robot.yaml");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
-  for (const auto& [from, to] : edits) {
-    const size_t at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) text.replace(at, from.size(), to);
-  }
-  const std::string path = ::testing::TempDir() + "/footprint_" + name + ".yaml";
-  std::ofstream(path) << text;
-  return path;
-}
-
+// The corridor scene, or another of test/closedloop/, with config_path.
 metrics::RunMetrics run_corridor(const std::string& config_path, const std::string& name,
                                  const std::string& scene = "corridor_scout.yaml") {
-  const config::Node root = config::load_robot_config(config_path);
-  const sim::Scenario scenario = sim::load_scenario(kSource + "/test/closedloop/" + scene);
-  const std::string log_path = ::testing::TempDir() + "/footprint_" + name + ".lcmlog";
-  std::filesystem::remove(log_path);
-  LockstepRun options;
-  options.quiet = true;
-  ClosedLoop loop(root, scenario, options);
-  {
-    bus::LogWriter log(log_path);
-    loop.run(&log);
-  }
-  return metrics::compute_metrics(bus::read_log(log_path),
-                                  metrics::MetricsParams::from_config(root.section("metrics")));
+  return testing::run_scene(config_path, "footprint_" + name, scene);
 }
 
 const std::pair<std::string, std::string> kScoutLength{"footprint_length_m: 0.42", "footprint_length_m: 0.93"};
@@ -113,7 +78,7 @@ TEST(Footprint, AScoutInTheNarrowerLaneCollidesAtFaultAtNoPlanningSpeed) {
 // 0.39 m/s, every plan feasible.
 TEST(Footprint, TurningIntoANarrowGapTheRobotMissesTheEdgeItNoLongerSees) {
   const metrics::RunMetrics m =
-      run_corridor(config_with({}, "doorway_blind_edge"), "doorway_blind_edge", "doorway_blind_edge.yaml");
+      run_corridor(config_with({}, "footprint_doorway_blind_edge"), "doorway_blind_edge", "doorway_blind_edge.yaml");
   EXPECT_TRUE(m.reached_goal);
   EXPECT_EQ(m.collisions_at_fault, 0);
   for (const auto& c : m.contacts) EXPECT_GE(c.obstacle_id, 2) << "a door edge touched at " << c.t_start_s << " s";

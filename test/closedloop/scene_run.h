@@ -1,0 +1,64 @@
+// Closed-loop tests' shared runner: one scene in the lockstep closed loop
+// with config/robot.yaml (or a copy of it with some lines replaced), scored
+// by the metrics against the true footprint.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bus/log.h"
+#include "closedloop/closed_loop.h"
+#include "closedloop/run_monitor.h"
+#include "config/config.h"
+#include "metrics/run_metrics.h"
+#include "sim/scenario.h"
+
+namespace evade::closedloop::testing {
+
+inline const std::string kSource = EVADE_SOURCE_DIR;
+
+// config/robot.yaml with each `from` replaced by its `to` (each must occur),
+// written to the test's temporary directory as NAME.yaml.
+inline std::string config_with(const std::vector<std::pair<std::string, std::string>>& edits, const std::string& name) {
+  std::ifstream in(kSource + "/config/robot.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  for (const auto& [from, to] : edits) {
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+  }
+  const std::string path = ::testing::TempDir() + "/" + name + ".yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+// The scene test/closedloop/SCENE run once (the scenario's own sensor seed)
+// with the configuration at config_path; NAME names its log.
+inline metrics::RunMetrics run_scene(const std::string& config_path, const std::string& name,
+                                     const std::string& scene) {
+  const config::Node root = config::load_robot_config(config_path);
+  const sim::Scenario scenario = sim::load_scenario(kSource + "/test/closedloop/" + scene);
+  const std::string log_path = ::testing::TempDir() + "/" + name + ".lcmlog";
+  std::filesystem::remove(log_path);
+  LockstepRun options;
+  options.quiet = true;
+  ClosedLoop loop(root, scenario, options);
+  {
+    bus::LogWriter log(log_path);
+    loop.run(&log);
+  }
+  metrics::RunMetrics m =
+      metrics::compute_metrics(bus::read_log(log_path), metrics::MetricsParams::from_config(root.section("metrics")));
+  std::filesystem::remove(log_path);
+  return m;
+}
+
+}  // namespace evade::closedloop::testing
