@@ -23,7 +23,7 @@
 namespace evade::planning {
 
 struct OcclusionSpeedParams {
-  bool enabled = false;            // mode evade bounds its speed near OCCLUSIONS' regions
+  bool enabled = true;             // mode evade bounds its speed near OCCLUSIONS' regions
   double walking_speed_mps = 1.6;  // a person stepping out of a hidden region
   double reaction_s = 0.3;         // from stepping into view to braking: a revolution, perception, a cycle
   double clearance_m = 0.3;        // the person's radius: their edge reaches the footprint this much sooner

@@ -18,10 +18,9 @@
 namespace evade::planning {
 namespace {
 
-// robot.yaml's planner with the speed bound on (off by default).
+// robot.yaml's planner (the speed bound on by default).
 PlannerParams default_params() {
   auto p = PlannerParams::from_config(config::load_file(std::string(EVADE_SOURCE_DIR) + "/config/robot.yaml"));
-  p.occlusion.enabled = true;
   return p;
 }
 
