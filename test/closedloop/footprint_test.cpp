@@ -23,7 +23,7 @@ const std::pair<std::string, std::string> kScoutLength{"footprint_length_m: 0.42
 const std::pair<std::string, std::string> kScoutWidth{"footprint_width_m: 0.31", "footprint_width_m: 0.70"};
 
 TEST(Footprint, AScoutPassingAWalkerInA2m2CorridorKeepsItsWholeBodyClear) {
-  const metrics::RunMetrics m = run_corridor(config_with({kScoutLength, kScoutWidth}, "scout"), "scout");
+  const metrics::RunMetrics m = run_corridor(config_with({kScoutLength, kScoutWidth}, "footprint_scout"), "scout");
   EXPECT_TRUE(m.reached_goal);
   EXPECT_TRUE(m.contacts.empty()) << m.contacts.size() << " contacts";
   EXPECT_GT(m.min_dist_m, 0.0);
@@ -37,8 +37,8 @@ TEST(Footprint, AScoutPassingAWalkerInA2m2CorridorKeepsItsWholeBodyClear) {
 // it driving on or standing in the walker's way (without the rank and the
 // static field: a collision at fault, -0.18 m).
 TEST(Footprint, AScoutMeetingAWalkerInANarrowerLaneNeverDrivesIntoIt) {
-  const metrics::RunMetrics m = run_corridor(config_with({kScoutLength, kScoutWidth}, "scout_lane030"), "scout_lane030",
-                                             "corridor_scout_lane030.yaml");
+  const metrics::RunMetrics m = run_corridor(config_with({kScoutLength, kScoutWidth}, "footprint_scout_lane030"),
+                                             "scout_lane030", "corridor_scout_lane030.yaml");
   EXPECT_TRUE(m.reached_goal);
   EXPECT_EQ(m.collisions_at_fault, 0);
   EXPECT_GT(m.min_dist_m, -0.05);
@@ -61,7 +61,7 @@ TEST(Footprint, AScoutInTheNarrowerLaneCollidesAtFaultAtNoPlanningSpeed) {
         config_with({kScoutLength,
                      kScoutWidth,
                      {"planner_per_iteration_s: 0.000099", std::string("planner_per_iteration_s: ") + cost}},
-                    name),
+                    "footprint_" + name),
         name, "corridor_scout_lane030.yaml");
     EXPECT_TRUE(m.reached_goal) << cost;
     EXPECT_EQ(m.collisions_at_fault, 0) << cost << " s per iteration";
