@@ -7,45 +7,33 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <filesystem>
+#include <cstdio>
 #include <string>
 
-#include "bus/log.h"
-#include "closedloop/closed_loop.h"
 #include "closedloop/run_monitor.h"
 #include "config/robot_profile.h"
-#include "metrics/run_metrics.h"
-#include "sim/scenario.h"
+#include "scene_run.h"
 
 namespace evade::closedloop {
 namespace {
 
-const std::string kSource = EVADE_SOURCE_DIR;
-const std::string kScenario = kSource + "/config/scenarios/paper_realworld.yaml";
+const std::string kScenario = testing::kSource + "/config/scenarios/paper_realworld.yaml";
 
 TEST(PaperRealworld, ReachesTheGoalWithoutContactForEverySeed) {
-  const config::Node root = config::load_robot_config(kSource + "/config/robot.yaml", {"", kScenario});
+  const config::Node root = config::load_robot_config(testing::kSource + "/config/robot.yaml", {"", kScenario});
   ASSERT_EQ(root.provenance()->profile, "scout2");
   sim::Scenario scenario = sim::load_scenario(kScenario);
   sim::resolve_robot(&scenario, root);
   ASSERT_DOUBLE_EQ(scenario.footprint_length, 0.93);
   ASSERT_EQ(scenario.lidar.model, "rs_helios");
   for (const uint64_t seed : {1u, 2u, 3u}) {
-    const std::string log_path = ::testing::TempDir() + "/paper_realworld_" + std::to_string(::getpid()) + "_" +
-                                 std::to_string(seed) + ".lcmlog";
-    std::filesystem::remove(log_path);
     LockstepRun options;
     options.seed = seed;
     options.quiet = true;
-    ClosedLoop loop(root, scenario, options);
-    LockstepResult r;
-    {
-      bus::LogWriter log(log_path);
-      r = loop.run(&log);
-    }
-    const metrics::RunMetrics m =
-        metrics::compute_metrics(bus::read_log(log_path), metrics::MetricsParams::from_config(root.section("metrics")));
-    std::filesystem::remove(log_path);
+    const testing::ScoredRun run = testing::run_scored(
+        root, scenario, options, "paper_realworld_" + std::to_string(::getpid()) + "_" + std::to_string(seed));
+    const LockstepResult& r = run.result;
+    const metrics::RunMetrics& m = run.metrics;
     EXPECT_EQ(r.outcome, RunMonitor::kGoal) << "seed " << seed << ": timed out at " << r.sim_s << " s";
     EXPECT_TRUE(m.reached_goal) << "seed " << seed;
     EXPECT_TRUE(m.contacts.empty()) << "seed " << seed << ": " << m.contacts.size() << " contacts";

@@ -40,25 +40,37 @@ inline std::string config_with(const std::vector<std::pair<std::string, std::str
   return path;
 }
 
+// One lockstep run of `scenario` with `root`'s configuration, logged to
+// NAME.lcmlog in the test's temporary directory, scored by the metrics;
+// the log is removed afterwards.
+struct ScoredRun {
+  LockstepResult result;
+  metrics::RunMetrics metrics;
+};
+inline ScoredRun run_scored(const config::Node& root, const sim::Scenario& scenario, const LockstepRun& options,
+                            const std::string& name) {
+  const std::string log_path = ::testing::TempDir() + "/" + name + ".lcmlog";
+  std::filesystem::remove(log_path);
+  ClosedLoop loop(root, scenario, options);
+  ScoredRun r;
+  {
+    bus::LogWriter log(log_path);
+    r.result = loop.run(&log);
+  }
+  r.metrics =
+      metrics::compute_metrics(bus::read_log(log_path), metrics::MetricsParams::from_config(root.section("metrics")));
+  std::filesystem::remove(log_path);
+  return r;
+}
+
 // The scene test/closedloop/SCENE run once (the scenario's own sensor seed)
 // with the configuration at config_path; NAME names its log.
 inline metrics::RunMetrics run_scene(const std::string& config_path, const std::string& name,
                                      const std::string& scene) {
   const config::Node root = config::load_robot_config(config_path);
-  const sim::Scenario scenario = sim::load_scenario(kSource + "/test/closedloop/" + scene);
-  const std::string log_path = ::testing::TempDir() + "/" + name + ".lcmlog";
-  std::filesystem::remove(log_path);
   LockstepRun options;
   options.quiet = true;
-  ClosedLoop loop(root, scenario, options);
-  {
-    bus::LogWriter log(log_path);
-    loop.run(&log);
-  }
-  metrics::RunMetrics m =
-      metrics::compute_metrics(bus::read_log(log_path), metrics::MetricsParams::from_config(root.section("metrics")));
-  std::filesystem::remove(log_path);
-  return m;
+  return run_scored(root, sim::load_scenario(kSource + "/test/closedloop/" + scene), options, name).metrics;
 }
 
 }  // namespace evade::closedloop::testing
