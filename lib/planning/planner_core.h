@@ -206,19 +206,20 @@ class PlannerCore : public bus::Core {
   void update_static_field(const evade::odometry_t& odom);
   // BLOCKED beside structure: a plan of v = 0 that the field's constraint
   // holds against a wall (active at some step) is a local minimum for a
-  // robot that cannot reverse. When blocked and *u makes no headway,
-  // replaces it with a turn on the spot (braking, at the limits) to the
-  // way out of the structure: the heading to the reference's end brought
-  // within escape.cone_half_angle of grad h of the field. The short way
-  // round, or the long way when the short one swings the footprint into
-  // something: the turn must meet the movers' constraints and the rate
-  // limits and enter the structure's margin by at most 0.01 m. It goes on
-  // in the next cycles (first the way round it took) until the robot faces
-  // the way out. True when *u was replaced.
+  // robot that cannot reverse. When blocked and *u makes no headway (it
+  // ends within escape.min_progress_m of the start), replaces it with a
+  // turn on the spot (braking,
+  // at the limits; escape.h) to the way out of the structure: the heading
+  // to the reference's end brought within escape.cone_half_angle of grad h
+  // of the field, turned only as far as it can still stop short of the
+  // structure's margin. The short way round, or the long way when the
+  // short one does not do: the turn must meet the movers' constraints and
+  // the rate limits, enter the structure's margin by at most 0.01 m, and
+  // turn. It goes on in the next cycles (first the way round it took)
+  // until the robot faces the way out or a plan makes headway. True when
+  // *u was replaced.
   bool escape_from_structure(const Problem& pb, const evade::odometry_t& odom, bool is_blocked, std::vector<double>* u);
   int escape_side_ = 0;  // the way round of the last cycle's such turn (+1 left, -1 right; 0 none)
-  // Braking at the limits while turning by yaw_by (rad) at the limits, no further.
-  std::vector<double> turn_on_the_spot(double yaw_by, const evade::odometry_t& odom) const;
   StaticStructure static_;
 
   PlannerParams p_;

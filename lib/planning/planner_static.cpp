@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "evade/grid_map_t.hpp"
+#include "planning/escape.h"
 #include "planning/input_checks.h"
 #include "planning/planner_core.h"
 
@@ -118,36 +119,23 @@ bool PlannerCore::escape_from_structure(const Problem& pb, const evade::odometry
   const int first = side_before ? side_before : (err > 0 ? 1 : -1);
   // the movers' constraints (and the rate limits) met; the structure's
   // margin entered by at most kEscapeIntoMarginM (at h near 0 its D-CBF
-  // leaves no room for the footprint's corners to swing)
+  // leaves no room for the footprint's corners to swing); some headway
   Problem movers = pb;
   movers.obstacles.erase(movers.obstacles.begin() + (field - pb.obstacles.begin()));
   for (int side : {first, -first}) {
     const double left = side * err > 0 ? std::fabs(err) : 2 * M_PI - std::fabs(err);
-    std::vector<double> turn = turn_on_the_spot(side * left, odom);
+    std::vector<double> turn = turn_out_controls(pb, *field, side * left, odom.v, odom.omega, kEscapeIntoMarginM);
     rollout(pb, turn.data(), states.data());
     if (!(max_violation(movers, turn.data()) <= p_.solver.constraint_tolerance) ||
-        !(structure_intrusion(pb, states) <= kEscapeIntoMarginM))
+        !(structure_intrusion(pb, states) <= kEscapeIntoMarginM) ||
+        !(side * (states[3 * N + 2] - pb.yaw0) >= p_.limits.omega_max * p_.dt_s ||
+          std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m))
       continue;
     *u = turn;
     escape_side_ = side;
     return true;
   }
   return false;
-}
-
-std::vector<double> PlannerCore::turn_on_the_spot(double yaw_by, const evade::odometry_t& odom) const {
-  const double v0 = std::clamp(odom.v, p_.limits.v_min, p_.limits.v_max);
-  const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
-  std::vector<double> u = braking_controls(v0, w0);
-  double omega = w0;
-  for (int k = 0; k < p_.horizon_steps; ++k) {
-    const double want = std::clamp(yaw_by / p_.dt_s, -p_.limits.omega_max, p_.limits.omega_max);
-    const double dw = p_.limits.alpha * p_.dt_s;
-    omega = std::clamp(want, omega - dw, omega + dw);
-    u[2 * k + 1] = omega;
-    yaw_by -= omega * p_.dt_s;
-  }
-  return u;
 }
 
 }  // namespace evade::planning

@@ -66,6 +66,7 @@ struct StaticFieldParams {
   double min_structure_m = 1.0;  // static cells count only in a connected patch at least this long (structure)
   double min_structure_share = 0.5;  // a slow track with this share of structure among its cells stands for them
   double blind_radius_m = 0.45;      // structure stays in the field while within this of the robot (LiDAR blind)
+  int blind_memory_frames = 2;       // ...if it was structure in this many maps in a row before it came within it
   template <class V>
   void fields(V& v) {
     v.field("enabled", enabled);
@@ -78,6 +79,7 @@ struct StaticFieldParams {
     v.field("min_structure_m", min_structure_m, config::between(0.0, 100.0));
     v.field("min_structure_share", min_structure_share, config::between(0.0, 1.0));
     v.field("blind_radius_m", blind_radius_m, config::between(0.0, 10.0));
+    v.field("blind_memory_frames", blind_memory_frames, config::between(1, 1000));
   }
 };
 

@@ -38,6 +38,8 @@ void StaticStructure::clear() {
   field_.reset();
   static_ids_.clear();
   remembered_.clear();
+  seen_.clear();
+  remembered_utime_ = -1;
 }
 
 bool StaticStructure::add_remembered(const evade::grid_map_t& map, evade::grid_map_t* with) const {
@@ -77,16 +79,34 @@ bool StaticStructure::in_blind_disc(const evade::grid_map_t& map, const StaticFi
 }
 
 void StaticStructure::remember(const evade::grid_map_t& map) {
-  // what the map saw (outside the blind disc) from this field; inside it,
-  // what was seen before it came into the disc, not refreshed from the
-  // cells added for it (the map's cells flicker at an edge: refreshed,
-  // the disc would keep every cell that was ever marked there)
+  if (map.utime == remembered_utime_ && map.resolution == remembered_res_) return;
+  remembered_utime_ = map.utime;
+  // inside the disc, what was seen before it came into it, not refreshed
+  // from the cells added for it (the map's cells flicker at an edge:
+  // refreshed, the disc would keep every cell that was ever marked there);
+  // outside it, what the map saw from this field, and how many maps in a
+  // row it has (a cell enters the disc's memory only after
+  // blind_memory_frames of them)
+  const auto before = [](const StaticField::LatticeCell& a, const StaticField::LatticeCell& b) {
+    return a.ix != b.ix ? a.ix < b.ix : a.iy < b.iy;
+  };
   std::vector<StaticField::LatticeCell> kept;
+  std::vector<std::pair<StaticField::LatticeCell, int>> seen;
   if (map.resolution == remembered_res_)
     for (const StaticField::LatticeCell& cell : remembered_)
       if (in_blind_disc(map, cell)) kept.push_back(cell);
-  for (const StaticField::LatticeCell& cell : field_->structure_cells())
-    if (!in_blind_disc(map, cell)) kept.push_back(cell);
+  if (map.resolution != remembered_res_) seen_.clear();
+  for (const StaticField::LatticeCell& cell : field_->structure_cells()) {
+    if (in_blind_disc(map, cell)) continue;
+    const auto it =
+        std::lower_bound(seen_.begin(), seen_.end(), cell,
+                         [&](const auto& e, const StaticField::LatticeCell& c) { return before(e.first, c); });
+    const bool was = it != seen_.end() && !before(cell, it->first);
+    seen.emplace_back(cell, was ? it->second + 1 : 1);
+    if (seen.back().second >= p_.blind_memory_frames) kept.push_back(cell);
+  }
+  std::sort(seen.begin(), seen.end(), [&](const auto& x, const auto& y) { return before(x.first, y.first); });
+  seen_ = std::move(seen);
   remembered_ = std::move(kept);
   remembered_res_ = map.resolution;
 }

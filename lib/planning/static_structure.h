@@ -27,6 +27,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "evade/grid_map_t.hpp"
@@ -84,7 +85,10 @@ class StaticStructure {
   // so the structure cells of the last field that lie there are added to
   // the map's obstacle cells before the field is built (a door's edge
   // the robot passes within 0.4 m of stays in the field). Inside the disc
-  // the memory is what the maps saw before the cell came into it; outside
+  // the memory is what the maps saw before the cell came into it: a cell
+  // that was structure in the last blind_memory_frames maps in a row (a
+  // cell that flickers on at a wall's edge in one scan as the disc reaches
+  // it would otherwise stand there for as long as the robot does); outside
   // it the map decides again.
   Update update(const Inputs& in);
 
@@ -113,15 +117,19 @@ class StaticStructure {
   // Whether a lattice cell's centre lies within blind_radius_m of the
   // map's robot position.
   bool in_blind_disc(const evade::grid_map_t& map, const StaticField::LatticeCell& cell) const;
-  // The remembered cells after this cycle's field (of `map`).
+  // The remembered cells after this cycle's field (of `map`; once per map).
   void remember(const evade::grid_map_t& map);
 
   StaticFieldParams p_;
   std::deque<evade::grid_map_t> maps_;
   std::shared_ptr<const StaticField> field_;
   std::vector<int64_t> static_ids_;                   // sorted
-  std::vector<StaticField::LatticeCell> remembered_;  // the last field's structure cells
+  std::vector<StaticField::LatticeCell> remembered_;  // the blind disc's cells, and those that may enter it
   double remembered_res_ = 0;                         // their lattice's resolution (m)
+  // structure cells outside the disc, sorted, each with how many maps in a
+  // row it has been structure
+  std::vector<std::pair<StaticField::LatticeCell, int>> seen_;
+  int64_t remembered_utime_ = -1;  // the map remember() last took
 };
 
 }  // namespace evade::planning

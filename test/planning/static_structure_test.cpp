@@ -326,8 +326,9 @@ StaticStructure::Update fed(StaticStructure* s, const evade::grid_map_t& m) {
 
 TEST(StaticStructure, AWallTheRobotComesWithinTheLidarsMinRangeOfStaysInTheField) {
   StaticStructure s{StaticFieldParams{}};
-  // seen from 2 m, then from 0.3 m off its face (x 3.0), where the scan
-  // has none of its cells within 0.45 m
+  // seen from 2 m (in blind_memory_frames scans, 2), then from 0.3 m off
+  // its face (x 3.0), where the scan has none of its cells within 0.45 m
+  ASSERT_EQ(fed(&s, scan_map({kWall}, kT0 - 100'000, 1.0, 0.0)), StaticStructure::Update::kBuilt);
   ASSERT_EQ(fed(&s, scan_map({kWall}, kT0, 1.0, 0.0)), StaticStructure::Update::kBuilt);
   EXPECT_NEAR(distance_at(s, 2.7, 0.0), 0.3, 0.02);
   const evade::grid_map_t near = scan_map({kWall}, kT0 + 100'000, 2.7, 0.0);
@@ -341,12 +342,39 @@ TEST(StaticStructure, AWallTheRobotComesWithinTheLidarsMinRangeOfStaysInTheField
   StaticFieldParams off;
   off.blind_radius_m = 0.0;
   StaticStructure s_off{off};
+  ASSERT_EQ(fed(&s_off, scan_map({kWall}, kT0 - 100'000, 1.0, 0.0)), StaticStructure::Update::kBuilt);
   ASSERT_EQ(fed(&s_off, scan_map({kWall}, kT0, 1.0, 0.0)), StaticStructure::Update::kBuilt);
   ASSERT_EQ(fed(&s_off, near), StaticStructure::Update::kBuilt);
   EXPECT_GT(distance_at(s_off, 2.7, 0.0), 0.4);
   s.clear();
   ASSERT_EQ(fed(&s, near), StaticStructure::Update::kBuilt);
   EXPECT_GT(distance_at(s, 2.7, 0.0), 0.4);
+}
+
+TEST(StaticStructure, ACellThatFlickersOnInOneScanAsTheRobotComesUpIsNotRemembered) {
+  // A wall x 3.0..3.2, y 0..6, its end at y 0, seen from (1, -0.5) in
+  // every scan; in the last scan before the robot stands at (2.7, 0),
+  // one cell beyond its end (y -0.1..0) is marked too, as a range error at
+  // the edge marks it. Standing there, the cell lies within the blind disc:
+  // the wall's own cells there are remembered, the one-scan cell is not.
+  const Box wall{3.0, 3.2, 0.0, 6.0}, flicker{3.0, 3.1, -0.1, 0.0};
+  StaticStructure s{StaticFieldParams{}};
+  ASSERT_EQ(fed(&s, scan_map({wall}, kT0 - 200'000, 1.0, -0.5)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, scan_map({wall}, kT0 - 100'000, 1.0, -0.5)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, scan_map({wall, flicker}, kT0, 1.0, -0.5)), StaticStructure::Update::kBuilt);
+  EXPECT_LT(distance_at(s, 3.05, -0.05), 0.0) << "the flicker is structure in its own scan";
+  ASSERT_EQ(fed(&s, scan_map({wall}, kT0 + 100'000, 2.7, 0.0)), StaticStructure::Update::kBuilt);
+  // the wall's end cell and the flicker's both lie 0.35 m from the robot
+  // (cell centres), where the scan has none
+  EXPECT_NEAR(distance_at(s, 3.05, -0.3), 0.3, 0.03) << "to the wall's end, not the flicker";
+  EXPECT_NEAR(distance_at(s, 2.75, 0.05), 0.25, 0.03) << "the wall's face is remembered";
+  // with every scan's structure remembered (1), the flicker stays there
+  StaticFieldParams once;
+  once.blind_memory_frames = 1;
+  StaticStructure s1{once};
+  ASSERT_EQ(fed(&s1, scan_map({wall, flicker}, kT0, 1.0, -0.5)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s1, scan_map({wall}, kT0 + 100'000, 2.7, 0.0)), StaticStructure::Update::kBuilt);
+  EXPECT_LT(distance_at(s1, 3.05, -0.3), 0.25);
 }
 
 TEST(StaticStructure, StructureThatIsGoneWhereTheLidarSeesIsNotRemembered) {
