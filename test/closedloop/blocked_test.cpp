@@ -16,26 +16,18 @@
 //   the robot still stands there until the run ends.
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <string>
-
 #include "scene_run.h"
 
 namespace evade::closedloop {
 namespace {
 
-void expect_through(const std::string& scene) {
-  const metrics::RunMetrics m = testing::run_scene(testing::kSource + "/config/robot.yaml", "blocked_" + scene, scene);
-  EXPECT_TRUE(m.reached_goal) << scene;
-  EXPECT_EQ(m.collisions_at_fault, 0) << scene;
-  EXPECT_TRUE(m.contacts.empty()) << scene << ": " << m.contacts.size() << " contacts";
-  std::printf("[figures] %s: min clearance %.3f m, time to goal %.1f s\n", scene.c_str(), m.min_dist_m,
-              m.time_to_goal_s.value_or(-1.0));
+TEST(Blocked, ANoseAtAWallsEndTurnsOutAsFarAsItMayAndGoesThrough) {
+  testing::expect_clear_arrival("blocked_", "doorway_wall_end.yaml");
 }
 
-TEST(Blocked, ANoseAtAWallsEndTurnsOutAsFarAsItMayAndGoesThrough) { expect_through("doorway_wall_end.yaml"); }
-
-TEST(Blocked, ACellFlickeringOnInANarrowGapIsNotRememberedThere) { expect_through("doorway_gap_flicker.yaml"); }
+TEST(Blocked, ACellFlickeringOnInANarrowGapIsNotRememberedThere) {
+  testing::expect_clear_arrival("blocked_", "doorway_gap_flicker.yaml");
+}
 
 }  // namespace
 }  // namespace evade::closedloop

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -71,6 +72,18 @@ inline metrics::RunMetrics run_scene(const std::string& config_path, const std::
   LockstepRun options;
   options.quiet = true;
   return run_scored(root, sim::load_scenario(kSource + "/test/closedloop/" + scene), options, name).metrics;
+}
+
+// The scene test/closedloop/SCENE with config/robot.yaml (its log named
+// PREFIX + SCENE) must reach the goal with no contact at all; prints its
+// least clearance and time to the goal.
+inline void expect_clear_arrival(const std::string& prefix, const std::string& scene) {
+  const metrics::RunMetrics m = run_scene(kSource + "/config/robot.yaml", prefix + scene, scene);
+  EXPECT_TRUE(m.reached_goal) << scene;
+  EXPECT_EQ(m.collisions_at_fault, 0) << scene;
+  EXPECT_TRUE(m.contacts.empty()) << scene << ": " << m.contacts.size() << " contacts";
+  std::printf("[figures] %s: min clearance %.3f m, time to goal %.1f s\n", scene.c_str(), m.min_dist_m,
+              m.time_to_goal_s.value_or(-1.0));
 }
 
 }  // namespace evade::closedloop::testing
