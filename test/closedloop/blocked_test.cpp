@@ -4,9 +4,10 @@
 // walker coming through, the robot stood for good on 7a037e4 (both timed
 // out):
 // - doorway_wall_end.yaml: beside the upper wall's end, heading along its
-//   face. Every turn on the spot the escape tried swung the footprint into
-//   the wall's margin, so none was sent; now the turn (escape.h) goes as
-//   far as it can still stop short of the margin.
+//   face. Once the escape's turn on the spot had turned a little, the rest
+//   of it would have swung the footprint into the wall's margin either way
+//   round, so it was refused and the solver turned back; now the turn
+//   (escape.h) goes as far as it can still stop short of the margin.
 // - doorway_gap_flicker.yaml: in front of the 0.62 m gap. One scan had
 //   marked a cell inside the gap just before the robot's blind disc
 //   reached it, and the disc remembered it, closing the gap to the
