@@ -27,21 +27,19 @@ bool turn_stops_clear(const Problem& pb, const ObstacleTrack& field, const doubl
 
 }  // namespace
 
-std::vector<double> turn_out_controls(const Problem& pb, const ObstacleTrack& field, double yaw_by, double v0,
-                                      double omega0, double into_margin_m) {
+std::vector<double> turn_on_the_spot(const Problem& pb, double yaw_by, const std::vector<double>& brake, double omega0,
+                                     const ObstacleTrack* field, double into_margin_m) {
   const Limits& lim = pb.lim;
-  std::vector<double> u(2 * static_cast<size_t>(std::max(0, pb.N)));
+  std::vector<double> u(brake);
   double state[3] = {pb.x0, pb.y0, pb.yaw0};
-  const double floor = std::min(0.0, barrier_at(pb, field, 0, state).h) - into_margin_m;
-  double v = std::clamp(std::isfinite(v0) ? v0 : 0.0, std::max(0.0, lim.v_min), lim.v_max);
-  double omega = std::clamp(std::isfinite(omega0) ? omega0 : 0.0, -lim.omega_max, lim.omega_max);
+  const double floor = field ? std::min(0.0, barrier_at(pb, *field, 0, state).h) - into_margin_m : 0.0;
   const double dw = lim.alpha * pb.dt;
+  double omega = omega0;
   for (int k = 0; k < pb.N; ++k) {
-    v = std::max(0.0, v - lim.decel * pb.dt);
+    const double v = brake[2 * static_cast<size_t>(k)];
     double turn = towards(omega, std::clamp(yaw_by / pb.dt, -lim.omega_max, lim.omega_max), dw);
-    if (!turn_stops_clear(pb, field, state, v, turn, floor)) turn = towards(omega, 0.0, dw);
+    if (field && !turn_stops_clear(pb, *field, state, v, turn, floor)) turn = towards(omega, 0.0, dw);
     omega = turn;
-    u[2 * static_cast<size_t>(k)] = v;
     u[2 * static_cast<size_t>(k) + 1] = omega;
     yaw_by -= omega * pb.dt;
     unicycle_step(v, omega, pb.dt, &state[0], &state[1], &state[2]);

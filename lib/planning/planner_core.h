@@ -208,11 +208,10 @@ class PlannerCore : public bus::Core {
   // holds against a wall (active at some step) is a local minimum for a
   // robot that cannot reverse. When blocked and *u makes no headway (it
   // ends within escape.min_progress_m of the start), replaces it with a
-  // turn on the spot (braking,
-  // at the limits; escape.h) to the way out of the structure: the heading
-  // to the reference's end brought within escape.cone_half_angle of grad h
-  // of the field, turned only as far as it can still stop short of the
-  // structure's margin. The short way round, or the long way when the
+  // turn on the spot (braking, at the limits; escape.h) to the way out of
+  // the structure: the heading to the reference's end brought within
+  // escape.cone_half_angle of grad h of the field, turned only as far as
+  // it can still stop short of the structure's margin. The short way round, or the long way when the
   // short one does not do: the turn must meet the movers' constraints and
   // the rate limits, enter the structure's margin by at most 0.01 m, and
   // turn. It goes on in the next cycles (first the way round it took)

@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "evade/plan_t.hpp"
+#include "planning/escape.h"
 #include "planning/fallback.h"
 #include "planning/manoeuvres.h"
 #include "planning/outcome.h"
@@ -310,16 +311,7 @@ bool PlannerCore::escape_turn(const Problem& pb, double v0, double omega0, std::
   if (std::fabs(err) < 0.5 * p_.limits.omega_max * p_.dt_s) return false;
   // turn at the limits (yaw acceleration too), no further than the target;
   // the speed, already near zero (no headway), brakes to zero
-  const std::vector<double> brake = braking_controls(v0, omega0);
-  double omega = omega0, yaw_left = err;
-  for (int k = 0; k < N; ++k) {
-    const double want = std::clamp(yaw_left / p_.dt_s, -p_.limits.omega_max, p_.limits.omega_max);
-    const double dw = p_.limits.alpha * p_.dt_s;
-    omega = std::clamp(want, omega - dw, omega + dw);
-    (*u)[2 * k] = brake[2 * k];
-    (*u)[2 * k + 1] = omega;
-    yaw_left -= omega * p_.dt_s;
-  }
+  *u = turn_on_the_spot(pb, err, braking_controls(v0, omega0), omega0);
   return true;
 }
 

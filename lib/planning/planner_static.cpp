@@ -106,7 +106,11 @@ bool PlannerCore::escape_from_structure(const Problem& pb, const evade::odometry
   const int N = pb.N;
   std::vector<double> states(3 * (N + 1));
   rollout(pb, u->data(), states.data());
-  if (std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m) return false;
+  // headway: the rollout's end at least escape.min_progress_m from the start
+  const auto headway = [&] {
+    return std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m;
+  };
+  if (headway()) return false;
   // held by the wall (once the turn has begun, it goes on while the solver would turn back)
   if (!side_before && !(barrier_slack(pb, *field, states) <= kHeldSlack)) return false;
   const double start[3] = {pb.x0, pb.y0, pb.yaw0};
@@ -124,12 +128,13 @@ bool PlannerCore::escape_from_structure(const Problem& pb, const evade::odometry
   movers.obstacles.erase(movers.obstacles.begin() + (field - pb.obstacles.begin()));
   for (int side : {first, -first}) {
     const double left = side * err > 0 ? std::fabs(err) : 2 * M_PI - std::fabs(err);
-    std::vector<double> turn = turn_out_controls(pb, *field, side * left, odom.v, odom.omega, kEscapeIntoMarginM);
+    const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
+    std::vector<double> turn =
+        turn_on_the_spot(pb, side * left, braking_controls(odom.v, odom.omega), w0, &*field, kEscapeIntoMarginM);
     rollout(pb, turn.data(), states.data());
     if (!(max_violation(movers, turn.data()) <= p_.solver.constraint_tolerance) ||
         !(structure_intrusion(pb, states) <= kEscapeIntoMarginM) ||
-        !(side * (states[3 * N + 2] - pb.yaw0) >= p_.limits.omega_max * p_.dt_s ||
-          std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m))
+        !(side * (states[3 * N + 2] - pb.yaw0) >= p_.limits.omega_max * p_.dt_s || headway()))
       continue;
     *u = turn;
     escape_side_ = side;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "box_map.h"
@@ -48,11 +49,18 @@ struct BesideAWallsEnd {
     rollout(pb, u.data(), x.data());
     return x;
   }
+  // Braking from v0 at the limit (as PlannerCore::braking_controls, the
+  // robot not turning).
+  std::vector<double> brake(double v0) const {
+    std::vector<double> u(2 * pb.N, 0.0);
+    for (int k = 0; k < pb.N; ++k) u[2 * k] = v0 = std::max(0.0, v0 - pb.lim.decel * pb.dt);
+    return u;
+  }
   // The turn from north to south-west, the short way (left, through west)
-  // or the long way (right, through east).
+  // or the long way (right, through east), held short of the wall's margin.
   std::vector<double> turn(int side, double v0) const {
     const double yaw_by = side > 0 ? 3 * M_PI / 4 : -5 * M_PI / 4;
-    return turn_out_controls(pb, field(), yaw_by, v0, 0.0, 0.01);
+    return turn_on_the_spot(pb, yaw_by, brake(v0), 0.0, &field(), 0.01);
   }
 };
 
@@ -89,12 +97,23 @@ TEST(Escape, AwayFromTheWallTheTurnIsMadeWholeAtTheLimits) {
   }
 }
 
-TEST(Escape, AMovingRobotBrakesAtTheLimitToAStop) {
+TEST(Escape, TheSpeedIsTheBrakingProfilesAMovingRobotStops) {
   BesideAWallsEnd w(2.3);
   const std::vector<double> u = w.turn(1, 0.6);
   EXPECT_NEAR(u[0], 0.6 - w.pb.lim.decel * w.pb.dt, 1e-12);
   EXPECT_NEAR(u[2], 0.6 - 2 * w.pb.lim.decel * w.pb.dt, 1e-12);
   for (int k = 4; k < w.pb.N; ++k) EXPECT_EQ(u[2 * k], 0.0) << k;
+  const std::vector<double> brake = w.brake(0.6);
+  for (int k = 0; k < w.pb.N; ++k) EXPECT_EQ(u[2 * k], brake[2 * k]) << k;
+}
+
+TEST(Escape, WithoutAFieldTheTurnIsMadeWholeBesideTheWallToo) {
+  // the escape turn out of d_safe (PlannerCore::escape_turn) has no field
+  BesideAWallsEnd w(2.72, 90);
+  const std::vector<double> u = turn_on_the_spot(w.pb, 3 * M_PI / 4, w.brake(0.0), 0.0);
+  const std::vector<double> x = w.states(u);
+  EXPECT_LT(std::fabs(wrap_angle(x[3 * w.pb.N + 2] + 3 * M_PI / 4)), 0.02);
+  EXPECT_GT(structure_intrusion(w.pb, x), 0.01) << "the field would have held it back";
 }
 
 }  // namespace
