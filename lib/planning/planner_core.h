@@ -207,7 +207,9 @@ class PlannerCore : public bus::Core {
   // BLOCKED beside structure: a plan of v = 0 that the field's constraint
   // holds against a wall (active at some step) is a local minimum for a
   // robot that cannot reverse. When blocked and *u makes no headway (it
-  // ends within escape.min_progress_m of the start), replaces it with a
+  // ends within escape.min_progress_m of the start, or it is still within
+  // that halfway through the horizon where the footprint moved straight
+  // on by min_progress_m would be in the margin), replaces it with a
   // turn on the spot (braking, at the limits; escape.h) to the way out of
   // the structure: the heading to the reference's end brought within
   // escape.cone_half_angle of grad h of the field, turned only as far as

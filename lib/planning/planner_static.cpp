@@ -20,6 +20,22 @@ constexpr double kHeldSlack = 1e-3;
 // structure's margin (static_field.d_safe_m, 0.03 m by default).
 constexpr double kEscapeIntoMarginM = 0.01;
 
+// A plan that creeps (still within escape.min_progress_m of the start
+// halfway through the horizon) where the way straight ahead is closed (the
+// footprint moved straight on by min_progress_m would enter the
+// structure's margin deeper than a turn out of it may): a robot that
+// cannot reverse stands, whatever the plan promises at the horizon's end.
+bool creeps_into_closed_way(const Problem& pb, const ObstacleTrack& field, const std::vector<double>& states,
+                            double min_progress_m) {
+  const int half = pb.N / 2;
+  if (std::hypot(states[3 * half] - pb.x0, states[3 * half + 1] - pb.y0) >= min_progress_m) return false;
+  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
+  const double ahead[3] = {pb.x0 + min_progress_m * std::cos(pb.yaw0), pb.y0 + min_progress_m * std::sin(pb.yaw0),
+                           pb.yaw0};
+  const double floor = std::min(0.0, barrier_at(pb, field, 0, start).h) - kEscapeIntoMarginM;
+  return barrier_at(pb, field, 0, ahead).h < floor;
+}
+
 }  // namespace
 
 double static_field_reach_m(const PlannerParams& p) {
@@ -110,7 +126,7 @@ bool PlannerCore::escape_from_structure(const Problem& pb, const evade::odometry
   const auto headway = [&] {
     return std::hypot(states[3 * N] - pb.x0, states[3 * N + 1] - pb.y0) >= p_.escape.min_progress_m;
   };
-  if (headway()) return false;
+  if (headway() && !creeps_into_closed_way(pb, *field, states, p_.escape.min_progress_m)) return false;
   // held by the wall (once the turn has begun, it goes on while the solver would turn back)
   if (!side_before && !(barrier_slack(pb, *field, states) <= kHeldSlack)) return false;
   const double start[3] = {pb.x0, pb.y0, pb.yaw0};
