@@ -1098,7 +1098,7 @@ int hold_settled_obstacles(Problem* pb, const SolverOptions& opts) {
   for (ObstacleTrack& o : pb->obstacles) {
     // every step slower too: a mover turning round or braking can end the
     // horizon where it began
-    if (o.field || !settled_obstacle(*pb, o, opts) ||
+    if (o.field || o.still_s < opts.hold_still_s ||
         fastest_predicted_speed(o, pb->dt) > opts.relax_max_obstacle_speed_mps)
       continue;
     for (std::vector<double>* v : {&o.x, &o.y, &o.a, &o.b, &o.theta, &o.sigma})

@@ -81,8 +81,10 @@ struct SolverOptions {
   double relax_min_track_age_s = 1.0;              // ... and tracked for this long (a new track reads as
                                                    // static while its velocity is unknown); others only a start
                                                    // inside d_safe
-  bool hold_settled = false;                       // mode evade: a settled obstacle (as relax_* say) keeps its
+  bool hold_settled = false;                       // mode evade: an obstacle still for hold_still_s keeps its
                                                    // ellipse of step 0 at every step, not swelling
+  double hold_still_s = 3.0;                       // ... its centre within still_radius_m for this long ...
+  double still_radius_m = 0.25;                    // ... of where it was (the MBE centre drifts with the view)
   Fallback fallback = Fallback::kChain;            // mode evade, nothing meets the constraints (fallback.h)
   double fallback_gamma = 1.0;                     // own_motion links: the robot may close by this times h a step
   double fallback_penetration_weight = 1e4;        // 1/m^2: own_motion's cost of depth within d_safe (per step)
@@ -167,14 +169,16 @@ std::vector<double> barrier_relaxation(const Problem& pb, const SolverOptions& o
 // (mean over the horizon) and tracked for relax_min_track_age_s.
 bool settled_obstacle(const Problem& pb, const ObstacleTrack& o, const SolverOptions& opts);
 
-// hold_settled: each settled obstacle of pb (settled_obstacle) predicted
-// slower than relax_max_obstacle_speed_mps at every step keeps its
+// hold_settled: each obstacle of pb that has been still for hold_still_s
+// (ObstacleTrack::still_s: its centre within still_radius_m of where it
+// was; a walker who stops for a moment, or turns round, is not) and is
+// predicted slower than relax_max_obstacle_speed_mps at every step keeps its
 // centre, shape and inflation of step 0 at every step. Its predicted
 // ellipse otherwise swells with the velocity's uncertainty (times t, up to
 // the predictor's max_inflation_m), so that a robot standing beside a bin
 // misses the hard constraints of the horizon's end at once, and a gap
 // between two such obstacles closes over the horizon wherever the robot
-// stands. A settled obstacle that starts to move is a new prediction next
+// stands. A held obstacle that starts to move is a new prediction next
 // cycle. Returns how many were held.
 int hold_settled_obstacles(Problem* pb, const SolverOptions& opts);
 
@@ -241,6 +245,8 @@ void SolverOptions::fields(V& v) {
   v.field("relax_max_obstacle_speed_mps", relax_max_obstacle_speed_mps, config::between(0.0, 100.0));
   v.field("relax_min_track_age_s", relax_min_track_age_s, config::between(0.0, 3600.0));
   v.field("hold_settled", hold_settled);
+  v.field("hold_still_s", hold_still_s, config::between(0.0, 3600.0));
+  v.field("still_radius_m", still_radius_m, config::between(0.0, 10.0));
   v.choice("fallback", fallback,
            config::Choices<Fallback>{{"chain", Fallback::kChain}, {"own_motion", Fallback::kOwnMotion}});
   v.field("fallback_gamma", fallback_gamma, config::between(1e-6, 1.0));

@@ -54,14 +54,7 @@ PlannerCore::PlannerCore(PlannerParams params)
     if (!accept_predictions(m)) return;
     predictions_ = m;
     predictions_rx_ = now();
-    // first sighting per track id, for ObstacleTrack::age_s (ids that are
-    // gone are forgotten: the table stays as small as the track list)
-    std::map<int64_t, int64_t> seen;
-    for (const auto& t : m.tracks) {
-      auto it = first_seen_.find(t.id);
-      seen[t.id] = it == first_seen_.end() ? m.utime : it->second;
-    }
-    first_seen_.swap(seen);
+    record_sightings(m);
     if (mode_.source == ObstacleSource::kPredicted) on_new_obstacle_input();
   });
   subscribe<evade::obstacle_list_t>("OBSTACLES", [this](const evade::obstacle_list_t& m) {
@@ -159,9 +152,28 @@ void PlannerCore::watchdog() {
   publish_plan(at, evade::plan_t::STATUS_STALE_INPUT, nullptr, braking_controls(v, w), 0, 0, 0);
 }
 
+void PlannerCore::record_sightings(const evade::prediction_list_t& m) {
+  // ids that are gone are forgotten: the table stays as small as the track list
+  std::map<int64_t, Sighting> seen;
+  for (const auto& t : m.tracks) {
+    const double x = t.x.empty() ? NAN : t.x[0], y = t.y.empty() ? NAN : t.y[0];  // NaN: never still
+    const auto it = seen_.find(t.id);
+    Sighting s = it == seen_.end() ? Sighting{m.utime, x, y, m.utime} : it->second;
+    if (!(std::hypot(x - s.still_x, y - s.still_y) <= p_.solver.still_radius_m))
+      s = Sighting{s.first_utime, x, y, m.utime};
+    seen[t.id] = s;
+  }
+  seen_.swap(seen);
+}
+
 double PlannerCore::track_age_s(int64_t id, int64_t utime) const {
-  auto it = first_seen_.find(id);
-  return it == first_seen_.end() ? 0.0 : 1e-6 * static_cast<double>(utime - it->second);
+  auto it = seen_.find(id);
+  return it == seen_.end() ? 0.0 : 1e-6 * static_cast<double>(utime - it->second.first_utime);
+}
+
+double PlannerCore::track_still_s(int64_t id, int64_t utime) const {
+  auto it = seen_.find(id);
+  return it == seen_.end() ? 0.0 : 1e-6 * static_cast<double>(utime - it->second.still_since_utime);
 }
 
 PlannerCore::Sweep PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom,
@@ -345,6 +357,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   if (invalid) count("tracks_invalid", invalid);
   for (auto& o : pb.obstacles) {
     o.age_s = track_age_s(o.id, odom.utime);
+    o.still_s = track_still_s(o.id, odom.utime);
   }
   if (mode_.evade_layers && p_.passive_safety.every_plan) bound_speed_passively(&pb);
   if (p_.solver.hold_settled && mode_spec(p_.mode).evade_layers) {

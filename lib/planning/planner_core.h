@@ -230,8 +230,17 @@ class PlannerCore : public bus::Core {
   SettledMemory settled_;
   CurveFitHistory history_;
   TopologyPlanner topology_;
-  std::map<int64_t, int64_t> first_seen_;               // track id -> utime of its first prediction
-  double track_age_s(int64_t id, int64_t utime) const;  // since first_seen_ (0 for an unknown id)
+  // What the planner has seen of a track id: its first prediction list, and
+  // where its centre (step 0) has stayed within solver.still_radius_m since.
+  struct Sighting {
+    int64_t first_utime = 0;
+    double still_x = 0, still_y = 0;
+    int64_t still_since_utime = 0;
+  };
+  std::map<int64_t, Sighting> seen_;  // track id -> its sighting (ids gone are forgotten)
+  void record_sightings(const evade::prediction_list_t& m);
+  double track_age_s(int64_t id, int64_t utime) const;    // since its first prediction (0 for an unknown id)
+  double track_still_s(int64_t id, int64_t utime) const;  // since its centre last moved (0 for an unknown id)
   std::optional<evade::prediction_list_t> predictions_;
   int64_t predictions_rx_ = -1;                            // bus time the predictions arrived
   std::optional<evade::obstacle_list_t> observed_;         // the last OBSTACLES

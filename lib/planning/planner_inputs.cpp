@@ -42,7 +42,7 @@ void PlannerCore::start_new_epoch(const evade::odometry_t& odom) {
   observed_.reset();
   observed_rx_ = -1;
   static_.clear();
-  first_seen_.clear();
+  seen_.clear();
   history_ = CurveFitHistory(p_.curvefit.degree, p_.curvefit.window_s);
   settled_ = SettledMemory(p_.detour.memory_s);
   prev_u_.clear();

@@ -70,6 +70,7 @@ struct ObstacleTrack {
   std::vector<double> sigma;                 // N + 1: the inflation in a and b (predictions), else empty
   double decay = 0.0;                        // 1 - gamma (CBF) or 0 (distance)
   double age_s = 0.0;                        // since the planner first saw the track (solve_elastic)
+  double still_s = 0.0;                      // since its centre (step 0) last moved still_radius_m (hold_settled)
   std::shared_ptr<const StaticField> field;  // static structure (static_field.h), else null
 };
 

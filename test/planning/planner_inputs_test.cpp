@@ -1,6 +1,7 @@
 // The planner's input gate (issue 20): late, future and extreme
 // timestamps, a non-finite track near the robot, an odometry epoch change,
-// base_driver's "stopped" odometry after a lost link.
+// base_driver's "stopped" odometry after a lost link; and what the planner
+// keeps of the predictions it takes (how long a track has stood still).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -222,6 +223,32 @@ TEST(PlannerInputs, ObservedObstaclesLateOrBrokenAreNotUsed) {
   r.bus.inject("ODOMETRY", odom(t + 120'000), t + 120'000);
   EXPECT_EQ(r.plans().back().status, int8_t{evade::plan_t::STATUS_STOPPING});
   EXPECT_EQ(r.core.counter("tracks_invalid_near"), 1);
+}
+
+// hold_settled holds a track whose centre has stayed within
+// solver.still_radius_m for solver.hold_still_s, counted from the last
+// time it moved, not from its first sighting: a track that stands 2 s,
+// steps 0.5 m and stands again is held only 3 s after the step, its
+// centre's jitter (0.05 m here) notwithstanding.
+TEST(PlannerInputs, ATrackIsHeldOnlyOnceItsCentreHasStoodStillForHoldStillS) {
+  PlannerParams p = params();
+  p.solver.hold_settled = true;
+  ASSERT_NEAR(p.solver.hold_still_s, 3.0, 1e-9);
+  Rig r(p);
+  const auto held_at = [&](double until_s, int64_t* step) {
+    for (; *step * 100'000 <= std::llround(until_s * 1e6); ++*step) {
+      const int64_t t = kT0 + *step * 100'000;
+      const double jitter = (*step % 2 ? 0.05 : -0.05), x = 1.5 + (*step >= 20 ? 0.5 : 0.0);
+      r.bus.inject("OBSTACLE_PREDICTIONS", one_track(t, x + jitter, 1.0), t);
+      r.bus.inject("ODOMETRY", odom(t, 0.0, 0.0), t + 1);
+    }
+    return r.core.counter("settled_held");
+  };
+  int64_t step = 0;
+  EXPECT_EQ(held_at(1.95, &step), 0);  // still for 2 s: not yet
+  EXPECT_EQ(held_at(4.95, &step), 0);  // stepped at 2 s: 3 s only after it
+  EXPECT_GT(held_at(5.5, &step), 0);
+  EXPECT_EQ(r.core.counter("predictions_late"), 0);
 }
 
 }  // namespace

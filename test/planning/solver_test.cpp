@@ -367,30 +367,36 @@ TEST(CeresSolver, SwellingObstacleElasticPlanMeetsTheDcbfOnTheObstacleAsItIs) {
   EXPECT_GT(r.states[3 * pb.N], 0.5);  // on its way, not standing
 }
 
-// hold_settled: a bin beside the path, tracked for long and predicted still,
+// hold_settled: a bin beside the path, still for long and predicted still,
 // whose ellipse swells with its velocity's uncertainty (0.3 m to 0.8 m
 // over the horizon, as the predictor's does up to max_inflation_m). Standing
 // where it is, the robot misses the hard D-CBF of the later steps, so the
 // hard problem has no solution at all. Held at its ellipse of step 0, the
-// bin is a constraint the robot meets standing and drives past; a mover
-// and a track too new to have a known velocity keep their prediction.
+// bin is a constraint the robot meets standing and drives past; a mover, a
+// track too new to have a known velocity and a walker tracked for long who
+// has stood for a moment only keep their prediction.
 TEST(CeresSolver, HoldingASettledObstacleLetsTheRobotStandAndPassBesideIt) {
   Problem pb = straight_problem(0, 0, 0, 0.0, 0.8);
   ObstacleTrack bin = moving_obstacle(1, 0.8, 0.6, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
   for (int k = 0; k <= pb.N; ++k) bin.a[k] = bin.b[k] = 0.3 + 0.5 * k / pb.N;
   bin.sigma.assign(pb.N + 1, 0.0);
   for (int k = 0; k <= pb.N; ++k) bin.sigma[k] = 0.1 + 0.5 * k / pb.N;
-  bin.age_s = 10.0;
+  bin.age_s = bin.still_s = 10.0;
   ObstacleTrack mover = moving_obstacle(2, 3.0, -2.0, 0, 1.0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
-  mover.age_s = 10.0;
+  mover.age_s = mover.still_s = 10.0;
   ObstacleTrack fresh = moving_obstacle(3, 4.0, 2.0, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
   for (int k = 0; k <= pb.N; ++k) fresh.a[k] = 0.3 + 0.5 * k / pb.N;
-  fresh.age_s = 0.5;
+  fresh.age_s = fresh.still_s = 0.5;
   // a walker turning round: 1 m/s out and back, ending where it began
   ObstacleTrack turning = moving_obstacle(4, -2.0, 2.0, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
   for (int k = 0; k <= pb.N; ++k) turning.x[k] = -2.0 + pb.dt * std::min(k, pb.N - k);
-  turning.age_s = 10.0;
-  pb.obstacles = {bin, mover, fresh, turning};
+  turning.age_s = turning.still_s = 10.0;
+  // a walker tracked for long, predicted still, standing for a second
+  ObstacleTrack paused = moving_obstacle(5, 4.0, -2.5, 0, 0, 0.3, 0.3, 0, 0.9, pb.N, pb.dt);
+  for (int k = 0; k <= pb.N; ++k) paused.a[k] = 0.3 + 0.5 * k / pb.N;
+  paused.age_s = 10.0;
+  paused.still_s = 1.0;
+  pb.obstacles = {bin, mover, fresh, turning, paused};
   ASSERT_GT(barrier_at(bin, 0, 0, 0, pb.d_safe).h, 0.0);
   ASSERT_LT(barrier_at(bin, pb.N, 0, 0, pb.d_safe).h, 0.0);  // standing ends inside d_safe
   const std::vector<double> standing(2 * pb.N, 0.0);
@@ -409,6 +415,7 @@ TEST(CeresSolver, HoldingASettledObstacleLetsTheRobotStandAndPassBesideIt) {
   EXPECT_EQ(held.obstacles[1].y, mover.y);    // a mover goes on as predicted
   EXPECT_EQ(held.obstacles[2].a, fresh.a);    // a new track keeps its swelling
   EXPECT_EQ(held.obstacles[3].x, turning.x);  // so does a mover that turns round
+  EXPECT_EQ(held.obstacles[4].a, paused.a);   // and a walker who has just stopped
 
   const SolveResult r = solver.solve(held, standing);
   ASSERT_TRUE(r.finite);
