@@ -296,13 +296,17 @@ std::shared_ptr<const StaticField> StaticField::build(const evade::grid_map_t& m
   return out;
 }
 
+StaticField::LatticeCell StaticField::lattice_origin(double origin_x, double origin_y, double resolution) {
+  return {std::llround(origin_x / resolution), std::llround(origin_y / resolution)};
+}
+
 std::vector<StaticField::LatticeCell> StaticField::structure_cells() const {
   const Impl& m = *impl_;
-  const int64_t cx = std::llround(m.ox / m.res), cy = std::llround(m.oy / m.res);
+  const LatticeCell o = lattice_origin(m.ox, m.oy, m.res);
   std::vector<LatticeCell> out;
   for (int r = 0; r < m.height; ++r)
     for (int c = 0; c < m.width; ++c)
-      if (m.structure[static_cast<size_t>(r) * m.width + c]) out.push_back({c + cx, r + cy});
+      if (m.structure[static_cast<size_t>(r) * m.width + c]) out.push_back({c + o.ix, r + o.iy});
   return out;
 }
 

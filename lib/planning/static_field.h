@@ -143,6 +143,8 @@ class StaticField {
   struct LatticeCell {
     int64_t ix = 0, iy = 0;
   };
+  // The lattice cell of a map's cell (0, 0): origin / resolution, rounded.
+  static LatticeCell lattice_origin(double origin_x, double origin_y, double resolution);
   // The structure cells (the static cells the field is the distance to).
   std::vector<LatticeCell> structure_cells() const;
   double resolution() const;

@@ -48,10 +48,10 @@ bool StaticStructure::add_remembered(const evade::grid_map_t& map, evade::grid_m
       !std::isfinite(map.origin[1]) || map.obstacle.size() != static_cast<size_t>(std::max(0, map.height)))
     return false;
   const double res = map.resolution;
-  const int64_t cx = std::llround(map.origin[0] / res), cy = std::llround(map.origin[1] / res);
+  const StaticField::LatticeCell o = StaticField::lattice_origin(map.origin[0], map.origin[1], res);
   bool added = false;
   for (const StaticField::LatticeCell& cell : remembered_) {
-    const int64_t c = cell.ix - cx, r = cell.iy - cy;
+    const int64_t c = cell.ix - o.ix, r = cell.iy - o.iy;
     if (c < 0 || r < 0 || r >= map.height || c >= static_cast<int64_t>(map.obstacle[r].size())) continue;
     if (!in_blind_disc(map, cell) || map.obstacle[r][c]) continue;
     if (!added) *with = map, added = true;
@@ -73,8 +73,11 @@ bool StaticStructure::observed(int64_t id, const Inputs& in) {
 }
 
 bool StaticStructure::in_blind_disc(const evade::grid_map_t& map, const StaticField::LatticeCell& cell) const {
+  // the cell's centre in this map (whose origin need not lie on the lattice)
   const double res = map.resolution;
-  const double dx = (cell.ix + 0.5) * res - map.robot_x, dy = (cell.iy + 0.5) * res - map.robot_y;
+  const StaticField::LatticeCell o = StaticField::lattice_origin(map.origin[0], map.origin[1], res);
+  const double dx = map.origin[0] + (cell.ix - o.ix + 0.5) * res - map.robot_x;
+  const double dy = map.origin[1] + (cell.iy - o.iy + 0.5) * res - map.robot_y;
   return dx * dx + dy * dy <= p_.blind_radius_m * p_.blind_radius_m;
 }
 

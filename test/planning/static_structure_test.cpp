@@ -304,9 +304,11 @@ TEST(StaticStructure, APlanIntoTheWallItselfGoesAsDeepAsItsBodyDoes) {
 
 // The map as it comes from a scan with the robot at (x, y): every cell
 // whose centre is within 0.45 m of it empty (the LiDAR drops returns
-// nearer than its min_range_m).
-evade::grid_map_t scan_map(const std::vector<Box>& boxes, int64_t utime, double x, double y) {
+// nearer than its min_range_m). With `shift_x_m`, the map (its origin and
+// every cell) is moved along x off the odometry frame's lattice.
+evade::grid_map_t scan_map(const std::vector<Box>& boxes, int64_t utime, double x, double y, double shift_x_m = 0.0) {
   evade::grid_map_t m = map_of(boxes, utime);
+  m.origin[0] += shift_x_m;
   m.robot_x = x;
   m.robot_y = y;
   for (int r = 0; r < m.height; ++r)
@@ -375,6 +377,27 @@ TEST(StaticStructure, ACellThatFlickersOnInOneScanAsTheRobotComesUpIsNotRemember
   ASSERT_EQ(fed(&s1, scan_map({wall, flicker}, kT0, 1.0, -0.5)), StaticStructure::Update::kBuilt);
   ASSERT_EQ(fed(&s1, scan_map({wall}, kT0 + 100'000, 2.7, 0.0)), StaticStructure::Update::kBuilt);
   EXPECT_LT(distance_at(s1, 3.05, -0.3), 0.25);
+}
+
+// A map whose origin lies 0.04 m off the lattice (a map snapped
+// otherwise than the elevation map snaps it): the memory gives back
+// exactly the wall's cells the scan drops within the blind disc, measured
+// from their centres in this map. Taken from the lattice index alone, the
+// disc lies 0.04 m off and the cells of the wall's second column near
+// its edge are neither in the scan nor given back.
+TEST(StaticStructure, TheBlindDiscIsMeasuredFromTheMapsOwnOrigin) {
+  constexpr double kShift = -0.04;
+  StaticStructure s{StaticFieldParams{}};
+  ASSERT_EQ(fed(&s, scan_map({kWall}, kT0 - 100'000, 1.0, 0.0, kShift)), StaticStructure::Update::kBuilt);
+  ASSERT_EQ(fed(&s, scan_map({kWall}, kT0, 1.0, 0.0, kShift)), StaticStructure::Update::kBuilt);
+  const int whole = s.field()->static_cells();
+  ASSERT_EQ(fed(&s, scan_map({kWall}, kT0 + 100'000, 2.7, 0.0, kShift)), StaticStructure::Update::kBuilt);
+  EXPECT_EQ(s.field()->static_cells(), whole);
+  StaticFieldParams off;
+  off.blind_radius_m = 0.0;
+  StaticStructure s_off{off};
+  ASSERT_EQ(fed(&s_off, scan_map({kWall}, kT0 + 100'000, 2.7, 0.0, kShift)), StaticStructure::Update::kBuilt);
+  EXPECT_LT(s_off.field()->static_cells(), whole - 8);  // the scan alone drops that many
 }
 
 TEST(StaticStructure, StructureThatIsGoneWhereTheLidarSeesIsNotRemembered) {
