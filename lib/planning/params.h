@@ -103,7 +103,7 @@ struct PlannerParams {
   Footprint footprint;       // made from those (problem.h); the default: a point
   double reference_speed_mps = 0.8;
   double route_end_decel_mps2 = 0.5;
-  double goal_tolerance_m = 0.3;
+  double goal_tolerance_m = 0.2;
   double route_search_window_m = 3.0;
   double blocked_after_s = 5.0;     // PLAN.status BLOCKED after this long without blocked_progress_m ...
   double blocked_progress_m = 0.2;  // ... of progress along the route
