@@ -142,11 +142,11 @@ bool PlannerCore::escape_from_structure(const Problem& pb, const evade::odometry
   // leaves no room for the footprint's corners to swing); some headway
   Problem movers = pb;
   movers.obstacles.erase(movers.obstacles.begin() + (field - pb.obstacles.begin()));
+  const std::vector<double> brake = braking_controls(odom.v, odom.omega);
+  const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
   for (int side : {first, -first}) {
     const double left = side * err > 0 ? std::fabs(err) : 2 * M_PI - std::fabs(err);
-    const double w0 = std::clamp(odom.omega, -p_.limits.omega_max, p_.limits.omega_max);
-    std::vector<double> turn =
-        turn_on_the_spot(pb, side * left, braking_controls(odom.v, odom.omega), w0, &*field, kEscapeIntoMarginM);
+    std::vector<double> turn = turn_on_the_spot(pb, side * left, brake, w0, &*field, kEscapeIntoMarginM);
     rollout(pb, turn.data(), states.data());
     if (!(max_violation(movers, turn.data()) <= p_.solver.constraint_tolerance) ||
         !(structure_intrusion(pb, states) <= kEscapeIntoMarginM) ||

@@ -53,7 +53,7 @@ bool StaticStructure::add_remembered(const evade::grid_map_t& map, evade::grid_m
   for (const StaticField::LatticeCell& cell : remembered_) {
     const int64_t c = cell.ix - o.ix, r = cell.iy - o.iy;
     if (c < 0 || r < 0 || r >= map.height || c >= static_cast<int64_t>(map.obstacle[r].size())) continue;
-    if (!in_blind_disc(map, cell) || map.obstacle[r][c]) continue;
+    if (!in_blind_disc(map, o, cell) || map.obstacle[r][c]) continue;
     if (!added) *with = map, added = true;
     with->obstacle[r][c] = 1;
   }
@@ -72,10 +72,10 @@ bool StaticStructure::observed(int64_t id, const Inputs& in) {
                                     [&](const evade::obstacle_t& o) { return o.id == id; });
 }
 
-bool StaticStructure::in_blind_disc(const evade::grid_map_t& map, const StaticField::LatticeCell& cell) const {
+bool StaticStructure::in_blind_disc(const evade::grid_map_t& map, const StaticField::LatticeCell& o,
+                                    const StaticField::LatticeCell& cell) const {
   // the cell's centre in this map (whose origin need not lie on the lattice)
   const double res = map.resolution;
-  const StaticField::LatticeCell o = StaticField::lattice_origin(map.origin[0], map.origin[1], res);
   const double dx = map.origin[0] + (cell.ix - o.ix + 0.5) * res - map.robot_x;
   const double dy = map.origin[1] + (cell.iy - o.iy + 0.5) * res - map.robot_y;
   return dx * dx + dy * dy <= p_.blind_radius_m * p_.blind_radius_m;
@@ -93,14 +93,15 @@ void StaticStructure::remember(const evade::grid_map_t& map) {
   const auto before = [](const StaticField::LatticeCell& a, const StaticField::LatticeCell& b) {
     return a.ix != b.ix ? a.ix < b.ix : a.iy < b.iy;
   };
+  const StaticField::LatticeCell o = StaticField::lattice_origin(map.origin[0], map.origin[1], map.resolution);
   std::vector<StaticField::LatticeCell> kept;
   std::vector<std::pair<StaticField::LatticeCell, int>> seen;
   if (map.resolution == remembered_res_)
     for (const StaticField::LatticeCell& cell : remembered_)
-      if (in_blind_disc(map, cell)) kept.push_back(cell);
+      if (in_blind_disc(map, o, cell)) kept.push_back(cell);
   if (map.resolution != remembered_res_) seen_.clear();
   for (const StaticField::LatticeCell& cell : field_->structure_cells()) {
-    if (in_blind_disc(map, cell)) continue;
+    if (in_blind_disc(map, o, cell)) continue;
     const auto it =
         std::lower_bound(seen_.begin(), seen_.end(), cell,
                          [&](const auto& e, const StaticField::LatticeCell& c) { return before(e.first, c); });

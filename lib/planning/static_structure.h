@@ -114,9 +114,11 @@ class StaticStructure {
   // added to its obstacle cells, in *with; false (and *with untouched)
   // when there are none.
   bool add_remembered(const evade::grid_map_t& map, evade::grid_map_t* with) const;
-  // Whether a lattice cell's centre, placed in `map` from its origin, lies
-  // within blind_radius_m of the map's robot position.
-  bool in_blind_disc(const evade::grid_map_t& map, const StaticField::LatticeCell& cell) const;
+  // Whether a lattice cell's centre, placed in `map` from its origin (whose
+  // lattice cell is `o`, StaticField::lattice_origin), lies within
+  // blind_radius_m of the map's robot position.
+  bool in_blind_disc(const evade::grid_map_t& map, const StaticField::LatticeCell& o,
+                     const StaticField::LatticeCell& cell) const;
   // The remembered cells after this cycle's field (of `map`; once per map).
   void remember(const evade::grid_map_t& map);
 
