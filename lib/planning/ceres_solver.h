@@ -95,6 +95,8 @@ struct SolverOptions {
   bool rank_outcome = true;           // most_clearance: clear of movers' bodies, then contacts theirs, then ours
   double outcome_margin_share = 0.0;  // rank_outcome: m of margin per m a mover is predicted to go (0: off) ...
   double outcome_margin_max_m = 0.3;  // ... up to this (outcome.h, OutcomeMargin)
+  bool clear_by_cost = false;         // rank_outcome: of two plans clear of the movers' bodies and of every inflated
+                                      // ellipse (h >= 0 over the horizon), the one of lower J, not of larger h
   bool split_budget = false;          // a failed hard solve's recovery solve keeps its share of the cycle; starts pass
                                       // unused iterations on (off: the restarts' reserve only, equal shares)
 
@@ -257,6 +259,7 @@ void SolverOptions::fields(V& v) {
   v.field("rank_outcome", rank_outcome);
   v.field("outcome_margin_share", outcome_margin_share, config::between(0.0, 10.0));
   v.field("outcome_margin_max_m", outcome_margin_max_m, config::between(0.0, 10.0));
+  v.field("clear_by_cost", clear_by_cost);
   v.field("split_budget", split_budget);
   v.field("estimate_margin_m", estimate_margin_m, config::between(0.0, 10.0));
 }

@@ -18,6 +18,7 @@
 #include "planning/outcome.h"
 #include "planning/passive_safety.h"
 #include "planning/planner_core.h"
+#include "planning/recovery_rank.h"
 #include "planning/static_structure.h"
 
 namespace evade::planning {
@@ -192,36 +193,26 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
   const int N = p_.horizon_steps;
   // Nothing meets every constraint: of the plans at hand (the failed
   // solves, swerves and dashes to either side, the last feasible plan
-  // shifted, braking), take the one that keeps the most clearance (the
-  // lowest h over the horizon under the current predictions), then the
-  // one that falls least short of the barrier constraints. Replaying an
-  // old plan blindly can drive into an obstacle that is sweeping across
-  // the path; braking can be worse than getting out of its way. The
-  // shortfall alone (the worst step of the D-CBF chain) preferred
+  // shifted, braking), send the first in recovery_rank.h's order.
+  // Replaying an old plan blindly can drive into an obstacle that is
+  // sweeping across the path; braking can be worse than getting out of its
+  // way. The shortfall alone (the worst step of the D-CBF chain) preferred
   // standing in an oncoming e-bike's way, deep inside its ellipse, to a
-  // dash aside that falls further short at its first steps.
-  // With the static field in the problem, a plan that takes the robot
-  // deeper into structure's margin ranks below every plan that does not
-  // (a dash into a wall is a contact of the robot's own making), and of
-  // plans that all do, one whose body goes less far into the structure
-  // itself ranks first (with every way into a wall's margin, the one
-  // farthest from a walker is often the one that hits the wall); next,
-  // with solver.rank_outcome, what the plan comes to against what moves
-  // (plan_outcome, outcome.h: the bodies, not the inflated ellipses): a
-  // plan whose body stays clear ranks above one that a mover walks into,
-  // which ranks above one that drives into a mover. Getting aside in a
-  // narrow passage beats standing in the mover's lane; standing beats
-  // driving on into it. With passive_safety.slow_chosen the chosen plan is
-  // then slowed onto passive safety's reach bounds (slow_onto_reach): the
-  // side and the way stay the ranking's, the speed becomes one from which
-  // the robot can still brake out of each mover's reach.
+  // dash aside that falls further short at its first steps. With every way
+  // into a wall's margin, the one farthest from a walker is often the one
+  // that hits the wall; getting aside in a narrow passage beats standing in
+  // the mover's lane; standing beats driving on into it. With
+  // passive_safety.slow_chosen the chosen plan is then slowed onto passive
+  // safety's reach bounds (slow_onto_reach): the side and the way stay the
+  // ranking's, the speed becomes one from which the robot can still brake
+  // out of each mover's reach.
   struct Candidate {
     std::vector<double> u;
     int8_t status;
     const char* counter;
     const char* label = nullptr;  // an attempt's kind (Attempt::label)
     Judgement judged{};
-    double h = 0.0, shortfall = 0.0;
+    RecoveryRank rank{};
   };
   std::vector<Candidate> candidates;
   std::vector<double> f;
@@ -229,32 +220,22 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
   for (const Attempt& a : attempts)
     candidates.push_back({a.u, evade::plan_t::STATUS_RECOVERING, "most_clearance", a.label});
   candidates.push_back({braking_controls(v0, w0), evade::plan_t::STATUS_STOPPING, "stopping"});
-  const double tie = p_.solver.constraint_tolerance;
   std::vector<double> states(3 * (N + 1));
-  for (size_t i = 0; i < candidates.size(); ++i) {
-    Candidate& c = candidates[i];
+  for (Candidate& c : candidates) {
     project_controls(pb, &c.u);  // consistent with the measured speed and the limits
     rollout(pb, c.u.data(), states.data());
-    // from k = 1: where the robot is now is the same for every plan
-    c.h = min_barrier(pb, states, 1);
-    c.shortfall = barrier_shortfall(pb, states);
     c.judged = judge_recovery_plan(pb, states);
+    // h from k = 1: where the robot is now is the same for every plan
+    c.rank = {c.judged.into,
+              c.judged.contact,
+              c.judged.outcome,
+              min_barrier(pb, states, 1),
+              barrier_shortfall(pb, states),
+              p_.solver.clear_by_cost ? objective(pb, c.u.data()) : 0.0};
   }
-  const Candidate* chosen = nullptr;  // ties: the first in the list
-  for (const Candidate& c : candidates) {
-    const Candidate* b = chosen;
-    const Judgement* cj = &c.judged;
-    const Judgement* bj = b ? &b->judged : nullptr;
-    const bool better =
-        !b                                           ? true
-        : cj->into != bj->into                       ? !cj->into
-        : std::fabs(cj->contact - bj->contact) > tie ? cj->contact < bj->contact
-        : cj->outcome.kind != bj->outcome.kind       ? cj->outcome.kind < bj->outcome.kind
-        : cj->outcome.kind != Outcome::kClear && std::fabs(cj->outcome.clearance - bj->outcome.clearance) > tie
-            ? cj->outcome.clearance > bj->outcome.clearance
-            : c.h > b->h + tie || (c.h > b->h - tie && c.shortfall < b->shortfall - 1e-9);
-    if (better) chosen = &c;
-  }
+  const Candidate* chosen = &candidates.front();  // ties: the first in the list
+  for (const Candidate& c : candidates)
+    if (ranks_before(c.rank, chosen->rank, p_.solver.constraint_tolerance, p_.solver.clear_by_cost)) chosen = &c;
   *u = chosen->u;
   if (p_.passive_safety.slow_chosen && slow_onto_reach(pb, chosen->judged, u)) count("mc_slowed");
   count(chosen->counter);

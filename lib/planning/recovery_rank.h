@@ -1,0 +1,38 @@
+// The order of the recovery's last resort (PlannerCore::most_clearance,
+// planner_recovery.cpp): when no plan meets every D-CBF constraint, which
+// of two candidate plans is sent. Each criterion decides only when the one
+// before it ties:
+//  1. a plan that goes no deeper into static structure's margin than it
+//     starts (`into` false) ranks first; of two that both do, the one whose
+//     body goes less far into the structure itself (`contact`);
+//  2. what the plan comes to against what moves (`outcome`, outcome.h):
+//     clear of every mover's body, then walked into, then driving into one;
+//     of two that meet a mover, the larger least body distance;
+//  3. the larger h, the least barrier value over the horizon against the
+//     inflated ellipses (most clearance), then the smaller D-CBF shortfall.
+//     With `clear_by_cost`, of two plans clear of the bodies that both keep
+//     h >= 0 (outside every inflated ellipse grown by d_safe for the whole
+//     horizon), the one of lower cost J (the MPC's own objective) instead:
+//     where both are that clear, more clearance buys nothing the
+//     constraints ask for, and a dash away from every walker costs the turns
+//     back to the route.
+// Differences within `tie` (m) are ties.
+#pragma once
+
+#include "planning/outcome.h"
+
+namespace evade::planning {
+
+struct RecoveryRank {
+  bool into = false;       // deeper into structure's margin than the tolerance
+  double contact = 0.0;    // m, how far the body goes into structure beyond its start
+  Outcome outcome{};       // against the movers' predicted bodies (kClear without the outcome rank)
+  double h = 0.0;          // m, the least barrier value over steps 1..N
+  double shortfall = 0.0;  // the D-CBF chain's worst shortfall
+  double cost = 0.0;       // J (used with clear_by_cost only)
+};
+
+// Whether c ranks before b.
+bool ranks_before(const RecoveryRank& c, const RecoveryRank& b, double tie, bool clear_by_cost);
+
+}  // namespace evade::planning
