@@ -13,9 +13,10 @@
 //     With `clear_by_cost`, of two plans clear of the bodies that both keep
 //     h >= 0 (outside every inflated ellipse grown by d_safe for the whole
 //     horizon), the one of lower cost J (the MPC's own objective) instead:
-//     where both are that clear, more clearance buys nothing the
-//     constraints ask for, and a dash away from every walker costs the turns
-//     back to the route.
+//     a dash away from every walker costs the turns back to the route.
+//     Off: against movers predicted poorly (fast, new, zig-zagging) the
+//     extra clearance is what covers the prediction's error
+//     (docs/experiments/2026-11-30-clear-by-cost.md).
 // Differences within `tie` (m) are ties.
 #pragma once
 
