@@ -29,6 +29,7 @@
 #include "planning/obstacles.h"
 #include "planning/outcome.h"
 #include "planning/params.h"
+#include "planning/recovery_rank.h"
 #include "planning/reference.h"
 #include "planning/static_structure.h"
 #include "planning/topology_planner.h"
@@ -163,18 +164,14 @@ class PlannerCore : public bus::Core {
   // last feasible plan shifted, braking) the one with the most clearance.
   int8_t most_clearance(const Problem& pb, const std::vector<Attempt>& attempts, const evade::odometry_t& odom,
                         double v0, double w0, std::vector<double>* u);
-  // How most_clearance judges a plan's rollout.
-  struct Judgement {
-    bool into = false;     // deeper into structure's margin than the tolerance (structure_depth's margin)
-    double contact = 0.0;  // m, how far the body goes into structure beyond its start (structure_depth's body)
-    Outcome outcome{};  // with solver.rank_outcome, against the predictions (plan_outcome over 2N steps; else kClear)
-  };
-  Judgement judge_recovery_plan(const Problem& pb, const std::vector<double>& states) const;
+  // How most_clearance judges a plan's rollout (with solver.rank_outcome,
+  // plan_outcome over 2N steps).
+  RecoveryJudgement judge_recovery_plan(const Problem& pb, const std::vector<double>& states) const;
   // passive_safety.slow_chosen: u, the recovery's chosen plan (judged
   // `judged`), slowed onto the reach bounds (project_onto_reach), unless
   // the slowed plan goes into structure where u did not, deeper into it,
   // or comes to a worse kind. Returns whether it slowed u.
-  bool slow_onto_reach(const Problem& pb, const Judgement& judged, std::vector<double>* u) const;
+  bool slow_onto_reach(const Problem& pb, const RecoveryJudgement& judged, std::vector<double>* u) const;
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;
   // PlannerParams::escape_*: when *u (a relaxed plan) makes no headway from

@@ -211,7 +211,6 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
     int8_t status;
     const char* counter;
     const char* label = nullptr;  // an attempt's kind (Attempt::label)
-    Judgement judged{};
     RecoveryRank rank{};
   };
   std::vector<Candidate> candidates;
@@ -224,28 +223,23 @@ int8_t PlannerCore::most_clearance(const Problem& pb, const std::vector<Attempt>
   for (Candidate& c : candidates) {
     project_controls(pb, &c.u);  // consistent with the measured speed and the limits
     rollout(pb, c.u.data(), states.data());
-    c.judged = judge_recovery_plan(pb, states);
     // h from k = 1: where the robot is now is the same for every plan
-    c.rank = {c.judged.into,
-              c.judged.contact,
-              c.judged.outcome,
-              min_barrier(pb, states, 1),
-              barrier_shortfall(pb, states),
-              p_.solver.clear_by_cost ? objective(pb, c.u.data()) : 0.0};
+    c.rank = {judge_recovery_plan(pb, states), min_barrier(pb, states, 1), barrier_shortfall(pb, states),
+              p_.solver.clear_by_cost ? objective(pb, c.u.data(), states) : 0.0};
   }
   const Candidate* chosen = &candidates.front();  // ties: the first in the list
   for (const Candidate& c : candidates)
     if (ranks_before(c.rank, chosen->rank, p_.solver.constraint_tolerance, p_.solver.clear_by_cost)) chosen = &c;
   *u = chosen->u;
-  if (p_.passive_safety.slow_chosen && slow_onto_reach(pb, chosen->judged, u)) count("mc_slowed");
+  if (p_.passive_safety.slow_chosen && slow_onto_reach(pb, chosen->rank.judged, u)) count("mc_slowed");
   count(chosen->counter);
   if (chosen->label) count(chosen->label);
   return chosen->status;
 }
 
-PlannerCore::Judgement PlannerCore::judge_recovery_plan(const Problem& pb, const std::vector<double>& states) const {
+RecoveryJudgement PlannerCore::judge_recovery_plan(const Problem& pb, const std::vector<double>& states) const {
   const double tie = p_.solver.constraint_tolerance;
-  Judgement j;
+  RecoveryJudgement j;
   const StructureDepth depth = structure_depth(pb, states);
   j.into = depth.margin > tie;
   j.contact = j.into ? depth.body : 0.0;
@@ -253,12 +247,12 @@ PlannerCore::Judgement PlannerCore::judge_recovery_plan(const Problem& pb, const
   return j;
 }
 
-bool PlannerCore::slow_onto_reach(const Problem& pb, const Judgement& judged, std::vector<double>* u) const {
+bool PlannerCore::slow_onto_reach(const Problem& pb, const RecoveryJudgement& judged, std::vector<double>* u) const {
   std::vector<double> slowed = *u;
   if (!project_onto_reach(pb, &slowed)) return false;
   std::vector<double> states(3 * static_cast<size_t>(pb.N + 1));
   rollout(pb, slowed.data(), states.data());
-  const Judgement s = judge_recovery_plan(pb, states);
+  const RecoveryJudgement s = judge_recovery_plan(pb, states);
   const double tie = p_.solver.constraint_tolerance;
   if ((s.into && !judged.into) || s.contact > judged.contact + tie || s.outcome.kind > judged.outcome.kind)
     return false;

@@ -27,6 +27,10 @@ double mean_predicted_speed(const ObstacleTrack& o, int N, double dt) {
 double objective(const Problem& pb, const double* u) {
   std::vector<double> states(3 * (pb.N + 1));
   rollout(pb, u, states.data());
+  return objective(pb, u, states);
+}
+
+double objective(const Problem& pb, const double* u, const std::vector<double>& states) {
   std::vector<double> r(num_cost_residuals(pb));
   cost_residuals(pb, states.data(), u, r.data());
   double J = 0;

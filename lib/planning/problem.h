@@ -538,6 +538,8 @@ void cost_residuals(const Problem& pb, const T* states, const T* u, T* r) {
 // The objective J of the paper for controls u (double), plus the
 // penetration term when pb.penetration_weight > 0.
 double objective(const Problem& pb, const double* u);
+// The same, of u whose rollout (rollout(pb, u, ...)) is `states`.
+double objective(const Problem& pb, const double* u, const std::vector<double>& states);
 // sum over obstacles and steps 1..N of min(0, h)^2 of a rollout's states.
 double squared_penetration(const Problem& pb, const std::vector<double>& states);
 // All constraints g_j(u) (>= 0 when satisfied) and the states of the rollout.

@@ -24,10 +24,17 @@
 
 namespace evade::planning {
 
+// What a candidate's rollout comes to against structure and movers
+// (PlannerCore::judge_recovery_plan); passive_safety.slow_chosen compares
+// a slowed plan's with it.
+struct RecoveryJudgement {
+  bool into = false;     // deeper into structure's margin than the tolerance (structure_depth's margin)
+  double contact = 0.0;  // m, how far the body goes into structure beyond its start (structure_depth's body)
+  Outcome outcome{};     // against the movers' predicted bodies (plan_outcome; kClear without the outcome rank)
+};
+
 struct RecoveryRank {
-  bool into = false;       // deeper into structure's margin than the tolerance
-  double contact = 0.0;    // m, how far the body goes into structure beyond its start
-  Outcome outcome{};       // against the movers' predicted bodies (kClear without the outcome rank)
+  RecoveryJudgement judged{};
   double h = 0.0;          // m, the least barrier value over steps 1..N
   double shortfall = 0.0;  // the D-CBF chain's worst shortfall
   double cost = 0.0;       // J (used with clear_by_cost only)

@@ -20,9 +20,9 @@ RecoveryRank clear(double h, double cost) {
 
 TEST(RecoveryRank, StructureFirstThenTheMoversThenClearance) {
   RecoveryRank into_wall = clear(2.0, 0.0), drives_into = clear(1.0, 0.0), walked_into = clear(0.5, 0.0);
-  into_wall.into = true;
-  drives_into.outcome.kind = Outcome::kOurs;
-  walked_into.outcome.kind = Outcome::kTheirs;
+  into_wall.judged.into = true;
+  drives_into.judged.outcome.kind = Outcome::kOurs;
+  walked_into.judged.outcome.kind = Outcome::kTheirs;
   const RecoveryRank open = clear(0.1, 50.0);
   for (bool by_cost : {false, true}) {
     EXPECT_TRUE(ranks_before(drives_into, into_wall, kTie, by_cost));
@@ -31,12 +31,12 @@ TEST(RecoveryRank, StructureFirstThenTheMoversThenClearance) {
     EXPECT_FALSE(ranks_before(into_wall, open, kTie, by_cost));
   }
   RecoveryRank shallower = into_wall;
-  shallower.contact = 0.01;
-  into_wall.contact = 0.05;
+  shallower.judged.contact = 0.01;
+  into_wall.judged.contact = 0.05;
   EXPECT_TRUE(ranks_before(shallower, into_wall, kTie, false));
   RecoveryRank nearer = walked_into;
-  nearer.outcome.clearance = -0.2;
-  walked_into.outcome.clearance = -0.1;
+  nearer.judged.outcome.clearance = -0.2;
+  walked_into.judged.outcome.clearance = -0.1;
   EXPECT_TRUE(ranks_before(walked_into, nearer, kTie, true));
 }
 
@@ -58,7 +58,7 @@ TEST(RecoveryRank, InsideAnEllipseClearanceStillDecides) {
   EXPECT_TRUE(ranks_before(shallow, deeper, kTie, true));
   // both clear of the ellipses but one walked into: the outcome decides
   RecoveryRank cheap_hit = clear(0.3, 1.0);
-  cheap_hit.outcome.kind = Outcome::kTheirs;
+  cheap_hit.judged.outcome.kind = Outcome::kTheirs;
   EXPECT_TRUE(ranks_before(outside, cheap_hit, kTie, true));
 }
 
