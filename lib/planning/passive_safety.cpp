@@ -33,7 +33,7 @@ std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem
   const double start[3] = {pb.x0, pb.y0, pb.yaw0};
   for (const ObstacleTrack& track : pb.obstacles) {
     if (track.field || track.x.empty()) continue;
-    double speed = fastest_predicted_speed(track, pb.dt);
+    double speed = std::max(fastest_predicted_speed(track, pb.dt), track.recent_speed_mps);
     if (track.age_s < p.min_track_age_s)
       speed = std::max(speed, p.unknown_speed_mps);
     else if (speed < p.min_mover_speed_mps)

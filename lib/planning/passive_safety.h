@@ -27,7 +27,11 @@
 // step is at least min_mover_speed_mps; a track younger than
 // min_track_age_s (its speed not known yet) is one going at least
 // unknown_speed_mps. Older slower tracks (bins, posts, walls) are left to
-// the constraints.
+// the constraints. With speed_memory_s, a track's speed is at least the
+// fastest its tracker reported over that long (ObstacleTrack::
+// recent_speed_mps, recent_max.h): a walker turning round goes on at its
+// walking speed while the estimate passes through zero, and the bound
+// must not lapse just as it comes back.
 //
 // With every_plan the bound is in every cycle's problem, certified plans
 // included (the invariant passive safety needs: a robot that enters the
@@ -66,6 +70,10 @@ struct PassiveSafetyParams {
   bool every_plan = true;            // the hard problem too: certified plans keep the bound (off: only the recovery's)
   bool braking_point = true;         // bound where braking from each step ends (off: one speed in every direction)
   bool slow_chosen = true;  // the recovery's chosen plan slowed onto the reach bounds where it comes to no worse
+  bool slow_walked_into =
+      false;  // slow_chosen: a slowed plan that a mover walks into is no worse (only driving into one is)
+  double speed_memory_s =
+      0.0;  // a mover goes at least as fast as its tracker reported over this long (0: its prediction's)
 
   template <class V>
   void fields(V& v) {
@@ -77,6 +85,8 @@ struct PassiveSafetyParams {
     v.field("every_plan", every_plan);
     v.field("braking_point", braking_point);
     v.field("slow_chosen", slow_chosen);
+    v.field("slow_walked_into", slow_walked_into);
+    v.field("speed_memory_s", speed_memory_s, config::between(0.0, 30.0));
   }
 };
 

@@ -158,9 +158,10 @@ void PlannerCore::record_sightings(const evade::prediction_list_t& m) {
   for (const auto& t : m.tracks) {
     const double x = t.x.empty() ? NAN : t.x[0], y = t.y.empty() ? NAN : t.y[0];  // NaN: never still
     const auto it = seen_.find(t.id);
-    Sighting s = it == seen_.end() ? Sighting{m.utime, x, y, m.utime} : it->second;
+    Sighting s = it == seen_.end() ? Sighting{m.utime, x, y, m.utime, {}} : it->second;
     if (!(std::hypot(x - s.still_x, y - s.still_y) <= p_.solver.still_radius_m))
-      s = Sighting{s.first_utime, x, y, m.utime};
+      s = Sighting{s.first_utime, x, y, m.utime, s.speed};
+    s.speed.add(m.utime, std::hypot(t.vx, t.vy), p_.passive_safety.speed_memory_s);
     seen[t.id] = s;
   }
   seen_.swap(seen);
@@ -169,6 +170,11 @@ void PlannerCore::record_sightings(const evade::prediction_list_t& m) {
 double PlannerCore::track_age_s(int64_t id, int64_t utime) const {
   auto it = seen_.find(id);
   return it == seen_.end() ? 0.0 : 1e-6 * static_cast<double>(utime - it->second.first_utime);
+}
+
+double PlannerCore::track_recent_speed(int64_t id) const {
+  auto it = seen_.find(id);
+  return it == seen_.end() ? 0.0 : it->second.speed.max();
 }
 
 double PlannerCore::track_still_s(int64_t id, int64_t utime) const {
@@ -358,6 +364,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   for (auto& o : pb.obstacles) {
     o.age_s = track_age_s(o.id, odom.utime);
     o.still_s = track_still_s(o.id, odom.utime);
+    if (p_.passive_safety.speed_memory_s > 0) o.recent_speed_mps = track_recent_speed(o.id);  // off: the prediction's
   }
   if (mode_.evade_layers && p_.passive_safety.every_plan) bound_speed_passively(&pb);
   if (p_.solver.hold_settled && mode_spec(p_.mode).evade_layers) {

@@ -29,6 +29,7 @@
 #include "planning/obstacles.h"
 #include "planning/outcome.h"
 #include "planning/params.h"
+#include "planning/recent_max.h"
 #include "planning/recovery_rank.h"
 #include "planning/reference.h"
 #include "planning/static_structure.h"
@@ -170,7 +171,8 @@ class PlannerCore : public bus::Core {
   // passive_safety.slow_chosen: u, the recovery's chosen plan (judged
   // `judged`), slowed onto the reach bounds (project_onto_reach), unless
   // the slowed plan goes into structure where u did not, deeper into it,
-  // or comes to a worse kind. Returns whether it slowed u.
+  // or comes to a worse kind (with passive_safety.slow_walked_into: drives
+  // into a mover where u did not). Returns whether it slowed u.
   bool slow_onto_reach(const Problem& pb, const RecoveryJudgement& judged, std::vector<double>* u) const;
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;
@@ -229,15 +231,19 @@ class PlannerCore : public bus::Core {
   TopologyPlanner topology_;
   // What the planner has seen of a track id: its first prediction list, and
   // where its centre (step 0) has stayed within solver.still_radius_m since.
+  // and the fastest its tracker has reported it over the last
+  // passive_safety.speed_memory_s.
   struct Sighting {
     int64_t first_utime = 0;
     double still_x = 0, still_y = 0;
     int64_t still_since_utime = 0;
+    RecentMax speed;
   };
   std::map<int64_t, Sighting> seen_;  // track id -> its sighting (ids gone are forgotten)
   void record_sightings(const evade::prediction_list_t& m);
   double track_age_s(int64_t id, int64_t utime) const;    // since its first prediction (0 for an unknown id)
   double track_still_s(int64_t id, int64_t utime) const;  // since its centre last moved (0 for an unknown id)
+  double track_recent_speed(int64_t id) const;            // its fastest lately (m/s, 0 for an unknown id)
   std::optional<evade::prediction_list_t> predictions_;
   int64_t predictions_rx_ = -1;                            // bus time the predictions arrived
   std::optional<evade::obstacle_list_t> observed_;         // the last OBSTACLES

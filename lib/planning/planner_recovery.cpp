@@ -253,9 +253,7 @@ bool PlannerCore::slow_onto_reach(const Problem& pb, const RecoveryJudgement& ju
   std::vector<double> states(3 * static_cast<size_t>(pb.N + 1));
   rollout(pb, slowed.data(), states.data());
   const RecoveryJudgement s = judge_recovery_plan(pb, states);
-  const double tie = p_.solver.constraint_tolerance;
-  if ((s.into && !judged.into) || s.contact > judged.contact + tie || s.outcome.kind > judged.outcome.kind)
-    return false;
+  if (slowed_is_worse(s, judged, p_.solver.constraint_tolerance, p_.passive_safety.slow_walked_into)) return false;
   *u = std::move(slowed);
   return true;
 }

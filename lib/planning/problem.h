@@ -71,6 +71,7 @@ struct ObstacleTrack {
   double decay = 0.0;                        // 1 - gamma (CBF) or 0 (distance)
   double age_s = 0.0;                        // since the planner first saw the track (solve_elastic)
   double still_s = 0.0;                      // since its centre (step 0) last moved still_radius_m (hold_settled)
+  double recent_speed_mps = 0.0;             // the fastest its tracker reported lately (passive_safety.speed_memory_s)
   std::shared_ptr<const StaticField> field;  // static structure (static_field.h), else null
 };
 

@@ -15,4 +15,11 @@ bool ranks_before(const RecoveryRank& c, const RecoveryRank& b, double tie, bool
   return c.h > b.h + tie || (c.h > b.h - tie && c.shortfall < b.shortfall - 1e-9);
 }
 
+bool slowed_is_worse(const RecoveryJudgement& slowed, const RecoveryJudgement& chosen, double tie,
+                     bool walked_into_ok) {
+  if ((slowed.into && !chosen.into) || slowed.contact > chosen.contact + tie) return true;
+  if (walked_into_ok) return slowed.outcome.kind == Outcome::kOurs && chosen.outcome.kind != Outcome::kOurs;
+  return slowed.outcome.kind > chosen.outcome.kind;
+}
+
 }  // namespace evade::planning

@@ -1,8 +1,9 @@
 // The recovery's passive-safety bound (planning/passive_safety.h): the
 // speed from which the robot stands before a mover going at its own speed
 // in any direction could reach its front; a mover predicted to walk away
-// bounds it as one walking towards it; far from every mover, or beside only
-// settled obstacles, nothing is bounded. braking_point keeps where braking
+// bounds it as one walking towards it, and one turning round (its estimate
+// through zero) as one at the speed it walked lately; far from every
+// mover, or beside only settled obstacles, nothing is bounded. braking_point keeps where braking
 // from each step ends out of each mover's reach, which braking meets.
 #include "planning/passive_safety.h"
 
@@ -13,6 +14,7 @@
 #include <limits>
 #include <vector>
 
+#include "planning/recent_max.h"
 #include "test_problems.h"
 
 namespace evade::planning {
@@ -114,6 +116,49 @@ TEST(PassiveSafety, SettledObstaclesAreNotMoversYoungTracksAreFast) {
   // a young track faster than that keeps its own speed
   const Problem fast = robot_and_walker(5.0, 0.0, -4.0, 0.0, 0.1);
   EXPECT_NEAR(passive_speed_bound(p, fast), passive_safe_speed(front_gap(5.0, 0.0), 4.0, p.reaction_s, kDecel), 0.01);
+}
+
+TEST(PassiveSafety, AWalkerTurningRoundBindsAtTheSpeedItWalkedLately) {
+  const PassiveSafetyParams p = slow_reaction();
+  // 1.2 m ahead, tracked 3 s, its estimate through zero as it turns round
+  Problem turning = robot_and_walker(0.21 + 1.2 + 0.3, 0.0, 0.0, 0.0, 3.0);
+  EXPECT_EQ(passive_speed_bound(p, turning), turning.lim.v_max);
+  // it walked at 1.4 m/s a moment ago (what the planner remembers)
+  turning.obstacles[0].recent_speed_mps = 1.4;
+  const double gap = front_gap(0.21 + 1.2 + 0.3, 0.0);
+  const double bound = passive_speed_bound(p, turning);
+  EXPECT_NEAR(bound, passive_safe_speed(gap, 1.4, p.reaction_s, kDecel), 0.01);
+  EXPECT_LT(bound, 0.9);
+  // a prediction faster than what it showed lately keeps its own speed
+  Problem fast = robot_and_walker(0.21 + 1.2 + 0.3, 0.0, -2.0, 0.0, 3.0);
+  fast.obstacles[0].recent_speed_mps = 1.4;
+  EXPECT_NEAR(passive_speed_bound(p, fast), passive_safe_speed(gap, 2.0, p.reaction_s, kDecel), 0.01);
+}
+
+TEST(RecentMax, TheLargestWithinTheWindowOfTheLastAdd) {
+  RecentMax m;
+  EXPECT_EQ(m.max(), 0.0);
+  const int64_t s = 1000000;  // 1 s in us
+  m.add(0, 1.4, 2.0);
+  m.add(s / 2, 0.1, 2.0);  // turning round
+  m.add(s, 0.3, 2.0);
+  EXPECT_DOUBLE_EQ(m.max(), 1.4);
+  m.add(2 * s, 0.2, 2.0);  // 2 s after the 1.4: still within
+  EXPECT_DOUBLE_EQ(m.max(), 1.4);
+  m.add(2 * s + 1, 0.2, 2.0);  // now it is older than 2 s
+  EXPECT_DOUBLE_EQ(m.max(), 0.3);
+  m.add(5 * s, 0.0, 2.0);  // everything before 3 s forgotten
+  EXPECT_DOUBLE_EQ(m.max(), 0.0);
+  m.add(5 * s, NAN, 2.0);  // not added
+  EXPECT_DOUBLE_EQ(m.max(), 0.0);
+  // window 0: the last value alone
+  m.add(6 * s, 0.9, 0.0);
+  m.add(7 * s, 0.5, 0.0);
+  EXPECT_DOUBLE_EQ(m.max(), 0.5);
+  // time going back (a new epoch) forgets the old series
+  m.add(8 * s, 3.0, 2.0);
+  m.add(s, 0.4, 2.0);
+  EXPECT_DOUBLE_EQ(m.max(), 0.4);
 }
 
 TEST(PassiveSafety, AMoverBehindIsFartherFromTheFrontThanOneAhead) {

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -122,10 +123,13 @@ struct RunResult {
   int64_t passive_speed_bound = 0;  // HEALTH counter passive_speed_bound at the end
 };
 
+// The obstacles at time t (s): each at (x + vx t, y + vy t), perceived so.
+using Scene = std::function<std::vector<SimObstacle>(double t_s)>;
+
 // Closed loop (DriveHarness): odometry at 50 Hz, OBSTACLES and their
 // predictions at 10 Hz, the robot follows CMD_VEL exactly (unicycle).
-RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double duration_s, double route_end = 12.0,
-              double x0 = 0.0, double y0 = 0.0, double v0 = 0.0) {
+RunResult run_scene(PlannerParams p, const Scene& scene, double duration_s, double route_end = 12.0, double x0 = 0.0,
+                    double y0 = 0.0, double v0 = 0.0) {
   testing::RobotState start;
   start.x = x0;
   start.y = y0;
@@ -138,6 +142,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
       duration_s,
       [&](const testing::DriveHarness::Step& s) {
         if (s.i % 5 != 0) return;
+        const std::vector<SimObstacle> obs = scene(s.t);
         loop.bus().inject("OBSTACLES", observed(obs, s.now, s.t), s.now);
         loop.bus().inject("OBSTACLE_PREDICTIONS", predictions(obs, s.now, s.t), s.now);
       },
@@ -149,7 +154,7 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
         out.robot_v.push_back(robot.v);
       },
       [&](const testing::DriveHarness::Step& s) {  // true clearance beyond d_safe
-        for (const auto& ob : obs) {
+        for (const auto& ob : scene(s.t)) {
           const double ox = ob.x + ob.vx * s.t, oy = ob.y + ob.vy * s.t;
           const double h = footprint_h(p, robot.x, robot.y, robot.yaw, ox, oy, ob.radius);
           out.min_h = std::min(out.min_h, h);
@@ -172,6 +177,12 @@ RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double durat
   for (const char* kind : {"mc_hard", "mc_dash", "mc_pull_over", "mc_swerve", "mc_swerve_restart", "mc_relaxed"})
     out.sent[kind] = loop.core().counter(kind);
   return out;
+}
+
+RunResult run(PlannerParams p, const std::vector<SimObstacle>& obs, double duration_s, double route_end = 12.0,
+              double x0 = 0.0, double y0 = 0.0, double v0 = 0.0) {
+  return run_scene(
+      p, [&](double) { return obs; }, duration_s, route_end, x0, y0, v0);
 }
 
 TEST(PlannerCore, StaticObstacleOnThePathIsPassedWithPositiveBarrier) {
@@ -698,6 +709,68 @@ TEST(PlannerCore, WithNoPlanCertifiedTheRobotGoesNoFasterThanItCanStandBeforeAMo
     EXPECT_EQ(far_on.plan_log[i].v, far_off.plan_log[i].v) << "plan " << i;
   }
   EXPECT_GT(far_recovering, 0) << "the premise: the hard problem fails there too";
+}
+
+// passive_safety.speed_memory_s: a walker ahead walks away at 1.4 m/s and
+// then turns round; its tracker's estimate goes through zero, which the
+// list reports for the second after. With the memory, every plan of that
+// second goes no faster than the bound of a walker at 1.4 m/s where it
+// stands (or braking, where braking cannot get there yet); without it the
+// planner takes the walker for standing and drives on faster.
+TEST(PlannerCore, AWalkerTurningRoundStillBoundsTheSpeedWhileItsEstimateIsZero) {
+  const double turn_s = 1.0, walked = 1.4;
+  const auto scene = [&](double t) {
+    if (t < turn_s) return std::vector<SimObstacle>{{1.6, 0.0, walked, 0.0, 0.3}};
+    return std::vector<SimObstacle>{{1.6 + walked * turn_s, 0.0, 0.0, 0.0, 0.3}};  // reported standing
+  };
+  PlannerParams on = default_params();
+  on.passive_safety.enabled = true;
+  on.passive_safety.every_plan = true;
+  on.passive_safety.braking_point = false;  // one speed in every direction: comparable with passive_speed_bound
+  on.passive_safety.speed_memory_s = 2.0;
+  PlannerParams off = on;
+  off.passive_safety.speed_memory_s = 0.0;
+  // the bound at a plan's start against a walker at 1.4 m/s where it stands
+  const auto bound_at = [&](const evade::plan_t& pl) {
+    Problem pb;
+    pb.N = on.horizon_steps;
+    pb.dt = on.dt_s;
+    pb.x0 = pl.x[0];
+    pb.y0 = pl.y[0];
+    pb.yaw0 = pl.yaw[0];
+    pb.lim = on.limits;
+    pb.footprint = on.footprint;
+    ObstacleTrack w;
+    for (int k = 0; k <= pb.N; ++k) {
+      w.x.push_back(1.6 + walked * turn_s);
+      w.y.push_back(0.0);
+      w.a.push_back(0.3);
+      w.b.push_back(0.3);
+      w.theta.push_back(0.0);
+    }
+    w.age_s = 5.0;
+    w.recent_speed_mps = walked;
+    pb.obstacles = {w};
+    return passive_speed_bound(on.passive_safety, pb);
+  };
+  const auto after_turn = [&](const evade::plan_t& pl) {
+    const double t = (pl.utime - testing::DriveHarness::kStartUs) * 1e-6;
+    return t >= turn_s + 0.2 && t < turn_s + 1.0;
+  };
+  const RunResult remembered = run_scene(on, scene, 2.0, 12.0, 0.0, 0.0, 1.0);
+  const RunResult forgotten = run_scene(off, scene, 2.0, 12.0, 0.0, 0.0, 1.0);
+  int judged = 0, faster_without = 0;
+  for (size_t i = 0; i < remembered.plan_log.size(); ++i) {
+    const evade::plan_t& pl = remembered.plan_log[i];
+    if (!after_turn(pl)) continue;
+    ++judged;
+    const double braking = remembered.robot_v[i] - on.limits.decel * on.dt_s;  // the least it can send
+    EXPECT_LE(pl.v[0], std::max(bound_at(pl), braking) + 0.02) << "plan " << i;
+  }
+  for (const evade::plan_t& pl : forgotten.plan_log)
+    if (after_turn(pl) && pl.v[0] > bound_at(pl) + 0.05) ++faster_without;
+  EXPECT_GT(judged, 5);
+  EXPECT_GT(faster_without, 0) << "the premise: without the memory the planner drives on faster";
 }
 
 TEST(PlannerCore, LogReplayIsDeterministic) {

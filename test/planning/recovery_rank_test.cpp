@@ -1,7 +1,9 @@
 // The recovery's order of candidate plans (recovery_rank.h): each
 // criterion decides only on a tie of those before it, and clear_by_cost
 // changes the last one only between plans clear of the bodies that both
-// keep h >= 0.
+// keep h >= 0. A plan slowed onto passive safety's reach bounds is worse
+// than the chosen one where it goes into structure, or (without
+// walked_into_ok) meets a mover of a worse kind.
 #include "planning/recovery_rank.h"
 
 #include <gtest/gtest.h>
@@ -70,6 +72,36 @@ TEST(RecoveryRank, TiesKeepTheEarlierPlan) {
   RecoveryRank less_short = a;
   less_short.shortfall = -1.0;
   EXPECT_TRUE(ranks_before(less_short, a, kTie, false));
+}
+
+TEST(SlowedIsWorse, StructureAlwaysAWalkerOnlyWithoutWalkedIntoOk) {
+  RecoveryJudgement chosen;  // clear of structure and of every mover
+  RecoveryJudgement slowed = chosen;
+  for (bool ok : {false, true}) EXPECT_FALSE(slowed_is_worse(slowed, chosen, kTie, ok)) << "the same: no worse";
+  // into structure's margin, or deeper into it: worse either way
+  RecoveryJudgement into = chosen;
+  into.into = true;
+  RecoveryJudgement deeper = into;
+  deeper.contact = 0.05;
+  for (bool ok : {false, true}) {
+    EXPECT_TRUE(slowed_is_worse(into, chosen, kTie, ok));
+    EXPECT_TRUE(slowed_is_worse(deeper, into, kTie, ok));
+    EXPECT_FALSE(slowed_is_worse(into, deeper, kTie, ok));
+  }
+  // walked into where the chosen plan was clear: worse only without ok
+  RecoveryJudgement walked_into = chosen;
+  walked_into.outcome.kind = Outcome::kTheirs;
+  EXPECT_TRUE(slowed_is_worse(walked_into, chosen, kTie, false));
+  EXPECT_FALSE(slowed_is_worse(walked_into, chosen, kTie, true));
+  // driving into a mover where the chosen plan did not: worse either way
+  RecoveryJudgement drives_into = chosen;
+  drives_into.outcome.kind = Outcome::kOurs;
+  for (bool ok : {false, true}) {
+    EXPECT_TRUE(slowed_is_worse(drives_into, chosen, kTie, ok));
+    EXPECT_TRUE(slowed_is_worse(drives_into, walked_into, kTie, ok));
+    EXPECT_FALSE(slowed_is_worse(drives_into, drives_into, kTie, ok)) << "it drove into one already";
+    EXPECT_FALSE(slowed_is_worse(walked_into, drives_into, kTie, ok));
+  }
 }
 
 }  // namespace
