@@ -11,6 +11,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 
 #include "bus/log.h"
 #include "bus/log_replay.h"
@@ -644,6 +645,34 @@ TEST(PlannerCore, TheRelaxedSolveKeepsItsShareOfASmallCycleBudget) {
   EXPECT_EQ(r.most_clearance, 0) << "of " << recovering << " recovering cycles";
 }
 
+// A problem of p's horizon, limits and footprint starting where plan pl
+// starts (no obstacles).
+Problem from_plan_start(const PlannerParams& p, const evade::plan_t& pl) {
+  Problem pb;
+  pb.N = p.horizon_steps;
+  pb.dt = p.dt_s;
+  pb.x0 = pl.x[0];
+  pb.y0 = pl.y[0];
+  pb.yaw0 = pl.yaw[0];
+  pb.lim = p.limits;
+  pb.footprint = p.footprint;
+  return pb;
+}
+
+// A disc of radius r over pb's horizon, its centre at step k at(k).
+ObstacleTrack disc_track(const Problem& pb, double r, const std::function<std::pair<double, double>(int)>& at) {
+  ObstacleTrack w;
+  for (int k = 0; k <= pb.N; ++k) {
+    const auto [x, y] = at(k);
+    w.x.push_back(x);
+    w.y.push_back(y);
+    w.a.push_back(r);
+    w.b.push_back(r);
+    w.theta.push_back(0.0);
+  }
+  return w;
+}
+
 // planner.passive_safety: once the hard problem has failed (here the robot
 // starts inside d_safe of a bin), every plan sent goes no faster than the
 // speed from which the robot stands before a walker 1 m beside it could
@@ -662,22 +691,8 @@ TEST(PlannerCore, WithNoPlanCertifiedTheRobotGoesNoFasterThanItCanStandBeforeAMo
   // the bound of a plan's start against the walker where it is then
   const auto bound_at = [&](const evade::plan_t& pl, double walker_y) {
     const double t = (pl.utime - testing::DriveHarness::kStartUs) * 1e-6;
-    Problem pb;
-    pb.N = on.horizon_steps;
-    pb.dt = on.dt_s;
-    pb.x0 = pl.x[0];
-    pb.y0 = pl.y[0];
-    pb.yaw0 = pl.yaw[0];
-    pb.lim = on.limits;
-    pb.footprint = on.footprint;
-    ObstacleTrack w;
-    for (int k = 0; k <= pb.N; ++k) {
-      w.x.push_back(0.0);
-      w.y.push_back(walker_y - 1.0 * (t + k * pb.dt));
-      w.a.push_back(0.3);
-      w.b.push_back(0.3);
-      w.theta.push_back(0.0);
-    }
+    Problem pb = from_plan_start(on, pl);
+    ObstacleTrack w = disc_track(pb, 0.3, [&](int k) { return std::pair{0.0, walker_y - 1.0 * (t + k * pb.dt)}; });
     w.age_s = 1.0;
     pb.obstacles = {w};
     return passive_speed_bound(on.passive_safety, pb);
@@ -732,22 +747,8 @@ TEST(PlannerCore, AWalkerTurningRoundStillBoundsTheSpeedWhileItsEstimateIsZero) 
   off.passive_safety.speed_memory_s = 0.0;
   // the bound at a plan's start against a walker at 1.4 m/s where it stands
   const auto bound_at = [&](const evade::plan_t& pl) {
-    Problem pb;
-    pb.N = on.horizon_steps;
-    pb.dt = on.dt_s;
-    pb.x0 = pl.x[0];
-    pb.y0 = pl.y[0];
-    pb.yaw0 = pl.yaw[0];
-    pb.lim = on.limits;
-    pb.footprint = on.footprint;
-    ObstacleTrack w;
-    for (int k = 0; k <= pb.N; ++k) {
-      w.x.push_back(1.6 + walked * turn_s);
-      w.y.push_back(0.0);
-      w.a.push_back(0.3);
-      w.b.push_back(0.3);
-      w.theta.push_back(0.0);
-    }
+    Problem pb = from_plan_start(on, pl);
+    ObstacleTrack w = disc_track(pb, 0.3, [&](int) { return std::pair{1.6 + walked * turn_s, 0.0}; });
     w.age_s = 5.0;
     w.recent_speed_mps = walked;
     pb.obstacles = {w};
