@@ -69,11 +69,9 @@ struct PassiveSafetyParams {
   double min_mover_speed_mps = 0.2;  // older tracks predicted slower than this are not movers
   bool every_plan = true;            // the hard problem too: certified plans keep the bound (off: only the recovery's)
   bool braking_point = true;         // bound where braking from each step ends (off: one speed in every direction)
-  bool slow_chosen = true;  // the recovery's chosen plan slowed onto the reach bounds where it comes to no worse
-  bool slow_walked_into =
-      false;  // slow_chosen: a slowed plan that a mover walks into is no worse (only driving into one is)
-  double speed_memory_s =
-      0.0;  // a mover goes at least as fast as its tracker reported over this long (0: its prediction's)
+  bool slow_chosen = true;        // the recovery's chosen plan slowed onto the reach bounds where it comes to no worse
+  bool slow_walked_into = false;  // slow_chosen: walked into is no worse, only driving into a mover
+  double speed_memory_s = 0.0;    // s: a mover is as fast as its tracker said lately (0: the prediction)
 
   template <class V>
   void fields(V& v) {

@@ -230,7 +230,7 @@ class PlannerCore : public bus::Core {
   CurveFitHistory history_;
   TopologyPlanner topology_;
   // What the planner has seen of a track id: its first prediction list, and
-  // where its centre (step 0) has stayed within solver.still_radius_m since.
+  // where its centre (step 0) has stayed within solver.still_radius_m since,
   // and the fastest its tracker has reported it over the last
   // passive_safety.speed_memory_s.
   struct Sighting {
