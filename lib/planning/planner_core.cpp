@@ -161,7 +161,8 @@ void PlannerCore::record_sightings(const evade::prediction_list_t& m) {
     Sighting s = it == seen_.end() ? Sighting{m.utime, x, y, m.utime, {}} : it->second;
     if (!(std::hypot(x - s.still_x, y - s.still_y) <= p_.solver.still_radius_m))
       s = Sighting{s.first_utime, x, y, m.utime, s.speed};
-    s.speed.add(m.utime, std::hypot(t.vx, t.vy), p_.passive_safety.speed_memory_s);
+    if (p_.passive_safety.speed_memory_s > 0)  // off: no memory, the prediction's speed alone
+      s.speed.add(m.utime, std::hypot(t.vx, t.vy), p_.passive_safety.speed_memory_s);
     seen[t.id] = s;
   }
   seen_.swap(seen);
@@ -364,7 +365,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   for (auto& o : pb.obstacles) {
     o.age_s = track_age_s(o.id, odom.utime);
     o.still_s = track_still_s(o.id, odom.utime);
-    if (p_.passive_safety.speed_memory_s > 0) o.recent_speed_mps = track_recent_speed(o.id);  // off: the prediction's
+    o.recent_speed_mps = track_recent_speed(o.id);
   }
   if (mode_.evade_layers && p_.passive_safety.every_plan) bound_speed_passively(&pb);
   if (p_.solver.hold_settled && mode_spec(p_.mode).evade_layers) {

@@ -28,6 +28,7 @@
 #include "planning/params.h"
 #include "planning/passive_safety.h"
 #include "planning/reference.h"
+#include "test_problems.h"
 
 namespace evade::planning {
 namespace {
@@ -659,20 +660,6 @@ Problem from_plan_start(const PlannerParams& p, const evade::plan_t& pl) {
   return pb;
 }
 
-// A disc of radius r over pb's horizon, its centre at step k at(k).
-ObstacleTrack disc_track(const Problem& pb, double r, const std::function<std::pair<double, double>(int)>& at) {
-  ObstacleTrack w;
-  for (int k = 0; k <= pb.N; ++k) {
-    const auto [x, y] = at(k);
-    w.x.push_back(x);
-    w.y.push_back(y);
-    w.a.push_back(r);
-    w.b.push_back(r);
-    w.theta.push_back(0.0);
-  }
-  return w;
-}
-
 // planner.passive_safety: once the hard problem has failed (here the robot
 // starts inside d_safe of a bin), every plan sent goes no faster than the
 // speed from which the robot stands before a walker 1 m beside it could
@@ -692,7 +679,7 @@ TEST(PlannerCore, WithNoPlanCertifiedTheRobotGoesNoFasterThanItCanStandBeforeAMo
   const auto bound_at = [&](const evade::plan_t& pl, double walker_y) {
     const double t = (pl.utime - testing::DriveHarness::kStartUs) * 1e-6;
     Problem pb = from_plan_start(on, pl);
-    ObstacleTrack w = disc_track(pb, 0.3, [&](int k) { return std::pair{0.0, walker_y - 1.0 * (t + k * pb.dt)}; });
+    ObstacleTrack w = testing::moving_obstacle(0, 0.0, walker_y - 1.0 * t, 0.0, -1.0, 0.3, 0.3, 0.0, 0.0, pb.N, pb.dt);
     w.age_s = 1.0;
     pb.obstacles = {w};
     return passive_speed_bound(on.passive_safety, pb);
@@ -748,7 +735,8 @@ TEST(PlannerCore, AWalkerTurningRoundStillBoundsTheSpeedWhileItsEstimateIsZero) 
   // the bound at a plan's start against a walker at 1.4 m/s where it stands
   const auto bound_at = [&](const evade::plan_t& pl) {
     Problem pb = from_plan_start(on, pl);
-    ObstacleTrack w = disc_track(pb, 0.3, [&](int) { return std::pair{1.6 + walked * turn_s, 0.0}; });
+    ObstacleTrack w =
+        testing::moving_obstacle(0, 1.6 + walked * turn_s, 0.0, 0.0, 0.0, 0.3, 0.3, 0.0, 0.0, pb.N, pb.dt);
     w.age_s = 5.0;
     w.recent_speed_mps = walked;
     pb.obstacles = {w};
