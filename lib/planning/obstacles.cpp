@@ -181,4 +181,16 @@ std::vector<ObstacleTrack> constraint_obstacles(const PlannerParams& p, const Ob
   return out;
 }
 
+void attach_measurements(const evade::obstacle_list_t& observed, std::vector<ObstacleTrack>* obstacles) {
+  std::map<int64_t, const evade::obstacle_t*> by_id;
+  for (const evade::obstacle_t& o : observed.obstacles) by_id[o.id] = &o;
+  for (ObstacleTrack& t : *obstacles) {
+    const auto it = by_id.find(t.id);
+    if (t.field || it == by_id.end()) continue;
+    const evade::obstacle_t& o = *it->second;
+    if (std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.a) && std::isfinite(o.b) && std::isfinite(o.theta))
+      t.measured = ObstacleTrack::Body{o.x, o.y, o.a, o.b, o.theta};
+  }
+}
+
 }  // namespace evade::planning

@@ -59,6 +59,10 @@ struct ObstacleInputs {
   const CurveFitHistory* history = nullptr;
 };
 
+// Gives each of `obstacles` its measurement in `observed` (same id) as
+// ObstacleTrack::measured; those without one keep none.
+void attach_measurements(const evade::obstacle_list_t& observed, std::vector<ObstacleTrack>* obstacles);
+
 // The constraint obstacles of one planning cycle, from the mode's input
 // (ModeSpec::source) moved over the horizon as the mode says
 // (ModeSpec::motion), with PlannerParams::constraint_decay(); nearest

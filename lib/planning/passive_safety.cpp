@@ -20,6 +20,19 @@ namespace {
 // The offset (m) of the footprint's front disc; fp has at least one disc.
 double front_offset_m(const Footprint& fp) { return *std::max_element(fp.offsets.begin(), fp.offsets.end()); }
 
+// Where the measured body is nearer the front disc than body's step 0
+// (gap), step 0 becomes the measured body and *gap its distance.
+void nearer_measured(const Problem& front, const ObstacleTrack::Body& measured, const double* start,
+                     ObstacleTrack* body, double* gap) {
+  ObstacleTrack m;
+  m.x = {measured.x}, m.y = {measured.y}, m.a = {measured.a}, m.b = {measured.b}, m.theta = {measured.theta};
+  const double g = barrier_h_at(front, m, 0, start);
+  if (!(g < *gap)) return;
+  body->x[0] = measured.x, body->y[0] = measured.y, body->a[0] = measured.a, body->b[0] = measured.b;
+  body->theta[0] = measured.theta;
+  *gap = g;
+}
+
 }  // namespace
 
 std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem& pb) {
@@ -40,7 +53,8 @@ std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem
       continue;
     MoverBound m{track, pb.lim.v_max, speed};
     remove_inflation(&m.body);
-    const double gap = barrier_h_at(front, m.body, 0, start);
+    double gap = barrier_h_at(front, m.body, 0, start);
+    if (p.measured_position && track.measured) nearer_measured(front, *track.measured, start, &m.body, &gap);
     if (!std::isfinite(gap)) continue;
     m.speed_mps = std::min(pb.lim.v_max, passive_safe_speed(gap, speed, p.reaction_s, pb.lim.decel));
     out.push_back(std::move(m));

@@ -31,7 +31,11 @@
 // fastest its tracker reported over that long (ObstacleTrack::
 // recent_speed_mps, recent_max.h): a walker turning round goes on at its
 // walking speed while the estimate passes through zero, and the bound
-// must not lapse just as it comes back.
+// must not lapse just as it comes back. With measured_position, the mover
+// is also where its tracker last measured it (ObstacleTrack::measured) when
+// that is nearer the front disc than the prediction's step 0: a filter that
+// trusts its motion model lags a walker turning round by half a metre for
+// a few tenths of a second, the measurement far less.
 //
 // With every_plan the bound is in every cycle's problem, certified plans
 // included (the invariant passive safety needs: a robot that enters the
@@ -58,6 +62,7 @@
 
 #include "config/fields.h"
 #include "planning/problem.h"
+#include "planning/recovery_rank.h"
 
 namespace evade::planning {
 
@@ -69,9 +74,10 @@ struct PassiveSafetyParams {
   double min_mover_speed_mps = 0.2;  // older tracks predicted slower than this are not movers
   bool every_plan = true;            // the hard problem too: certified plans keep the bound (off: only the recovery's)
   bool braking_point = true;         // bound where braking from each step ends (off: one speed in every direction)
-  bool slow_chosen = true;        // the recovery's chosen plan slowed onto the reach bounds where it comes to no worse
-  bool slow_walked_into = false;  // slow_chosen: walked into is no worse, only driving into a mover
-  double speed_memory_s = 0.0;    // s: a mover is as fast as its tracker said lately (0: the prediction)
+  bool slow_chosen = true;  // the recovery's chosen plan slowed onto the reach bounds where it comes to no worse
+  SlowedRefusal slowed_refused_if = SlowedRefusal::kWorseOutcome;  // slow_chosen: what "worse" is (recovery_rank.h)
+  double speed_memory_s = 0.0;     // s: a mover is as fast as its tracker said lately (0: the prediction)
+  bool measured_position = false;  // a mover is also where its tracker last measured it, if nearer
 
   template <class V>
   void fields(V& v) {
@@ -83,8 +89,12 @@ struct PassiveSafetyParams {
     v.field("every_plan", every_plan);
     v.field("braking_point", braking_point);
     v.field("slow_chosen", slow_chosen);
-    v.field("slow_walked_into", slow_walked_into);
+    v.choice("slowed_refused_if", slowed_refused_if,
+             config::Choices<SlowedRefusal>{{"worse_outcome", SlowedRefusal::kWorseOutcome},
+                                            {"drives_into", SlowedRefusal::kDrivesInto},
+                                            {"structure", SlowedRefusal::kStructure}});
     v.field("speed_memory_s", speed_memory_s, config::between(0.0, 30.0));
+    v.field("measured_position", measured_position);
   }
 };
 

@@ -171,8 +171,8 @@ class PlannerCore : public bus::Core {
   // passive_safety.slow_chosen: u, the recovery's chosen plan (judged
   // `judged`), slowed onto the reach bounds (project_onto_reach), unless
   // the slowed plan goes into structure where u did not, deeper into it,
-  // or comes to a worse kind (with passive_safety.slow_walked_into: drives
-  // into a mover where u did not). Returns whether it slowed u.
+  // or is worse against the movers as passive_safety.slowed_refused_if
+  // says (slowed_is_worse). Returns whether it slowed u.
   bool slow_onto_reach(const Problem& pb, const RecoveryJudgement& judged, std::vector<double>* u) const;
   // Braking at the deceleration limits from (v, omega), as plan controls.
   std::vector<double> braking_controls(double v, double omega) const;

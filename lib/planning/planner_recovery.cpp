@@ -253,7 +253,7 @@ bool PlannerCore::slow_onto_reach(const Problem& pb, const RecoveryJudgement& ju
   std::vector<double> states(3 * static_cast<size_t>(pb.N + 1));
   rollout(pb, slowed.data(), states.data());
   const RecoveryJudgement s = judge_recovery_plan(pb, states);
-  if (slowed_is_worse(s, judged, p_.solver.constraint_tolerance, p_.passive_safety.slow_walked_into)) return false;
+  if (slowed_is_worse(s, judged, p_.solver.constraint_tolerance, p_.passive_safety.slowed_refused_if)) return false;
   *u = std::move(slowed);
   return true;
 }

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <vector>
 
@@ -66,12 +67,16 @@ class StaticField;  // static_field.h
 // ellipse (static_field.h; the ellipse arrays hold the robot's start).
 struct ObstacleTrack {
   int64_t id = 0;
-  std::vector<double> x, y, a, b, theta;     // N + 1 each
-  std::vector<double> sigma;                 // N + 1: the inflation in a and b (predictions), else empty
-  double decay = 0.0;                        // 1 - gamma (CBF) or 0 (distance)
-  double age_s = 0.0;                        // since the planner first saw the track (solve_elastic)
-  double still_s = 0.0;                      // since its centre (step 0) last moved still_radius_m (hold_settled)
-  double recent_speed_mps = 0.0;             // the fastest its tracker reported lately (passive_safety.speed_memory_s)
+  std::vector<double> x, y, a, b, theta;  // N + 1 each
+  std::vector<double> sigma;              // N + 1: the inflation in a and b (predictions), else empty
+  double decay = 0.0;                     // 1 - gamma (CBF) or 0 (distance)
+  double age_s = 0.0;                     // since the planner first saw the track (solve_elastic)
+  double still_s = 0.0;                   // since its centre (step 0) last moved still_radius_m (hold_settled)
+  double recent_speed_mps = 0.0;          // the fastest its tracker reported lately (passive_safety.speed_memory_s)
+  struct Body {
+    double x = 0.0, y = 0.0, a = 0.0, b = 0.0, theta = 0.0;
+  };
+  std::optional<Body> measured;  // its tracker's last measurement (passive_safety.measured_position), no inflation
   std::shared_ptr<const StaticField> field;  // static structure (static_field.h), else null
 };
 

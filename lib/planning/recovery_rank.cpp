@@ -15,11 +15,17 @@ bool ranks_before(const RecoveryRank& c, const RecoveryRank& b, double tie, bool
   return c.h > b.h + tie || (c.h > b.h - tie && c.shortfall < b.shortfall - 1e-9);
 }
 
-bool slowed_is_worse(const RecoveryJudgement& slowed, const RecoveryJudgement& chosen, double tie,
-                     bool walked_into_ok) {
+bool slowed_is_worse(const RecoveryJudgement& slowed, const RecoveryJudgement& chosen, double tie, SlowedRefusal rule) {
   if ((slowed.into && !chosen.into) || slowed.contact > chosen.contact + tie) return true;
-  if (walked_into_ok) return slowed.outcome.kind == Outcome::kOurs && chosen.outcome.kind != Outcome::kOurs;
-  return slowed.outcome.kind > chosen.outcome.kind;
+  switch (rule) {
+    case SlowedRefusal::kWorseOutcome:
+      return slowed.outcome.kind > chosen.outcome.kind;
+    case SlowedRefusal::kDrivesInto:
+      return slowed.outcome.kind == Outcome::kOurs && chosen.outcome.kind != Outcome::kOurs;
+    case SlowedRefusal::kStructure:
+      return false;
+  }
+  return false;
 }
 
 }  // namespace evade::planning

@@ -43,14 +43,19 @@ struct RecoveryRank {
 // Whether c ranks before b.
 bool ranks_before(const RecoveryRank& c, const RecoveryRank& b, double tie, bool clear_by_cost);
 
-// passive_safety.slow_chosen: whether the chosen plan slowed onto passive
-// safety's reach bounds (judged `slowed`) comes to worse than the chosen
-// plan as it was (`chosen`), so that the chosen plan is sent unslowed: it
-// goes into structure's margin where the chosen did not, or its body
-// deeper (beyond `tie`), or its outcome against the movers is of a worse
-// kind. With `walked_into_ok` only driving into a mover is a worse kind: a
-// slowed plan that a mover is predicted to walk into (a contact the robot
-// does not make; passive safety's point) is no worse than one clear of it.
-bool slowed_is_worse(const RecoveryJudgement& slowed, const RecoveryJudgement& chosen, double tie, bool walked_into_ok);
+// passive_safety.slowed_refused_if: what makes the chosen plan slowed onto
+// passive safety's reach bounds worse than the chosen plan as it was, so
+// that the chosen plan is sent unslowed. Always: going into structure's
+// margin where the chosen did not, or its body deeper (beyond the tie).
+enum class SlowedRefusal {
+  kWorseOutcome,  // also: an outcome against the movers of a worse kind
+  kDrivesInto,    // also: driving into a mover where the chosen did not (walked into is no worse:
+                  // a contact the robot does not make, passive safety's point)
+  kStructure,     // structure only: against movers the reach bounds decide (passive safety kept)
+};
+
+// Whether the slowed plan (judged `slowed`) is worse than the chosen plan
+// (`chosen`) by `rule`.
+bool slowed_is_worse(const RecoveryJudgement& slowed, const RecoveryJudgement& chosen, double tie, SlowedRefusal rule);
 
 }  // namespace evade::planning

@@ -135,6 +135,28 @@ TEST(PassiveSafety, AWalkerTurningRoundBindsAtTheSpeedItWalkedLately) {
   EXPECT_NEAR(passive_speed_bound(p, fast), passive_safe_speed(gap, 2.0, p.reaction_s, kDecel), 0.01);
 }
 
+TEST(PassiveSafety, AMoverMeasuredNearerThanPredictedBindsWhereItWasMeasured) {
+  PassiveSafetyParams p = slow_reaction();
+  // predicted (step 0) 2 m ahead, walking at 1.4 m/s; the filter lags: the
+  // tracker measured it 0.6 m nearer
+  Problem pb = robot_and_walker(0.21 + 2.0 + 0.3, 0.0, -1.4, 0.0, 3.0);
+  pb.obstacles[0].measured = ObstacleTrack::Body{0.21 + 1.4 + 0.3, 0.0, 0.3, 0.3, 0.0};
+  const double predicted = passive_safe_speed(front_gap(0.21 + 2.0 + 0.3, 0.0), 1.4, p.reaction_s, kDecel);
+  const double measured = passive_safe_speed(front_gap(0.21 + 1.4 + 0.3, 0.0), 1.4, p.reaction_s, kDecel);
+  ASSERT_LT(measured, predicted - 0.1);
+  EXPECT_NEAR(passive_speed_bound(p, pb), predicted, 0.01) << "off: the prediction alone";
+  p.measured_position = true;
+  EXPECT_NEAR(passive_speed_bound(p, pb), measured, 0.01);
+  // the reach bound grows from the measured body too
+  Problem bounded = pb;
+  ASSERT_TRUE(bound_passively(p, &bounded));
+  ASSERT_EQ(bounded.reach.size(), 1u);
+  EXPECT_NEAR(bounded.reach[0].x, 0.21 + 1.4 + 0.3, 1e-12);
+  // measured farther than predicted: the prediction stands
+  pb.obstacles[0].measured = ObstacleTrack::Body{0.21 + 2.6 + 0.3, 0.0, 0.3, 0.3, 0.0};
+  EXPECT_NEAR(passive_speed_bound(p, pb), predicted, 0.01);
+}
+
 TEST(RecentMax, TheLargestWithinTheWindowOfTheLastAdd) {
   RecentMax m;
   EXPECT_EQ(m.max(), 0.0);

@@ -74,33 +74,42 @@ TEST(RecoveryRank, TiesKeepTheEarlierPlan) {
   EXPECT_TRUE(ranks_before(less_short, a, kTie, false));
 }
 
-TEST(SlowedIsWorse, StructureAlwaysAWalkerOnlyWithoutWalkedIntoOk) {
+constexpr SlowedRefusal kRules[] = {SlowedRefusal::kWorseOutcome, SlowedRefusal::kDrivesInto,
+                                    SlowedRefusal::kStructure};
+
+TEST(SlowedIsWorse, StructureAlwaysMoversAsTheRuleSays) {
   RecoveryJudgement chosen;  // clear of structure and of every mover
   RecoveryJudgement slowed = chosen;
-  for (bool ok : {false, true}) EXPECT_FALSE(slowed_is_worse(slowed, chosen, kTie, ok)) << "the same: no worse";
-  // into structure's margin, or deeper into it: worse either way
+  for (SlowedRefusal rule : kRules) EXPECT_FALSE(slowed_is_worse(slowed, chosen, kTie, rule)) << "the same: no worse";
+  // into structure's margin, or deeper into it: worse by every rule
   RecoveryJudgement into = chosen;
   into.into = true;
   RecoveryJudgement deeper = into;
   deeper.contact = 0.05;
-  for (bool ok : {false, true}) {
-    EXPECT_TRUE(slowed_is_worse(into, chosen, kTie, ok));
-    EXPECT_TRUE(slowed_is_worse(deeper, into, kTie, ok));
-    EXPECT_FALSE(slowed_is_worse(into, deeper, kTie, ok));
+  for (SlowedRefusal rule : kRules) {
+    EXPECT_TRUE(slowed_is_worse(into, chosen, kTie, rule));
+    EXPECT_TRUE(slowed_is_worse(deeper, into, kTie, rule));
+    EXPECT_FALSE(slowed_is_worse(into, deeper, kTie, rule));
   }
-  // walked into where the chosen plan was clear: worse only without ok
+  // walked into where the chosen plan was clear: worse only by the outcome
   RecoveryJudgement walked_into = chosen;
   walked_into.outcome.kind = Outcome::kTheirs;
-  EXPECT_TRUE(slowed_is_worse(walked_into, chosen, kTie, false));
-  EXPECT_FALSE(slowed_is_worse(walked_into, chosen, kTie, true));
-  // driving into a mover where the chosen plan did not: worse either way
+  EXPECT_TRUE(slowed_is_worse(walked_into, chosen, kTie, SlowedRefusal::kWorseOutcome));
+  EXPECT_FALSE(slowed_is_worse(walked_into, chosen, kTie, SlowedRefusal::kDrivesInto));
+  EXPECT_FALSE(slowed_is_worse(walked_into, chosen, kTie, SlowedRefusal::kStructure));
+  // driving into a mover where the chosen plan did not: worse unless only
+  // structure counts
   RecoveryJudgement drives_into = chosen;
   drives_into.outcome.kind = Outcome::kOurs;
-  for (bool ok : {false, true}) {
-    EXPECT_TRUE(slowed_is_worse(drives_into, chosen, kTie, ok));
-    EXPECT_TRUE(slowed_is_worse(drives_into, walked_into, kTie, ok));
-    EXPECT_FALSE(slowed_is_worse(drives_into, drives_into, kTie, ok)) << "it drove into one already";
-    EXPECT_FALSE(slowed_is_worse(walked_into, drives_into, kTie, ok));
+  for (SlowedRefusal rule : {SlowedRefusal::kWorseOutcome, SlowedRefusal::kDrivesInto}) {
+    EXPECT_TRUE(slowed_is_worse(drives_into, chosen, kTie, rule));
+    EXPECT_TRUE(slowed_is_worse(drives_into, walked_into, kTie, rule));
+  }
+  EXPECT_FALSE(slowed_is_worse(drives_into, chosen, kTie, SlowedRefusal::kStructure));
+  EXPECT_FALSE(slowed_is_worse(drives_into, walked_into, kTie, SlowedRefusal::kStructure));
+  for (SlowedRefusal rule : kRules) {
+    EXPECT_FALSE(slowed_is_worse(drives_into, drives_into, kTie, rule)) << "it drove into one already";
+    EXPECT_FALSE(slowed_is_worse(walked_into, drives_into, kTie, rule));
   }
 }
 
