@@ -715,6 +715,31 @@ TEST(PlannerCore, WithNoPlanCertifiedTheRobotGoesNoFasterThanItCanStandBeforeAMo
   EXPECT_GT(far_recovering, 0) << "the premise: the hard problem fails there too";
 }
 
+using PlanTest = std::function<bool(const evade::plan_t&)>;
+using PlanBound = std::function<double(const evade::plan_t&)>;
+struct BoundCheck {
+  int judged = 0;          // plans of `with` in the window
+  int faster_without = 0;  // plans of `without` in the window faster than the bound (5 cm/s)
+};
+
+// Every plan of `with` in the window goes no faster than bound_at (or
+// braking at on's limit from the robot's speed, where braking cannot get
+// there yet), 2 cm/s of tolerance; counts `without`'s faster plans.
+BoundCheck check_bounded(const PlannerParams& on, const RunResult& with, const RunResult& without,
+                         const PlanTest& in_window, const PlanBound& bound_at) {
+  BoundCheck c;
+  for (size_t i = 0; i < with.plan_log.size(); ++i) {
+    const evade::plan_t& pl = with.plan_log[i];
+    if (!in_window(pl)) continue;
+    ++c.judged;
+    const double braking = with.robot_v[i] - on.limits.decel * on.dt_s;  // the least it can send
+    EXPECT_LE(pl.v[0], std::max(bound_at(pl), braking) + 0.02) << "plan " << i;
+  }
+  for (const evade::plan_t& pl : without.plan_log)
+    if (in_window(pl) && pl.v[0] > bound_at(pl) + 0.05) ++c.faster_without;
+  return c;
+}
+
 // passive_safety.speed_memory_s: a walker ahead walks away at 1.4 m/s and
 // then turns round; its tracker's estimate goes through zero, which the
 // list reports for the second after. With the memory, every plan of that
@@ -750,18 +775,9 @@ TEST(PlannerCore, AWalkerTurningRoundStillBoundsTheSpeedWhileItsEstimateIsZero) 
   };
   const RunResult remembered = run_scene(on, scene, 2.0, 12.0, 0.0, 0.0, 1.0);
   const RunResult forgotten = run_scene(off, scene, 2.0, 12.0, 0.0, 0.0, 1.0);
-  int judged = 0, faster_without = 0;
-  for (size_t i = 0; i < remembered.plan_log.size(); ++i) {
-    const evade::plan_t& pl = remembered.plan_log[i];
-    if (!after_turn(pl)) continue;
-    ++judged;
-    const double braking = remembered.robot_v[i] - on.limits.decel * on.dt_s;  // the least it can send
-    EXPECT_LE(pl.v[0], std::max(bound_at(pl), braking) + 0.02) << "plan " << i;
-  }
-  for (const evade::plan_t& pl : forgotten.plan_log)
-    if (after_turn(pl) && pl.v[0] > bound_at(pl) + 0.05) ++faster_without;
-  EXPECT_GT(judged, 5);
-  EXPECT_GT(faster_without, 0) << "the premise: without the memory the planner drives on faster";
+  const BoundCheck c = check_bounded(on, remembered, forgotten, after_turn, bound_at);
+  EXPECT_GT(c.judged, 5);
+  EXPECT_GT(c.faster_without, 0) << "the premise: without the memory the planner drives on faster";
 }
 
 // passive_safety.measured_position: a walker comes towards the robot at
@@ -793,18 +809,9 @@ TEST(PlannerCore, AWalkerMeasuredNearerThanPredictedBoundsWhereItIs) {
   const auto judged = [](const evade::plan_t& pl) { return pl.utime - testing::DriveHarness::kStartUs < 1'000'000; };
   const RunResult measured = run_scene(on, truth, 1.0, 12.0, 0.0, 0.0, 1.0, &lagging);
   const RunResult predicted = run_scene(off, truth, 1.0, 12.0, 0.0, 0.0, 1.0, &lagging);
-  int n = 0, faster_without = 0;
-  for (size_t i = 0; i < measured.plan_log.size(); ++i) {
-    const evade::plan_t& pl = measured.plan_log[i];
-    if (!judged(pl)) continue;
-    ++n;
-    const double braking = measured.robot_v[i] - on.limits.decel * on.dt_s;  // the least it can send
-    EXPECT_LE(pl.v[0], std::max(bound_at(pl), braking) + 0.02) << "plan " << i;
-  }
-  for (const evade::plan_t& pl : predicted.plan_log)
-    if (judged(pl) && pl.v[0] > bound_at(pl) + 0.05) ++faster_without;
-  EXPECT_GT(n, 5);
-  EXPECT_GT(faster_without, 0) << "the premise: with the predictions alone the planner goes faster";
+  const BoundCheck c = check_bounded(on, measured, predicted, judged, bound_at);
+  EXPECT_GT(c.judged, 5);
+  EXPECT_GT(c.faster_without, 0) << "the premise: with the predictions alone the planner goes faster";
 }
 
 TEST(PlannerCore, LogReplayIsDeterministic) {
