@@ -30,8 +30,12 @@
 namespace evade::closedloop {
 namespace {
 
+// Since passive safety takes a walker at the speed it walked lately
+// (2026-12-01), the robot waits slowed (0.03 m/s, backing off) while the
+// walker comes through, and the walker, scripted through its place,
+// brushes it: a contact not at fault.
 TEST(Blocked, ANoseAtAWallsEndTurnsOutAsFarAsItMayAndGoesThrough) {
-  testing::expect_clear_arrival("blocked_", "doorway_wall_end.yaml");
+  testing::expect_clear_arrival("blocked_", "doorway_wall_end.yaml", testing::Contacts::kNotAtFaultOnly);
 }
 
 TEST(Blocked, ACellFlickeringOnInANarrowGapIsNotRememberedThere) {
