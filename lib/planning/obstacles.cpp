@@ -188,8 +188,7 @@ void attach_measurements(const evade::obstacle_list_t& observed, std::vector<Obs
     const auto it = by_id.find(t.id);
     if (t.field || it == by_id.end()) continue;
     const evade::obstacle_t& o = *it->second;
-    if (std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.a) && std::isfinite(o.b) && std::isfinite(o.theta))
-      t.measured = ObstacleTrack::Body{o.x, o.y, o.a, o.b, o.theta};
+    if (valid_observed(o)) t.measured = ObstacleTrack::Body{o.x, o.y, o.a, o.b, o.theta};
   }
 }
 

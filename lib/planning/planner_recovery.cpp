@@ -252,17 +252,18 @@ bool PlannerCore::slow_onto_reach(const Problem& pb, const RecoveryJudgement& ju
   if (!project_onto_reach(pb, &slowed)) return false;
   const PassiveSafetyParams& ps = p_.passive_safety;
   std::vector<double> states(3 * static_cast<size_t>(pb.N + 1));
+  // fast_movers: a walker may turn round at once, a faster mover cannot;
+  // against those alone the predictions are trusted to say the slowed plan
+  // is walked into where the chosen one gets out of the way, so both are
+  // judged against them
+  const bool fast_only = ps.slowed_refused_if == SlowedRefusal::kFastMovers;
+  const Problem fast = fast_only ? without_slow_movers(pb, ps.trusted_speed_mps) : Problem{};
+  const Problem& against = fast_only ? fast : pb;
   RecoveryJudgement chosen = judged;
-  Problem fast;
-  if (ps.slowed_refused_if == SlowedRefusal::kFastMovers) {
-    // a walker may turn round at once, a faster mover cannot: against
-    // those alone the predictions are trusted to say the slowed plan is
-    // walked into where the chosen one gets out of the way
-    fast = without_slow_movers(pb, ps.trusted_speed_mps);
-    rollout(fast, u->data(), states.data());
-    chosen = judge_recovery_plan(fast, states);
+  if (fast_only) {
+    rollout(against, u->data(), states.data());
+    chosen = judge_recovery_plan(against, states);
   }
-  const Problem& against = ps.slowed_refused_if == SlowedRefusal::kFastMovers ? fast : pb;
   rollout(against, slowed.data(), states.data());
   const RecoveryJudgement s = judge_recovery_plan(against, states);
   if (slowed_is_worse(s, chosen, p_.solver.constraint_tolerance, ps.slowed_refused_if)) return false;
