@@ -345,5 +345,68 @@ TEST(PassiveSafety, ProjectionSlowsAPlanOntoTheReachBounds) {
   EXPECT_EQ(on, once);
 }
 
+// A bike 3 m ahead at 3 m/s along -x, as a reach bound with its velocity.
+ReachBound bike_reach(double accel_mps2) {
+  ReachBound r;
+  r.x = 3.0, r.y = 0.0, r.a = 0.9, r.b = 0.35, r.theta = 0.0;
+  r.speed_mps = 3.0, r.reaction_s = 0.15, r.decel_mps2 = kDecel, r.offset_m = 0.14, r.radius_m = 0.17;
+  r.allowance_m = {0.0};
+  r.vx = -3.0, r.vy = 0.0, r.speed_error_mps = 0.3, r.accel_mps2 = accel_mps2;
+  return r;
+}
+
+// The velocity reach (ReachBound::accel_mps2): beside a bike's lane the
+// robot may go where the bike in any direction could reach it; in its
+// lane, behind where the bike will be by the time the robot stands, it may
+// not (the bike passes through first); and with no velocity reach the
+// bound is the one in any direction.
+TEST(PassiveSafety, BesideAFastMoversLaneTheVelocityReachAllowsWhatAnyDirectionDoesNot) {
+  const ReachBound any = bike_reach(0.0), vel = bike_reach(2.0);
+  // 1.3 m aside, going along +x at 0.6 m/s (stands 0.55 s on)
+  const double beside_any = reach_value(any, 0, 1.0, 1.3, 0.0, 0.6, false).g;
+  const double beside_vel = reach_value(vel, 0, 1.0, 1.3, 0.0, 0.6, false).g;
+  EXPECT_LT(beside_any, 0.0);
+  EXPECT_GT(beside_vel, 0.0);
+  // in its lane 1.2 m from it: the bike sweeps through the braking point
+  EXPECT_LT(reach_value(vel, 0, 1.5, 0.0, M_PI / 2, 0.3, false).g, 0.0);
+  // the velocity reach never binds more than any direction
+  for (double y : {0.0, 0.5, 1.0, 2.0})
+    for (double v : {0.0, 0.5, 1.0})
+      EXPECT_GE(reach_value(vel, 0, 0.5, y, 0.3, v, false).g, reach_value(any, 0, 0.5, y, 0.3, v, false).g);
+}
+
+// reach_value's derivatives in (x, y, th, v) against central differences,
+// over states where each of its branches decides (any direction; the
+// velocity reach at each of its three times, with the pass time inside or
+// clamped).
+TEST(PassiveSafety, TheReachValuesDerivativesAreItsSlopes) {
+  const ReachBound r = bike_reach(2.0);
+  const double e = 1e-6;
+  int checked = 0;
+  for (double x = -1.0; x <= 4.0; x += 0.45)
+    for (double y = -1.5; y <= 1.5; y += 0.4)
+      for (double th : {-2.0, -0.4, 0.7, 2.5})
+        for (double v : {0.1, 0.6, 1.2}) {
+          const ReachValue d = reach_value(r, 0, x, y, th, v, true);
+          auto g = [&](double dx, double dy, double dth, double dv) {
+            return reach_value(r, 0, x + dx, y + dy, th + dth, v + dv, false).g;
+          };
+          const double fx = (g(e, 0, 0, 0) - g(-e, 0, 0, 0)) / (2 * e), fy = (g(0, e, 0, 0) - g(0, -e, 0, 0)) / (2 * e);
+          const double fth = (g(0, 0, e, 0) - g(0, 0, -e, 0)) / (2 * e),
+                       fv = (g(0, 0, 0, e) - g(0, 0, 0, -e)) / (2 * e);
+          // a kink (the max of the two reaches, the least of three times, a clamp) between the two sides
+          if (std::abs(fx - d.gx) + std::abs(fy - d.gy) + std::abs(fth - d.gth) + std::abs(fv - d.gv) > 1e-3) {
+            const double kink = std::abs(g(1e-4, 0, 0, 0) + g(-1e-4, 0, 0, 0) - 2 * d.g);
+            if (kink > 1e-7) continue;
+          }
+          EXPECT_NEAR(d.gx, fx, 1e-4) << x << " " << y << " " << th << " " << v;
+          EXPECT_NEAR(d.gy, fy, 1e-4) << x << " " << y << " " << th << " " << v;
+          EXPECT_NEAR(d.gth, fth, 1e-4) << x << " " << y << " " << th << " " << v;
+          EXPECT_NEAR(d.gv, fv, 1e-4) << x << " " << y << " " << th << " " << v;
+          ++checked;
+        }
+  EXPECT_GT(checked, 1000);
+}
+
 }  // namespace
 }  // namespace evade::planning
