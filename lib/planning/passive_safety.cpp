@@ -52,11 +52,6 @@ std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem
     else if (speed < p.min_mover_speed_mps)
       continue;
     MoverBound m{track, pb.lim.v_max, speed};
-    if (track.x.size() > 1 && track.y.size() > 1 && pb.dt > 0.0) {
-      m.vx = (track.x[1] - track.x[0]) / pb.dt, m.vy = (track.y[1] - track.y[0]) / pb.dt;
-      m.known_velocity = track.age_s >= p.min_track_age_s && std::isfinite(m.vx) && std::isfinite(m.vy);
-      m.speed_error_mps = std::max(p.velocity_error_mps, track.recent_speed_mps - std::hypot(m.vx, m.vy));
-    }
     remove_inflation(&m.body);
     double gap = barrier_h_at(front, m.body, 0, start);
     if (p.measured_position && track.measured) nearer_measured(front, *track.measured, start, &m.body, &gap);
@@ -101,10 +96,6 @@ std::vector<ReachBound> passive_reach_bounds(const PassiveSafetyParams& p, const
     r.decel_mps2 = pb.lim.decel;
     r.offset_m = offset;
     r.radius_m = pb.footprint.radius;
-    if (m.known_velocity && p.mover_accel_mps2 > 0.0) {
-      r.vx = m.vx, r.vy = m.vy, r.speed_error_mps = m.speed_error_mps;
-      r.accel_mps2 = p.mover_accel_mps2;
-    }
     r.allowance_m.assign(static_cast<size_t>(pb.N), 0.0);
     for (int k = 0; k < pb.N; ++k) {
       const double* x = &states[3 * static_cast<size_t>(k)];

@@ -79,9 +79,6 @@ struct PassiveSafetyParams {
   double trusted_speed_mps = 1.8;  // fast_movers: a mover predicted faster cannot turn round at once
   double speed_memory_s = 2.0;     // s: a mover is as fast as its tracker said lately (0: the prediction)
   bool measured_position = true;   // a mover is also where its tracker last measured it, if nearer
-  double mover_accel_mps2 =
-      0.0;  // braking_point: a tracked mover changes its velocity at most this (0: any direction only)
-  double velocity_error_mps = 0.3;  // mover_accel_mps2: how far off its predicted velocity may be
 
   template <class V>
   void fields(V& v) {
@@ -101,8 +98,6 @@ struct PassiveSafetyParams {
     v.field("trusted_speed_mps", trusted_speed_mps, config::between(0.0, 20.0));
     v.field("speed_memory_s", speed_memory_s, config::between(0.0, 30.0));
     v.field("measured_position", measured_position);
-    v.field("mover_accel_mps2", mover_accel_mps2, config::between(0.0, 100.0));
-    v.field("velocity_error_mps", velocity_error_mps, config::between(0.0, 20.0));
   }
 };
 
@@ -116,9 +111,6 @@ struct MoverBound {
   ObstacleTrack body;
   double speed_mps = 0.0;        // the robot's
   double mover_speed_mps = 0.0;  // the mover's, as the bound takes it
-  double vx = 0.0, vy = 0.0;     // its predicted velocity (step 0 to 1)
-  double speed_error_mps = 0.0;  // velocity_error_mps, or more where its tracker said faster lately
-  bool known_velocity = false;   // tracked min_track_age_s: its velocity is its prediction's
 };
 std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem& pb);
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <utility>
 
 namespace evade::planning {
 
@@ -118,46 +117,6 @@ double barrier_slack(const Problem& pb, const ObstacleTrack& o, const std::vecto
     slack = std::min(slack, h1 - o.decay * h0);
   }
   return slack;
-}
-
-}  // namespace evade::planning
-
-namespace evade::planning {
-
-namespace {
-
-// The velocity reach at t = alpha tc + beta T (ReachBound, problem.h): tc
-// the time the body's centre passes nearest B, clamped to [0, T].
-ReachValue reach_velocity_at(const ReachBound& r, const BrakingPoint& p, double c, double s, double alpha, double beta,
-                             bool want_derivatives) {
-  const double vv = r.vx * r.vx + r.vy * r.vy;
-  const double raw = vv > 1e-12 ? ((p.bx - r.x) * r.vx + (p.by - r.y) * r.vy) / vv : p.T;
-  const bool inside = raw > 0.0 && raw < p.T;  // else tc is 0 (fixed) or T (follows v)
-  const double tc = std::clamp(raw, 0.0, p.T);
-  const double t = alpha * tc + beta * p.T;
-  const double ct = std::cos(r.theta), st = std::sin(r.theta);
-  const BarrierStage stage = barrier_stage(p.bx, p.by, r.x + r.vx * t, r.y + r.vy * t, r.a, r.b, ct, st, 0.0);
-  const double rho = r.speed_error_mps * t + 0.5 * r.accel_mps2 * t * t;
-  const double g = stage.h - r.radius_m - rho;
-  if (!want_derivatives) return {g};
-  const BarrierValue b = barrier_derivatives(stage, r.a, r.b, ct, st, false);
-  const double dg_dt = -(b.gx * r.vx + b.gy * r.vy) - (r.speed_error_mps + r.accel_mps2 * t);
-  // dt/dB (through tc while inside) and dt/dv at a fixed B (through T)
-  const double dt_db = inside ? alpha / vv : 0.0;
-  const double dt_dv = (beta + (!inside && raw >= p.T ? alpha : 0.0)) / r.decel_mps2;
-  return reach_chain(g, b.gx + dg_dt * dt_db * r.vx, b.gy + dg_dt * dt_db * r.vy, dg_dt * dt_dv, p, c, s);
-}
-
-}  // namespace
-
-ReachValue reach_velocity_cs(const ReachBound& r, const BrakingPoint& p, double c, double s, bool want_derivatives) {
-  ReachValue best;
-  bool first = true;
-  for (const auto& [alpha, beta] : {std::pair{1.0, 0.0}, std::pair{0.5, 0.5}, std::pair{0.0, 1.0}}) {
-    const ReachValue v = reach_velocity_at(r, p, c, s, alpha, beta, want_derivatives);
-    if (first || v.g < best.g) best = v, first = false;
-  }
-  return best;
 }
 
 }  // namespace evade::planning

@@ -107,8 +107,7 @@ struct Footprint {
 };
 
 // Passive safety against one mover (passive_safety.h): for k = 0..N-1
-//   g_any = h(B_k) - radius_m - speed_mps (reaction_s + v_k / decel_mps2),
-//   g_any + allowance_m[k] >= 0,
+//   h(B_k) - radius_m - speed_mps (reaction_s + v_k / decel_mps2) + allowance_m[k] >= 0,
 // B_k = p_k + (offset_m + v_k reaction_s + v_k^2 / (2 decel_mps2)) (cos th_k, sin th_k)
 // the centre of the footprint's front disc where the robot, at X_k going
 // v_k, stands when it goes on for reaction_s and then brakes; h that
@@ -117,30 +116,12 @@ struct Footprint {
 // where it is now, could reach the front disc. allowance_m[k] is what
 // braking from the measured controls misses of it (0 where braking meets
 // it), so braking always meets it. v_k >= 0 (the planner never reverses).
-//
-// With accel_mps2 > 0 the mover is also taken to keep its velocity
-// (vx, vy) give or take speed_error_mps, changing it at most accel_mps2:
-// at time t from now its body is within
-//   rho(t) = speed_error_mps t + accel_mps2 t^2 / 2
-// of where (vx, vy) t takes it. B_k is then safe when it is out of
-// either reach, the one above or this one swept over t in [0, T_k],
-// T_k = reaction_s + v_k / decel_mps2 (the mover must not pass through
-// B_k before the robot stands there either):
-//   g = max(g_any, min over t of h(B_k, body + (vx, vy) t) - radius_m - rho(t)) + allowance_m[k],
-// the minimum taken at t = T_k, at the moment the body's centre passes
-// nearest B_k, and half-way between. A bike (fast, slow to turn) reaches
-// little beside its way in the short T_k of a slow robot, so the robot
-// may drive out of its lane; a walker turns within T_k and reaches about
-// as far as its speed alone says.
 struct ReachBound {
   int64_t id = 0;                                // the obstacle it was made from
   double x = 0, y = 0, a = 0, b = 0, theta = 0;  // the mover's body now
   double speed_mps = 0, reaction_s = 0, decel_mps2 = 1;
   double offset_m = 0, radius_m = 0;  // the front disc
   std::vector<double> allowance_m;    // N
-  double vx = 0, vy = 0;              // m/s, the mover's velocity now (accel_mps2 > 0)
-  double speed_error_mps = 0;         // how far off (vx, vy) may be
-  double accel_mps2 = 0;              // the most it changes its velocity (0: no velocity reach)
 };
 
 struct Problem {
@@ -451,57 +432,21 @@ BarrierValue constraint_barrier(const Problem& pb, const ObstacleTrack& o, int k
 struct ReachValue {
   double g = 0, gx = 0, gy = 0, gth = 0, gv = 0;
 };
-
-// The braking point B (the front disc's centre where the robot stands) of
-// a state with heading (c, s) going v, and the time T until it stands.
-struct BrakingPoint {
-  double bx = 0, by = 0, len = 0, T = 0;
-};
-inline BrakingPoint braking_point(const ReachBound& r, double x, double y, double c, double s, double v) {
-  BrakingPoint p;
-  p.len = r.offset_m + v * r.reaction_s + v * v / (2.0 * r.decel_mps2);
-  p.bx = x + p.len * c, p.by = y + p.len * s;
-  p.T = r.reaction_s + v / r.decel_mps2;
-  return p;
-}
-
-// A value g at B with h's gradient (hx, hy) there and a direct dg/dv part
-// gv_direct, with its derivatives in (x, y, th, v): B moves with all four.
-inline ReachValue reach_chain(double g, double hx, double hy, double gv_direct, const BrakingPoint& p, double c,
-                              double s) {
-  ReachValue out;
-  out.g = g;
-  out.gx = hx;
-  out.gy = hy;
-  out.gth = p.len * (-hx * s + hy * c);
-  out.gv = (hx * c + hy * s) * p.T + gv_direct;  // dlen/dv = T
-  return out;
-}
-
-// The reach in any direction at speed_mps (the first form above).
-inline ReachValue reach_any_cs(const ReachBound& r, const BrakingPoint& p, double c, double s, bool want_derivatives) {
-  const double ct = std::cos(r.theta), st = std::sin(r.theta);
-  const BarrierStage t = barrier_stage(p.bx, p.by, r.x, r.y, r.a, r.b, ct, st, 0.0);
-  const double g = t.h - r.radius_m - r.speed_mps * p.T;
-  if (!want_derivatives) return {g};
-  const BarrierValue b = barrier_derivatives(t, r.a, r.b, ct, st, false);
-  return reach_chain(g, b.gx, b.gy, -r.speed_mps / r.decel_mps2, p, c, s);
-}
-
-// The velocity reach (accel_mps2 > 0, above): its least value over the
-// three times (problem.cpp).
-ReachValue reach_velocity_cs(const ReachBound& r, const BrakingPoint& p, double c, double s, bool want_derivatives);
-
 // The same with the heading's cosine c and sine s known.
 inline ReachValue reach_value_cs(const ReachBound& r, int k, double x, double y, double c, double s, double v,
                                  bool want_derivatives) {
-  const BrakingPoint p = braking_point(r, x, y, c, s, v);
-  ReachValue out = reach_any_cs(r, p, c, s, want_derivatives);
-  if (r.accel_mps2 > 0.0) {
-    const ReachValue vel = reach_velocity_cs(r, p, c, s, want_derivatives);
-    if (vel.g > out.g) out = vel;
-  }
-  out.g += r.allowance_m[static_cast<size_t>(k)];
+  const double len = r.offset_m + v * r.reaction_s + v * v / (2.0 * r.decel_mps2);
+  const double ct = std::cos(r.theta), st = std::sin(r.theta);
+  const BarrierStage t = barrier_stage(x + len * c, y + len * s, r.x, r.y, r.a, r.b, ct, st, 0.0);
+  ReachValue out;
+  out.g = t.h - r.radius_m - r.speed_mps * (r.reaction_s + v / r.decel_mps2) + r.allowance_m[static_cast<size_t>(k)];
+  if (!want_derivatives) return out;
+  const BarrierValue b = barrier_derivatives(t, r.a, r.b, ct, st, false);
+  const double along = b.gx * c + b.gy * s;  // dh/dlen
+  out.gx = b.gx;
+  out.gy = b.gy;
+  out.gth = len * (-b.gx * s + b.gy * c);
+  out.gv = along * (r.reaction_s + v / r.decel_mps2) - r.speed_mps / r.decel_mps2;
   return out;
 }
 inline ReachValue reach_value(const ReachBound& r, int k, double x, double y, double th, double v,

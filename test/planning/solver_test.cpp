@@ -182,7 +182,6 @@ TEST(CeresSolver, AnalyticJacobianMatchesFiniteDifferences) {
   ReachBound reach;  // a mover 2 m ahead, 0.6 m aside
   reach.x = 2.0, reach.y = 0.6, reach.a = 0.35, reach.b = 0.25, reach.theta = 0.4;
   reach.speed_mps = 1.2, reach.reaction_s = 0.2, reach.decel_mps2 = 1.5, reach.offset_m = 0.14, reach.radius_m = 0.17;
-  reach.vx = -1.0, reach.vy = 0.3, reach.speed_error_mps = 0.2, reach.accel_mps2 = 1.0;  // its velocity reach too
   reach.allowance_m.assign(static_cast<size_t>(pb.N), 0.05);
   pb.reach.push_back(reach);
   const int n = pb.num_controls(), m = pb.num_constraints();
