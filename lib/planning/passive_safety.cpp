@@ -62,14 +62,6 @@ std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem
   return out;
 }
 
-Problem without_slow_movers(const Problem& pb, double speed_mps) {
-  Problem out = pb;
-  out.obstacles.clear();
-  for (const ObstacleTrack& o : pb.obstacles)
-    if (o.field || mean_predicted_speed(o, pb.N, pb.dt) > speed_mps) out.obstacles.push_back(o);
-  return out;
-}
-
 double passive_speed_bound(const PassiveSafetyParams& p, const Problem& pb) {
   double bound = pb.lim.v_max;
   for (const MoverBound& m : mover_bounds(p, pb)) bound = std::min(bound, m.speed_mps);

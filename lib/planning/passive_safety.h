@@ -75,10 +75,9 @@ struct PassiveSafetyParams {
   bool every_plan = true;            // the hard problem too: certified plans keep the bound (off: only the recovery's)
   bool braking_point = true;         // bound where braking from each step ends (off: one speed in every direction)
   bool slow_chosen = true;  // the recovery's chosen plan slowed onto the reach bounds where it comes to no worse
-  SlowedRefusal slowed_refused_if = SlowedRefusal::kFastMovers;  // slow_chosen: what "worse" is (recovery_rank.h)
-  double trusted_speed_mps = 1.8;  // fast_movers: a mover predicted faster cannot turn round at once
-  double speed_memory_s = 2.0;     // s: a mover is as fast as its tracker said lately (0: the prediction)
-  bool measured_position = true;   // a mover is also where its tracker last measured it, if nearer
+  SlowedRefusal slowed_refused_if = SlowedRefusal::kStructure;  // slow_chosen: what "worse" is (recovery_rank.h)
+  double speed_memory_s = 2.0;    // s: a mover is as fast as its tracker said lately (0: the prediction)
+  bool measured_position = true;  // a mover is also where its tracker last measured it, if nearer
 
   template <class V>
   void fields(V& v) {
@@ -93,9 +92,7 @@ struct PassiveSafetyParams {
     v.choice("slowed_refused_if", slowed_refused_if,
              config::Choices<SlowedRefusal>{{"worse_outcome", SlowedRefusal::kWorseOutcome},
                                             {"drives_into", SlowedRefusal::kDrivesInto},
-                                            {"structure", SlowedRefusal::kStructure},
-                                            {"fast_movers", SlowedRefusal::kFastMovers}});
-    v.field("trusted_speed_mps", trusted_speed_mps, config::between(0.0, 20.0));
+                                            {"structure", SlowedRefusal::kStructure}});
     v.field("speed_memory_s", speed_memory_s, config::between(0.0, 30.0));
     v.field("measured_position", measured_position);
   }
@@ -113,10 +110,6 @@ struct MoverBound {
   double mover_speed_mps = 0.0;  // the mover's, as the bound takes it
 };
 std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem& pb);
-
-// pb with only the obstacles that are static structure (fields) or whose
-// mean predicted speed (mean_predicted_speed) is above speed_mps.
-Problem without_slow_movers(const Problem& pb, double speed_mps);
 
 // The bound for pb: the least passive_safe_speed over pb's movers, at most
 // pb.lim.v_max (v_max: no mover).

@@ -250,23 +250,10 @@ RecoveryJudgement PlannerCore::judge_recovery_plan(const Problem& pb, const std:
 bool PlannerCore::slow_onto_reach(const Problem& pb, const RecoveryJudgement& judged, std::vector<double>* u) const {
   std::vector<double> slowed = *u;
   if (!project_onto_reach(pb, &slowed)) return false;
-  const PassiveSafetyParams& ps = p_.passive_safety;
   std::vector<double> states(3 * static_cast<size_t>(pb.N + 1));
-  // fast_movers: a walker may turn round at once, a faster mover cannot;
-  // against those alone the predictions are trusted to say the slowed plan
-  // is walked into where the chosen one gets out of the way, so both are
-  // judged against them
-  const bool fast_only = ps.slowed_refused_if == SlowedRefusal::kFastMovers;
-  const Problem fast = fast_only ? without_slow_movers(pb, ps.trusted_speed_mps) : Problem{};
-  const Problem& against = fast_only ? fast : pb;
-  RecoveryJudgement chosen = judged;
-  if (fast_only) {
-    rollout(against, u->data(), states.data());
-    chosen = judge_recovery_plan(against, states);
-  }
-  rollout(against, slowed.data(), states.data());
-  const RecoveryJudgement s = judge_recovery_plan(against, states);
-  if (slowed_is_worse(s, chosen, p_.solver.constraint_tolerance, ps.slowed_refused_if)) return false;
+  rollout(pb, slowed.data(), states.data());
+  const RecoveryJudgement s = judge_recovery_plan(pb, states);
+  if (slowed_is_worse(s, judged, p_.solver.constraint_tolerance, p_.passive_safety.slowed_refused_if)) return false;
   *u = std::move(slowed);
   return true;
 }

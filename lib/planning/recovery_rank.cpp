@@ -19,7 +19,6 @@ bool slowed_is_worse(const RecoveryJudgement& slowed, const RecoveryJudgement& c
   if ((slowed.into && !chosen.into) || slowed.contact > chosen.contact + tie) return true;
   switch (rule) {
     case SlowedRefusal::kWorseOutcome:
-    case SlowedRefusal::kFastMovers:  // the judgements are against the fast movers only
       return slowed.outcome.kind > chosen.outcome.kind;
     case SlowedRefusal::kDrivesInto:
       return slowed.outcome.kind == Outcome::kOurs && chosen.outcome.kind != Outcome::kOurs;

@@ -52,8 +52,6 @@ enum class SlowedRefusal {
   kDrivesInto,    // also: driving into a mover where the chosen did not (walked into is no worse:
                   // a contact the robot does not make, passive safety's point)
   kStructure,     // structure only: against movers the reach bounds decide (passive safety kept)
-  kFastMovers,    // also: an outcome of a worse kind against the movers faster than any walker
-                  // (PassiveSafetyParams::trusted_speed_mps; judged by PlannerCore::slow_onto_reach)
 };
 
 // Whether the slowed plan (judged `slowed`) is worse than the chosen plan

@@ -14,9 +14,7 @@
 #include <limits>
 #include <vector>
 
-#include "box_map.h"
 #include "planning/recent_max.h"
-#include "planning/static_field.h"
 #include "test_problems.h"
 
 namespace evade::planning {
@@ -158,21 +156,6 @@ TEST(PassiveSafety, AMoverMeasuredNearerThanPredictedBindsWhereItWasMeasured) {
   // measured farther than predicted: the prediction stands
   pb.obstacles[0].measured = ObstacleTrack::Body{0.21 + 2.6 + 0.3, 0.0, 0.3, 0.3, 0.0};
   EXPECT_NEAR(passive_speed_bound(p, pb), predicted, 0.01);
-}
-
-TEST(PassiveSafety, WithoutSlowMoversKeepsStructureAndWhatIsFasterThanAWalker) {
-  Problem pb = robot_and_walker(3.0, 1.0, -1.4, 0.0, 3.0);                                           // a walker
-  pb.obstacles.push_back(moving_obstacle(4, 6.0, 0.0, -2.5, 0.0, 0.5, 0.3, 0.0, 0.9, pb.N, pb.dt));  // a bike
-  pb.obstacles.push_back(moving_obstacle(5, 2.0, -1.0, 0.0, 0.0, 0.3, 0.3, 0.0, 0.9, pb.N, pb.dt));  // a bin
-  ObstacleTrack wall = moving_obstacle(6, 0.0, 0.0, 0.0, 0.0, 0.1, 0.1, 0.0, 0.0, pb.N, pb.dt);
-  wall.field = StaticField::build(testing::box_map({{4.0, 4.2, -3.0, 3.0}}, 0, 1.0f), {}, {}, StaticFieldParams{});
-  ASSERT_TRUE(wall.field);
-  pb.obstacles.push_back(wall);
-  const Problem fast = without_slow_movers(pb, 1.8);
-  ASSERT_EQ(fast.obstacles.size(), 2u);
-  EXPECT_EQ(fast.obstacles[0].id, 4);
-  EXPECT_EQ(fast.obstacles[1].id, 6);
-  EXPECT_EQ(without_slow_movers(pb, 1.0).obstacles.size(), 3u) << "the walker is faster than 1 m/s";
 }
 
 TEST(RecentMax, TheLargestWithinTheWindowOfTheLastAdd) {

@@ -74,8 +74,8 @@ TEST(RecoveryRank, TiesKeepTheEarlierPlan) {
   EXPECT_TRUE(ranks_before(less_short, a, kTie, false));
 }
 
-constexpr SlowedRefusal kRules[] = {SlowedRefusal::kWorseOutcome, SlowedRefusal::kDrivesInto, SlowedRefusal::kStructure,
-                                    SlowedRefusal::kFastMovers};
+constexpr SlowedRefusal kRules[] = {SlowedRefusal::kWorseOutcome, SlowedRefusal::kDrivesInto,
+                                    SlowedRefusal::kStructure};
 
 TEST(SlowedIsWorse, StructureAlwaysMoversAsTheRuleSays) {
   RecoveryJudgement chosen;  // clear of structure and of every mover
@@ -95,14 +95,13 @@ TEST(SlowedIsWorse, StructureAlwaysMoversAsTheRuleSays) {
   RecoveryJudgement walked_into = chosen;
   walked_into.outcome.kind = Outcome::kTheirs;
   EXPECT_TRUE(slowed_is_worse(walked_into, chosen, kTie, SlowedRefusal::kWorseOutcome));
-  EXPECT_TRUE(slowed_is_worse(walked_into, chosen, kTie, SlowedRefusal::kFastMovers));  // judged against fast ones
   EXPECT_FALSE(slowed_is_worse(walked_into, chosen, kTie, SlowedRefusal::kDrivesInto));
   EXPECT_FALSE(slowed_is_worse(walked_into, chosen, kTie, SlowedRefusal::kStructure));
   // driving into a mover where the chosen plan did not: worse unless only
   // structure counts
   RecoveryJudgement drives_into = chosen;
   drives_into.outcome.kind = Outcome::kOurs;
-  for (SlowedRefusal rule : {SlowedRefusal::kWorseOutcome, SlowedRefusal::kDrivesInto, SlowedRefusal::kFastMovers}) {
+  for (SlowedRefusal rule : {SlowedRefusal::kWorseOutcome, SlowedRefusal::kDrivesInto}) {
     EXPECT_TRUE(slowed_is_worse(drives_into, chosen, kTie, rule));
     EXPECT_TRUE(slowed_is_worse(drives_into, walked_into, kTie, rule));
   }
