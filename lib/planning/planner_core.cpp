@@ -183,6 +183,16 @@ double PlannerCore::track_still_s(int64_t id, int64_t utime) const {
   return it == seen_.end() ? 0.0 : 1e-6 * static_cast<double>(utime - it->second.still_since_utime);
 }
 
+bool PlannerCore::passes_robot(const evade::track_prediction_t& t, const evade::odometry_t& odom) const {
+  const double speed = std::hypot(t.vx, t.vy);
+  if (!(speed > 0.0)) return false;
+  const double ux = t.vx / speed, uy = t.vy / speed;
+  const double rx = odom.x - t.x[0], ry = odom.y - t.y[0];  // from the track to the robot
+  const double lateral = std::fabs(rx * uy - ry * ux);
+  const double r = std::max(t.a[0], t.b[0]);
+  return rx * ux + ry * uy > 0.0 && lateral <= r + p_.d_safe_m + p_.footprint.radius + p_.detour.comfort_m;
+}
+
 PlannerCore::Sweep PlannerCore::swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom,
                                               Ellipse* swept) const {
   const DetourParams& d = p_.detour;
@@ -209,7 +219,7 @@ PlannerCore::Sweep PlannerCore::swept_in_grid(const evade::track_prediction_t& t
     sweep_m = speed * d.leader_sweep_s;
     kind = Sweep::kLeader;
   } else if (d.oncoming_sweep_s > 0.0 && !t.sigma.empty() && t.sigma[0] <= d.oncoming_max_sigma_m &&
-             -along >= std::cos(d.oncoming_max_angle_rad)) {
+             -along >= std::cos(d.oncoming_max_angle_rad) && passes_robot(t, odom)) {
     // Coming towards the robot: a group abreast is wider than any swerve
     // the 2.5 s horizon can plan once it is near, and standing in its way
     // is no escape from walkers who do not give way. Its way up to the

@@ -100,10 +100,18 @@ class PlannerCore : public bus::Core {
   // along its velocity (*swept): a slow leader (going the route's way within
   // detour.leader_max_angle_rad, slower than leader_max_speed_mps: swept
   // leader_sweep_s) or an oncoming one (within oncoming_max_angle_rad of
-  // the route's reverse heading: swept up to the robot, at most
-  // oncoming_sweep_s). Says which it is (kNone: not swept, *swept untouched).
+  // the route's reverse heading, its way passing the robot (passes_robot):
+  // swept up to the robot, at most oncoming_sweep_s). Says which it is
+  // (kNone: not swept, *swept untouched).
   enum class Sweep { kNone, kLeader, kOncoming };
   Sweep swept_in_grid(const evade::track_prediction_t& t, const evade::odometry_t& odom, Ellipse* swept) const;
+  // Whether track t goes towards the robot and its line of motion passes
+  // the robot nearer than its larger semi-axis + d_safe_m + the
+  // footprint's disc radius + detour.comfort_m: a walker in a lane beside
+  // the robot's does not come to it, and sweeping its lane walls the
+  // robot off the route (crowd 280: the reference flipped between the way
+  // round such lanes and the route, and the robot turned on the spot).
+  bool passes_robot(const evade::track_prediction_t& t, const evade::odometry_t& odom) const;
   // A plan the recovery chain tried, with the HEALTH counter naming its kind
   // (mc_hard, mc_dash, ...) that most_clearance adds when it sends it.
   struct Attempt {

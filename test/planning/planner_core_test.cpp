@@ -262,6 +262,21 @@ TEST(PlannerCore, AGroupAbreastComingHeadOnIsLeftInTime) {
   EXPECT_LT(in_way.min_h, contact);  // the premise: standing in its way, the robot is hit
 }
 
+// An oncoming walker enters the detour grid only if its way passes the
+// robot (PlannerCore::passes_robot): one coming down the robot's line, or
+// 0.6 m beside it, is swept; one in a lane 1.8 m beside the robot is not
+// (sweeping such lanes walled a robot off the route in crowd 280, and the
+// reference flipped between the way round them and the route).
+TEST(PlannerCore, AnOncomingWalkerIsSweptOnlyIfItsWayPassesTheRobot) {
+  auto swept = [](double lane_y) {
+    return run(default_params(), {{7.0, lane_y, -1.2, 0.0, 0.3}}, 1.0, 20.0).detour_movers;
+  };
+  EXPECT_GT(swept(0.0), 0);
+  EXPECT_GT(swept(0.6), 0);
+  EXPECT_EQ(swept(1.8), 0);
+  EXPECT_EQ(swept(-1.8), 0);
+}
+
 // Squeezed inside d_safe of a static obstacle ahead and to the left (as
 // after dodging a walker): the relaxed problem keeps h from falling, and
 // getting away needs a turn on the spot of about 75 deg, the whole
