@@ -3,7 +3,7 @@
 # bike's, by track age, by the gap to the nearest parked box and by the MBE's elongation.
 # Run from the repository root after a build. World and odometry frames are related by the
 # truth and odometry poses of the same moment.
-import json, math, subprocess, sys, collections
+import json, math, subprocess, sys
 rows = []
 for log in sys.argv[1:]:
     out = subprocess.run(['build/bin/lcmlog-export', '--channel', 'SIM_TRUTH', '--channel', 'OBSTACLE_PREDICTIONS', '--channel', 'ODOMETRY', log], capture_output=True, text=True).stdout

@@ -2,6 +2,8 @@
 # (JSON per log in OUTDIR, reused when present), pooled: per object class the centre error,
 # coverage and body coverage at steps 0, 10, 25 (weighted by class_n), the static-motion
 # share, MOTA, identity switches per 100 track-s, walker ADE at 1 s. Run from the repository root.
+# MOTA, switches, the static share and walker ADE pool as pool_perception does
+# (lib/benchmark/benchmark_summary.h); the class figures are not pooled there.
 import json, subprocess, sys, os, concurrent.futures as cf
 cfg, outdir, logs = sys.argv[1], sys.argv[2], sys.argv[3:]
 os.makedirs(outdir, exist_ok=True)
@@ -9,7 +11,9 @@ def run(log):
     name = os.path.relpath(log).replace('/', '_')
     out = os.path.join(outdir, name + '.json')
     if not os.path.exists(out):
-        subprocess.run(['build/bin/perception-replay', '--config', cfg, '--out', out, log], capture_output=True)
+        # a failed replay (a config this build refuses) stops here with its message
+        subprocess.run(['build/bin/perception-replay', '--config', cfg, '--out', out, log], stdout=subprocess.DEVNULL,
+                       check=True)
     return json.load(open(out))
 with cf.ThreadPoolExecutor(2) as ex: ds = list(ex.map(run, logs))
 def pool(key, cls, k):
