@@ -656,8 +656,9 @@ TEST(Tracker, NearSideCorrectionMovesTheCentreTowardsTheBodysAxis) {
   // the near side stays inside: every obstacle cell's centre is enclosed
   for (int row = 0; row < s.h; ++row)
     for (int c = 0; c < s.w; ++c)
-      if (s.cells[row * s.w + c])
+      if (s.cells[row * s.w + c]) {
         EXPECT_LE(ellipse_level(corrected, {s.origin_x + (c + 0.5) * s.res, s.origin_y + (row + 0.5) * s.res}), 1.0);
+      }
 }
 
 TEST(Tracker, TracksDropAfterKMissedFramesAndIdsAreNeverReused) {
