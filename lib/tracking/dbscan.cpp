@@ -5,14 +5,28 @@
 
 namespace evade::tracking {
 
-GridDbscan::GridDbscan(double eps_cells, int min_points) : min_points_(min_points) {
-  const int r = int(std::floor(eps_cells + 1e-9));
+GridDbscan::GridDbscan(const EpsByRange& eps, int min_points)
+    : eps_(eps), by_range_(eps.growth > 0.0 && eps.max_cells > eps.cells), min_points_(min_points) {
+  const double reach = by_range_ ? eps.max_cells : eps.cells;
+  const int r = int(std::floor(reach + 1e-9));
   for (int dr = -r; dr <= r; ++dr)
-    for (int dc = -r; dc <= r; ++dc)
-      if (dr * dr + dc * dc <= eps_cells * eps_cells + 1e-9) offsets_.push_back({dr, dc});
+    for (int dc = -r; dc <= r; ++dc) {
+      const double d2 = double(dr * dr + dc * dc);
+      if (d2 <= reach * reach + 1e-9) offsets_.push_back({dr, dc, d2});
+    }
 }
 
-const std::vector<std::vector<int32_t>>& GridDbscan::run(const int8_t* occ, int w, int h) {
+void GridDbscan::set_radii(int w, double sensor_col, double sensor_row) {
+  const bool known = std::isfinite(sensor_col) && std::isfinite(sensor_row);
+  for (int32_t i : cells_) {
+    const double range = known ? std::hypot(i % w + 0.5 - sensor_col, i / w + 0.5 - sensor_row) : 0.0;
+    const double e = std::min(eps_.max_cells, eps_.cells + eps_.growth * range);
+    eps2_[size_t(i)] = e * e;
+  }
+}
+
+const std::vector<std::vector<int32_t>>& GridDbscan::run(const int8_t* occ, int w, int h, double sensor_col,
+                                                         double sensor_row) {
   const size_t n = size_t(w) * size_t(h);
   label_.assign(n, -2);
   core_.assign(n, 0);
@@ -24,13 +38,19 @@ const std::vector<std::vector<int32_t>>& GridDbscan::run(const int8_t* occ, int 
       label_[i] = -1;
       cells_.push_back(int32_t(i));
     }
+  if (by_range_) {
+    eps2_.resize(n);
+    set_radii(w, sensor_col, sensor_row);
+  }
   // core cells: at least min_points obstacle cells within eps (itself included)
   for (int32_t i : cells_) {
     const int r = i / w, c = i % w;
     int count = 0;
     for (const auto& o : offsets_) {
       const int rr = r + o.dr, cc = c + o.dc;
-      if (rr >= 0 && cc >= 0 && rr < h && cc < w && label_[size_t(rr) * w + cc] != -2) ++count;
+      if (rr < 0 || cc < 0 || rr >= h || cc >= w) continue;
+      const size_t j = size_t(rr) * w + cc;
+      if (label_[j] != -2 && near(size_t(i), j, o)) ++count;
     }
     core_[i] = count >= min_points_;
   }
@@ -52,7 +72,7 @@ const std::vector<std::vector<int32_t>>& GridDbscan::run(const int8_t* occ, int 
         const int rr = r + o.dr, cc = c + o.dc;
         if (rr < 0 || cc < 0 || rr >= h || cc >= w) continue;
         const size_t j = size_t(rr) * w + cc;
-        if (label_[j] != -1) continue;
+        if (label_[j] != -1 || !near(size_t(i), j, o)) continue;
         label_[j] = id;
         queue_.push_back(int32_t(j));
       }

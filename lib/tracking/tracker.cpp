@@ -14,6 +14,11 @@ double gap_seconds(int64_t now, int64_t then) { return (static_cast<double>(now)
 
 TrackerParams TrackerParams::from_config(const config::Node& s) { return config::load<TrackerParams>(s); }
 
+EpsByRange TrackerParams::eps_cells(double resolution_m) const {
+  const double cells = dbscan_eps_m / resolution_m;
+  return {cells, dbscan_eps_growth_m_per_m, cells + dbscan_eps_growth_max_m / resolution_m};
+}
+
 MbeOptions TrackerParams::mbe() const {
   MbeOptions o;
   o.tolerance = mbe_tolerance;
@@ -45,7 +50,8 @@ double shape_variation(const std::deque<Ellipse>& h, ThetaVariation mode) {
   return sum / double(m - 1);
 }
 
-Tracker::Tracker(const TrackerParams& p) : p_(p), dbscan_(1.0, p.dbscan_min_points), dbscan_resolution_(-1.0) {}
+Tracker::Tracker(const TrackerParams& p)
+    : p_(p), dbscan_(1.0, p.dbscan_min_points), fine_(1.0, p.dbscan_min_points), dbscan_resolution_(-1.0) {}
 
 Ellipse Tracker::fit(const GridView& g, const std::vector<int32_t>& cells) {
   // The hull of a set of cells is the hull of each row's extreme corners.
@@ -303,26 +309,72 @@ void Tracker::cut_cluster(const GridView& g, const std::vector<int32_t>& cells) 
   stats_.merges_held += whole.merged;
 }
 
+// Whether the cells' bounding box has a side longer than max_cluster_extent_m.
+bool Tracker::large(const GridView& g, const std::vector<int32_t>& cells) const {
+  int rmin = g.height, rmax = -1, cmin = g.width, cmax = -1;
+  for (int32_t i : cells) {
+    const int r = i / g.width, c = i % g.width;
+    rmin = std::min(rmin, r), rmax = std::max(rmax, r), cmin = std::min(cmin, c), cmax = std::max(cmax, c);
+  }
+  const int max_extent_cells = int(std::floor(p_.max_cluster_extent_m / g.resolution + 1e-9));
+  return std::max(rmax - rmin + 1, cmax - cmin + 1) > max_extent_cells;
+}
+
+// kSplit: tiles on the odometry frame's lattice, so a wall is cut at the
+// same places from frame to frame and its pieces keep their ids.
+void Tracker::add_tiles(const GridView& g, const std::vector<int32_t>& cells) {
+  std::map<std::pair<int64_t, int64_t>, std::vector<int32_t>> tiles;
+  for (int32_t i : cells) {
+    const double x = g.origin_x + (i % g.width + 0.5) * g.resolution;
+    const double y = g.origin_y + (i / g.width + 0.5) * g.resolution;
+    tiles[{int64_t(std::floor(x / p_.split_tile_m)), int64_t(std::floor(y / p_.split_tile_m))}].push_back(i);
+  }
+  for (const auto& [key, tcells] : tiles) {
+    ++stats_.tiles;
+    add_detection(g, tcells);
+  }
+}
+
+// A large cluster under kSplit. With a radius by range, it is first parted
+// into the clusters of the radius at the sensor (fine_'s last run): what a
+// far radius joined to a wall (a walker beside it) is an object again, and
+// each part large in its own right is tiled.
+void Tracker::split_large(const GridView& g, const std::vector<int32_t>& cells, bool by_range) {
+  if (!by_range) {
+    add_tiles(g, cells);
+    return;
+  }
+  std::map<int32_t, std::vector<int32_t>> parts;  // fine cluster -> its cells here; fine noise is left out
+  for (int32_t i : cells)
+    if (const int32_t k = fine_.labels()[size_t(i)]; k >= 0) parts[k].push_back(i);
+  for (const auto& [k, part] : parts) {
+    if (large(g, part))
+      add_tiles(g, part);
+    else
+      add_cluster(g, part);
+  }
+}
+
 void Tracker::detect(const GridView& g) {
   detections_.clear();
+  const EpsByRange eps = p_.eps_cells(g.resolution);
+  const bool by_range = eps.growth > 0.0 && eps.max_cells > eps.cells;
   if (dbscan_resolution_ != g.resolution) {
-    dbscan_ = GridDbscan(p_.dbscan_eps_m / g.resolution, p_.dbscan_min_points);
+    dbscan_ = GridDbscan(eps, p_.dbscan_min_points);
+    fine_ = GridDbscan(eps.cells, p_.dbscan_min_points);
     dbscan_resolution_ = g.resolution;
   }
-  const auto& clusters = dbscan_.run(g.obstacle, g.width, g.height);
+  const double nan = std::nan("");
+  const auto& clusters =
+      dbscan_.run(g.obstacle, g.width, g.height, g.has_robot ? (g.robot_x - g.origin_x) / g.resolution : nan,
+                  g.has_robot ? (g.robot_y - g.origin_y) / g.resolution : nan);
   stats_.clusters += int64_t(clusters.size());
   stats_.noise_cells += dbscan_.noise_cells();
-  const int max_extent_cells = int(std::floor(p_.max_cluster_extent_m / g.resolution + 1e-9));
-  std::vector<int32_t> tile_cells;
+  bool fine_run = false;
   for (const auto& cells : clusters) {
-    int rmin = g.height, rmax = -1, cmin = g.width, cmax = -1;
-    for (int32_t i : cells) {
-      const int r = i / g.width, c = i % g.width;
-      rmin = std::min(rmin, r), rmax = std::max(rmax, r), cmin = std::min(cmin, c), cmax = std::max(cmax, c);
-    }
-    const bool large = std::max(rmax - rmin + 1, cmax - cmin + 1) > max_extent_cells;
-    if (!large || p_.large_cluster == LargeClusterPolicy::kKeep) {
-      if (large) ++stats_.large_clusters;
+    const bool is_large = large(g, cells);
+    if (!is_large || p_.large_cluster == LargeClusterPolicy::kKeep) {
+      if (is_large) ++stats_.large_clusters;
       add_cluster(g, cells);
       continue;
     }
@@ -331,18 +383,8 @@ void Tracker::detect(const GridView& g) {
       ++stats_.large_dropped;
       continue;
     }
-    // kSplit: tiles on the odometry frame's lattice, so a wall is cut at
-    // the same places from frame to frame and its pieces keep their ids
-    std::map<std::pair<int64_t, int64_t>, std::vector<int32_t>> tiles;
-    for (int32_t i : cells) {
-      const double x = g.origin_x + (i % g.width + 0.5) * g.resolution;
-      const double y = g.origin_y + (i / g.width + 0.5) * g.resolution;
-      tiles[{int64_t(std::floor(x / p_.split_tile_m)), int64_t(std::floor(y / p_.split_tile_m))}].push_back(i);
-    }
-    for (const auto& [key, tcells] : tiles) {
-      ++stats_.tiles;
-      add_detection(g, tcells);
-    }
+    if (by_range && !fine_run) fine_.run(g.obstacle, g.width, g.height), fine_run = true;
+    split_large(g, cells, by_range);
   }
 }
 

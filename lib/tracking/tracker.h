@@ -76,13 +76,15 @@ struct ReidParams {
 };
 
 struct TrackerParams {
-  double dbscan_eps_m = 0.15;         // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
-  int dbscan_min_points = 3;          // DBSCAN minPts (the cell itself included)
-  double gate_m = 0.8;                // d_max: farthest centre distance accepted as the same obstacle
-  int max_missed_frames = 10;         // K: a track unseen for more frames is dropped
-  int shape_history_frames = 10;      // m: frames in the shape-variation window
-  int max_tracks = 256;               // hard bound on the track table
-  double max_cluster_extent_m = 3.0;  // a cluster whose bounding box side exceeds this is "large"
+  double dbscan_eps_m = 0.15;              // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
+  double dbscan_eps_growth_m_per_m = 0.0;  // the radius grows by this per m of range from the robot...
+  double dbscan_eps_growth_max_m = 0.0;    // ...by at most this (EpsByRange, dbscan.h)
+  int dbscan_min_points = 3;               // DBSCAN minPts (the cell itself included)
+  double gate_m = 0.8;                     // d_max: farthest centre distance accepted as the same obstacle
+  int max_missed_frames = 10;              // K: a track unseen for more frames is dropped
+  int shape_history_frames = 10;           // m: frames in the shape-variation window
+  int max_tracks = 256;                    // hard bound on the track table
+  double max_cluster_extent_m = 3.0;       // a cluster whose bounding box side exceeds this is "large"
   LargeClusterPolicy large_cluster = LargeClusterPolicy::kSplit;
   double split_tile_m = 1.5;          // kSplit: tile size on the odometry-frame lattice
   double mbe_tolerance = 1e-5;        // MbeOptions::tolerance (geometry.h)
@@ -101,10 +103,14 @@ struct TrackerParams {
 
   // The minimum bounding ellipse's options from the three mbe keys.
   MbeOptions mbe() const;
+  // The DBSCAN radius (all three dbscan_eps keys) in cells of `resolution_m`.
+  EpsByRange eps_cells(double resolution_m) const;
 
   template <class V>
   void fields(V& v) {
     v.field("dbscan_eps_m", dbscan_eps_m, config::positive());
+    v.field("dbscan_eps_growth_m_per_m", dbscan_eps_growth_m_per_m, config::between(0.0, 1.0));
+    v.field("dbscan_eps_growth_max_m", dbscan_eps_growth_max_m, config::between(0.0, 1.0));
     v.field("dbscan_min_points", dbscan_min_points, config::between(1, 10000));
     v.field("gate_m", gate_m, config::positive());
     v.field("max_missed_frames", max_missed_frames, config::between(0, 1000));
@@ -229,6 +235,9 @@ class Tracker {
   // update, ageing and dropping (returns old -> new index), the output.
   void predict_tracks(int64_t utime);
   void detect(const GridView& grid);
+  bool large(const GridView& grid, const std::vector<int32_t>& cells) const;
+  void add_tiles(const GridView& grid, const std::vector<int32_t>& cells);
+  void split_large(const GridView& grid, const std::vector<int32_t>& cells, bool by_range);
   std::vector<int> associate();
   void update_velocity(Track& track, int64_t utime, const Ellipse& e) const;
   // least-squares slope of the last n fixes' centres over their times; false if undefined
@@ -255,6 +264,7 @@ class Tracker {
 
   TrackerParams p_;
   GridDbscan dbscan_;
+  GridDbscan fine_;  // with a radius by range: the radius at the sensor, which cuts structure
   double dbscan_resolution_;
   std::vector<Detection> detections_;
   std::vector<Track> tracks_;

@@ -29,7 +29,7 @@ void TrackerCore::on_map(const evade::grid_map_t& m) {
   // A map whose cells are so small that eps spans more than kMaxEpsCells
   // cells would make the neighbourhood list (and DBSCAN) quadratic in eps:
   // not a map this tracker was configured for.
-  if (tracker_.params().dbscan_eps_m / m.resolution > kMaxEpsCells) {
+  if (tracker_.params().eps_cells(m.resolution).max_cells > kMaxEpsCells) {
     count("map_resolution_unsupported");
     return;
   }

@@ -167,14 +167,16 @@ TEST(Mbe, LargeClusterEnclosesEveryCorner) {
 }
 
 // --------------------------------------------------------------- DBSCAN
-// Textbook DBSCAN over cell centres, O(n^2).
-std::vector<int> reference_dbscan(const std::vector<std::pair<int, int>>& pts, double eps, int min_pts,
-                                  std::vector<char>* core) {
+// Textbook DBSCAN over cell centres, O(n^2); points i and j are neighbours
+// within the smaller of their radii eps_of(i), eps_of(j).
+std::vector<int> reference_dbscan(const std::vector<std::pair<int, int>>& pts,
+                                  const std::function<double(size_t)>& eps_of, int min_pts, std::vector<char>* core) {
   const size_t n = pts.size();
   auto nb = [&](size_t i) {
     std::vector<size_t> out;
     for (size_t j = 0; j < n; ++j) {
       const double dr = pts[i].first - pts[j].first, dc = pts[i].second - pts[j].second;
+      const double eps = std::min(eps_of(i), eps_of(j));
       if (dr * dr + dc * dc <= eps * eps + 1e-9) out.push_back(j);
     }
     return out;
@@ -197,6 +199,23 @@ std::vector<int> reference_dbscan(const std::vector<std::pair<int, int>>& pts, d
   return label;
 }
 
+// The grid's obstacle cells as (row, col), and each one's cluster in
+// `clusters` (-1: none), in row-major order.
+struct Labelled {
+  std::vector<std::pair<int, int>> pts;
+  std::vector<int> label;
+};
+Labelled labelled(const std::vector<int8_t>& grid, int w, const std::vector<std::vector<int32_t>>& clusters) {
+  Labelled out;
+  std::map<int, size_t> index_of;
+  for (int i = 0; i < int(grid.size()); ++i)
+    if (grid[size_t(i)]) index_of[i] = out.pts.size(), out.pts.push_back({i / w, i % w});
+  out.label.assign(out.pts.size(), -1);
+  for (size_t k = 0; k < clusters.size(); ++k)
+    for (int32_t cell : clusters[k]) out.label[index_of[cell]] = int(k);
+  return out;
+}
+
 TEST(Dbscan, MatchesTheTextbookAlgorithmOnRandomGrids) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 30; ++trial) {
@@ -211,17 +230,11 @@ TEST(Dbscan, MatchesTheTextbookAlgorithmOnRandomGrids) {
     const double eps = 1.0 + (trial % 3) * 0.8;  // 1, 1.8, 2.6 cells
     const int min_pts = 2 + trial % 4;
     GridDbscan db(eps, min_pts);
-    const auto clusters = db.run(grid.data(), w, h);
-    std::vector<std::pair<int, int>> pts;
-    std::map<int, size_t> index_of;
-    for (int i = 0; i < w * h; ++i)
-      if (grid[i]) index_of[i] = pts.size(), pts.push_back({i / w, i % w});
+    const auto [pts, got] = labelled(grid, w, db.run(grid.data(), w, h));
     std::vector<char> core;
-    const auto ref = reference_dbscan(pts, eps, min_pts, &core);
+    const auto ref = reference_dbscan(
+        pts, [eps](size_t) { return eps; }, min_pts, &core);
     // the same clusters, same order (both start from row-major first core cells)
-    std::vector<int> got(pts.size(), -1);
-    for (size_t k = 0; k < clusters.size(); ++k)
-      for (int32_t cell : clusters[k]) got[index_of[cell]] = int(k);
     int noise = 0;
     for (size_t i = 0; i < pts.size(); ++i) {
       EXPECT_EQ(got[i], ref[i]) << "trial " << trial << " cell " << pts[i].first << "," << pts[i].second;
@@ -229,6 +242,47 @@ TEST(Dbscan, MatchesTheTextbookAlgorithmOnRandomGrids) {
     }
     EXPECT_EQ(db.noise_cells(), noise);
   }
+}
+
+TEST(Dbscan, WithARadiusByRangeMatchesTheTextbookRule) {
+  std::mt19937 rng(12);
+  for (int trial = 0; trial < 30; ++trial) {
+    const int w = 40, h = 30;
+    std::vector<int8_t> grid(w * h, 0);
+    for (int k = 0; k < 250; ++k) grid[rng() % grid.size()] = 1;
+    const EpsByRange eps{1.0 + (trial % 2) * 0.5, 0.02 + 0.01 * (trial % 3), 2.6};
+    const double sc = double(rng() % w), sr = double(rng() % h);
+    const int min_pts = 2 + trial % 3;
+    GridDbscan db(eps, min_pts);
+    const auto [pts, got] = labelled(grid, w, db.run(grid.data(), w, h, sc, sr));
+    auto eps_of = [&](size_t i) {
+      const double range = std::hypot(pts[i].second + 0.5 - sc, pts[i].first + 0.5 - sr);
+      return std::min(eps.max_cells, eps.cells + eps.growth * range);
+    };
+    std::vector<char> core;
+    const auto ref = reference_dbscan(pts, eps_of, min_pts, &core);
+    for (size_t i = 0; i < pts.size(); ++i)
+      EXPECT_EQ(got[i], ref[i]) << "trial " << trial << " cell " << pts[i].first << "," << pts[i].second;
+  }
+}
+
+// Two 3-cell arcs with one empty cell between them in a row (0.2 m apart
+// at 0.1 m cells): one object seen far away, where returns thin out, and
+// two near the sensor. The radius 0.15 m + 0.02 m per m reaches 0.2 m at
+// 2.5 m from the sensor (the nearer cell's range decides).
+TEST(Dbscan, ARadiusByRangeBridgesAOneCellGapOnlyFarFromTheSensor) {
+  const int w = 120, h = 10;
+  auto clusters_at = [&](int c0, double sensor_col) {
+    std::vector<int8_t> g(w * h, 0);
+    for (int c : {c0, c0 + 1, c0 + 2, c0 + 4, c0 + 5, c0 + 6}) g[5 * w + c] = 1;
+    GridDbscan db(EpsByRange{1.5, 0.02, 2.5}, 2);
+    return db.run(g.data(), w, h, sensor_col, 5.5).size();
+  };
+  EXPECT_EQ(clusters_at(10, 5.0), 2u);            // the gap's near side 0.75 m away
+  EXPECT_EQ(clusters_at(26, 5.0), 2u);            // 2.35 m
+  EXPECT_EQ(clusters_at(28, 5.0), 1u);            // 2.55 m
+  EXPECT_EQ(clusters_at(100, 5.0), 1u);           // 9.75 m (radius capped at 0.25 m)
+  EXPECT_EQ(clusters_at(100, std::nan("")), 2u);  // sensor unknown: the radius at the sensor
 }
 
 TEST(Dbscan, TwoBlobsAndANoiseCell) {
@@ -292,6 +346,8 @@ TEST(Config, RobotYamlTrackerSectionLoads) {
   const auto p = TrackerParams::from_config(root.section("tracker"));
   const auto d = params();
   EXPECT_DOUBLE_EQ(p.dbscan_eps_m, d.dbscan_eps_m);
+  EXPECT_DOUBLE_EQ(p.dbscan_eps_growth_m_per_m, d.dbscan_eps_growth_m_per_m);
+  EXPECT_DOUBLE_EQ(p.dbscan_eps_growth_max_m, d.dbscan_eps_growth_max_m);
   EXPECT_EQ(p.dbscan_min_points, d.dbscan_min_points);
   EXPECT_DOUBLE_EQ(p.gate_m, d.gate_m);
   EXPECT_EQ(p.max_missed_frames, d.max_missed_frames);
@@ -659,6 +715,43 @@ TEST(Tracker, NearSideCorrectionMovesTheCentreTowardsTheBodysAxis) {
       if (s.cells[row * s.w + c]) {
         EXPECT_LE(ellipse_level(corrected, {s.origin_x + (c + 0.5) * s.res, s.origin_y + (row + 0.5) * s.res}), 1.0);
       }
+}
+
+// A walker 0.2 m (cell centres) from a 4.5 m wall, both far from the
+// robot: the radius by range joins them into one large cluster, and the
+// split parts it again at the radius at the sensor, so the walker is a
+// detection of its own and not part of a wall tile.
+TEST(Tracker, AFarRadiusJoinsAWalkerToAWallButTheSplitPartsThemAgain) {
+  Scene s;
+  s.rect(0.0, 4.0, 4.5, 4.1);  // one row of cells, centres at y 4.05
+  s.disc(2.05, 3.6, 0.26);     // topmost cell centre 3.85
+  TrackerStats st;
+  auto run = [&](double growth, double robot_x, double robot_y) {
+    auto p = params();
+    p.dbscan_eps_growth_m_per_m = growth;
+    p.dbscan_eps_growth_max_m = 0.1;
+    Tracker t(p);
+    GridView g = s.view(1'000'000);
+    g.has_robot = true, g.robot_x = robot_x, g.robot_y = robot_y;
+    const std::vector<TrackedObstacle> obs = t.update(g);
+    st = t.stats();
+    return obs;
+  };
+  const auto far = run(0.0135, -4.5, -4.5);  // about 10 m: radius 0.25 m
+  EXPECT_EQ(st.clusters, 1);                 // one cluster, wall and walker
+  EXPECT_EQ(st.large_clusters, 1);
+  const TrackedObstacle* w = nearest(far, 2.05, 3.6);
+  ASSERT_NE(w, nullptr);
+  EXPECT_LT(std::hypot(w->ellipse.cx - 2.05, w->ellipse.cy - 3.6), 0.1);
+  EXPECT_LT(w->ellipse.a, 0.4);
+  const auto fixed = run(0.0, -4.5, -4.5);  // the fixed radius keeps them apart from the start
+  EXPECT_EQ(st.clusters, 2);
+  const TrackedObstacle* wf = nearest(fixed, 2.05, 3.6);
+  ASSERT_NE(wf, nullptr);
+  EXPECT_NEAR(wf->ellipse.cx, w->ellipse.cx, 1e-9);
+  EXPECT_NEAR(wf->ellipse.cy, w->ellipse.cy, 1e-9);
+  run(0.0135, 2.05, 2.0);  // 1.6 m away: radius 0.17 m, apart
+  EXPECT_EQ(st.clusters, 2);
 }
 
 TEST(Tracker, TracksDropAfterKMissedFramesAndIdsAreNeverReused) {
