@@ -216,12 +216,18 @@ Labelled labelled(const std::vector<int8_t>& grid, int w, const std::vector<std:
   return out;
 }
 
+// A w x h grid with `cells` obstacle cells drawn at random (repeats fall together).
+std::vector<int8_t> random_grid(std::mt19937& rng, int w, int h, int cells) {
+  std::vector<int8_t> grid(size_t(w) * size_t(h), 0);
+  for (int k = 0; k < cells; ++k) grid[rng() % grid.size()] = 1;
+  return grid;
+}
+
 TEST(Dbscan, MatchesTheTextbookAlgorithmOnRandomGrids) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 30; ++trial) {
     const int w = 40, h = 30;
-    std::vector<int8_t> grid(w * h, 0);
-    for (int k = 0; k < 150; ++k) grid[rng() % grid.size()] = 1;
+    std::vector<int8_t> grid = random_grid(rng, w, h, 150);
     for (int b = 0; b < 4; ++b) {  // plus a few blobs
       const int r0 = int(rng() % (h - 5)), c0 = int(rng() % (w - 5));
       for (int r = r0; r < r0 + 4; ++r)
@@ -248,8 +254,7 @@ TEST(Dbscan, WithARadiusByRangeMatchesTheTextbookRule) {
   std::mt19937 rng(12);
   for (int trial = 0; trial < 30; ++trial) {
     const int w = 40, h = 30;
-    std::vector<int8_t> grid(w * h, 0);
-    for (int k = 0; k < 250; ++k) grid[rng() % grid.size()] = 1;
+    const std::vector<int8_t> grid = random_grid(rng, w, h, 250);
     const EpsByRange eps{1.0 + (trial % 2) * 0.5, 0.02 + 0.01 * (trial % 3), 2.6};
     const double sc = double(rng() % w), sr = double(rng() % h);
     const int min_pts = 2 + trial % 3;
