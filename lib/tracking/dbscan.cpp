@@ -6,7 +6,7 @@
 namespace evade::tracking {
 
 GridDbscan::GridDbscan(const EpsByRange& eps, int min_points)
-    : eps_(eps), by_range_(eps.growth > 0.0 && eps.max_cells > eps.cells), min_points_(min_points) {
+    : eps_(eps), by_range_(eps.by_range()), min_points_(min_points) {
   const double reach = by_range_ ? eps.max_cells : eps.cells;
   const int r = int(std::floor(reach + 1e-9));
   for (int dr = -r; dr <= r; ++dr)

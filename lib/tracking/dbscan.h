@@ -20,6 +20,9 @@ struct EpsByRange {
   double cells = 1.5;      // at the sensor
   double growth = 0.0;     // cells added per cell of range (m per m)
   double max_cells = 1.5;  // never more (>= cells)
+
+  // Whether the radius grows at all (else it is the fixed `cells`).
+  bool by_range() const { return growth > 0.0 && max_cells > cells; }
 };
 
 class GridDbscan {

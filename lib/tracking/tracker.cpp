@@ -358,7 +358,7 @@ void Tracker::split_large(const GridView& g, const std::vector<int32_t>& cells, 
 void Tracker::detect(const GridView& g) {
   detections_.clear();
   const EpsByRange eps = p_.eps_cells(g.resolution);
-  const bool by_range = eps.growth > 0.0 && eps.max_cells > eps.cells;
+  const bool by_range = eps.by_range();
   if (dbscan_resolution_ != g.resolution) {
     dbscan_ = GridDbscan(eps, p_.dbscan_min_points);
     fine_ = GridDbscan(eps.cells, p_.dbscan_min_points);
