@@ -806,6 +806,10 @@ TEST(Tracker, LongClutterRunKeepsMemoryBounded) {
     const int n = int(rng() % 12);
     for (int k = 0; k < n; ++k) s.disc(pos(rng), pos(rng), 0.15 + 0.2 * (rng() % 3));
     for (int k = 0; k < 30; ++k) s.cells[rng() % s.cells.size()] = 1;  // speckle
+    // a 4 m wall every 500 frames: the large-cluster path (tiles, and with a
+    // radius by range its second DBSCAN, whose buffers are the grid's size)
+    // has run before the heap is first read
+    if (f % 500 == 0) s.rect(-2.0, 4.6, 2.0, 4.8);
     t.update(s.view(1 + int64_t(f) * 100'000));
     max_tracks_seen = std::max(max_tracks_seen, t.num_tracks());
     if (f >= 5000) max_second_half = std::max(max_second_half, t.num_tracks());
@@ -814,7 +818,8 @@ TEST(Tracker, LongClutterRunKeepsMemoryBounded) {
   EXPECT_LE(max_tracks_seen, size_t(12 * (p.max_missed_frames + 1)));
   EXPECT_LE(max_tracks_seen, size_t(p.max_tracks));
   EXPECT_LE(max_second_half, max_tracks_seen);
-  EXPECT_GT(t.next_id(), 10'000);  // ids kept growing, none reused, no overflow at 100 labels
+  EXPECT_GT(t.next_id(), 10'000);           // ids kept growing, none reused, no overflow at 100 labels
+  EXPECT_GE(t.stats().large_clusters, 20);  // every wall frame
   const long long growth = static_cast<long long>(mallinfo2().uordblks) - static_cast<long long>(heap_at_2000);
   std::printf("[figures] tracker heap, frame 2000 -> 10000: %zu -> %zu bytes (%+lld)\n", heap_at_2000,
               mallinfo2().uordblks, growth);
