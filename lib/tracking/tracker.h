@@ -76,15 +76,15 @@ struct ReidParams {
 };
 
 struct TrackerParams {
-  double dbscan_eps_m = 0.15;              // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
-  double dbscan_eps_growth_m_per_m = 0.0;  // the radius grows by this per m of range from the robot...
-  double dbscan_eps_growth_max_m = 0.0;    // ...by at most this (EpsByRange, dbscan.h)
-  int dbscan_min_points = 3;               // DBSCAN minPts (the cell itself included)
-  double gate_m = 0.8;                     // d_max: farthest centre distance accepted as the same obstacle
-  int max_missed_frames = 10;              // K: a track unseen for more frames is dropped
-  int shape_history_frames = 10;           // m: frames in the shape-variation window
-  int max_tracks = 256;                    // hard bound on the track table
-  double max_cluster_extent_m = 3.0;       // a cluster whose bounding box side exceeds this is "large"
+  double dbscan_eps_m = 0.15;                 // DBSCAN neighbourhood radius (0.15 at 0.1 m cells: the 8 neighbours)
+  double dbscan_eps_growth_m_per_m = 0.0135;  // the radius grows by this per m of range from the robot...
+  double dbscan_eps_growth_max_m = 0.1;       // ...by at most this (EpsByRange, dbscan.h)
+  int dbscan_min_points = 3;                  // DBSCAN minPts (the cell itself included)
+  double gate_m = 0.8;                        // d_max: farthest centre distance accepted as the same obstacle
+  int max_missed_frames = 10;                 // K: a track unseen for more frames is dropped
+  int shape_history_frames = 10;              // m: frames in the shape-variation window
+  int max_tracks = 256;                       // hard bound on the track table
+  double max_cluster_extent_m = 3.0;          // a cluster whose bounding box side exceeds this is "large"
   LargeClusterPolicy large_cluster = LargeClusterPolicy::kSplit;
   double split_tile_m = 1.5;          // kSplit: tile size on the odometry-frame lattice
   double mbe_tolerance = 1e-5;        // MbeOptions::tolerance (geometry.h)
