@@ -30,9 +30,9 @@ def read(export, log):
 def shares(truth):
     c = collections.Counter()
     for m in truth:
-        near = min([math.hypot(o['x'] - m['x'], o['y'] - m['y']) - o.get('radius', 0.0)
-                    for o in m['obstacles']] + [math.inf])
         if abs(m['v']) < 0.05:
+            near = min([math.hypot(o['x'] - m['x'], o['y'] - m['y']) - o.get('radius', 0.0)
+                        for o in m['obstacles']] + [math.inf])
             c['still'] += 1
             c['still_nobody_near'] += near > 1.5
             c['spin'] += abs(m['omega']) > 0.2
