@@ -188,8 +188,8 @@ int hold_settled_obstacles(Problem* pb, const SolverOptions& opts);
 // r->u against pb (states rolled out again).
 void evaluate_result(const Problem& pb, const SolverOptions& opts, SolveResult* r);
 
-// Clamps controls into the bounds and rate limits (from the measured
-// controls forward), in place.
+// Clamps controls into the bounds (v_cap, omega_lo/hi included) and rate
+// limits (from the measured controls forward), in place.
 void project_controls(const Problem& pb, std::vector<double>* u);
 
 // Solves `pb` from each start in turn on one solve's iteration budget:

@@ -26,6 +26,8 @@ namespace evade::planning {
 // `field`, each step's turn goes on only while braking it at alpha would
 // still stop it with the footprint no deeper into the field's margin than
 // into_margin_m below min(0, h at the start); else the turn is braked.
+// Every step's turn keeps within pb's omega_lo/omega_hi where it can (a
+// step at alpha from the last).
 std::vector<double> turn_on_the_spot(const Problem& pb, double yaw_by, const std::vector<double>& brake, double omega0,
                                      const ObstacleTrack* field = nullptr, double into_margin_m = 0.0);
 

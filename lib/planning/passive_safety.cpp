@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include "planning/fallback.h"
 
@@ -13,6 +15,17 @@ double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_
   if (!(g > 0.0) || !(decel_mps2 > 0.0)) return 0.0;
   const double p = reaction_s + s / decel_mps2;
   return decel_mps2 * (std::sqrt(p * p + 2.0 * g / decel_mps2) - p);
+}
+
+double passive_safe_turn_rate(double gap_m, double mover_speed_mps, double lever_m, double reaction_s,
+                              double alpha_radps2) {
+  const double s = std::max(0.0, mover_speed_mps), q = std::max(0.0, lever_m);
+  const double c = s * reaction_s - gap_m;  // the condition at w = 0, as c <= 0
+  if (!(c < 0.0) || !(alpha_radps2 > 0.0)) return 0.0;
+  // q / (2 alpha) w^2 + (s / alpha + q reaction_s) w + c <= 0: the positive root
+  const double qa = q / (2.0 * alpha_radps2), qb = s / alpha_radps2 + q * reaction_s;
+  const double den = qb + std::sqrt(qb * qb - 4.0 * qa * c);
+  return den > 0.0 ? -2.0 * c / den : std::numeric_limits<double>::infinity();
 }
 
 namespace {
@@ -33,6 +46,123 @@ void nearer_measured(const Problem& front, const ObstacleTrack::Body& measured, 
   *gap = g;
 }
 
+// A mover of pb as the bounds take it (header): its body now without its
+// inflation, where its tracker last measured it (measured_position) and
+// its speed.
+struct Mover {
+  ObstacleTrack body;
+  std::optional<ObstacleTrack::Body> measured;
+  double speed_mps = 0.0;
+};
+
+std::vector<Mover> movers(const PassiveSafetyParams& p, const Problem& pb) {
+  std::vector<Mover> out;
+  for (const ObstacleTrack& track : pb.obstacles) {
+    if (track.field || track.x.empty()) continue;
+    double speed = std::max(fastest_predicted_speed(track, pb.dt), track.recent_speed_mps);
+    if (track.age_s < p.min_track_age_s)
+      speed = std::max(speed, p.unknown_speed_mps);
+    else if (speed < p.min_mover_speed_mps)
+      continue;
+    Mover m{track, std::nullopt, speed};
+    remove_inflation(&m.body);
+    if (p.measured_position && track.measured) m.measured = *track.measured;
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+// The footprint rectangle's point nearest the ellipse (x, y, a, b, theta)'s
+// centre from pose `start`: its lever arm (rx, ry) from the base centre
+// (world frame), its gap to the ellipse (the barrier at that point, d_safe
+// 0) and the unit vector from it towards the ellipse (-grad h).
+struct EdgeGap {
+  double rx = 0.0, ry = 0.0, gap = 0.0, dx = 0.0, dy = 0.0;
+};
+EdgeGap edge_gap(const Footprint& fp, const double* start, double x, double y, double a, double b, double theta) {
+  const double c = std::cos(start[2]), s = std::sin(start[2]);
+  const double bx = c * (x - start[0]) + s * (y - start[1]), by = -s * (x - start[0]) + c * (y - start[1]);
+  const double px = std::clamp(bx, -0.5 * fp.length, 0.5 * fp.length);
+  const double py = std::clamp(by, -0.5 * fp.width, 0.5 * fp.width);
+  EdgeGap out;
+  out.rx = c * px - s * py;
+  out.ry = s * px + c * py;
+  const BarrierValue h = barrier(start[0] + out.rx, start[1] + out.ry, x, y, a, b, theta, 0.0);
+  const double norm = std::hypot(h.gx, h.gy);
+  out.gap = h.h;
+  if (norm > 0.0) out.dx = -h.gx / norm, out.dy = -h.gy / norm;
+  return out;
+}
+
+// The nearer of the mover's body at step 0 and its measured body.
+EdgeGap nearest_edge_gap(const Footprint& fp, const double* start, const Mover& m) {
+  const ObstacleTrack& o = m.body;
+  EdgeGap g = edge_gap(fp, start, o.x[0], o.y[0], o.a[0], o.b[0], o.theta[0]);
+  if (m.measured) {
+    const ObstacleTrack::Body& b = *m.measured;
+    const EdgeGap mg = edge_gap(fp, start, b.x, b.y, b.a, b.b, b.theta);
+    if (mg.gap < g.gap) g = mg;
+  }
+  return g;
+}
+
+// The least barrier (footprint discs, d_safe 0) over the horizon between
+// the robot standing at pb's start turned by yaw_by and the mover's
+// predicted body (inflation removed), its centre followed between the
+// steps at kWaySamples points a step (so that a turn that slides a disc
+// along the mover's way gains nothing from where the steps fall).
+constexpr int kWaySamples = 8;
+double least_h_at_rest(const Problem& pb, const ObstacleTrack& body, double yaw_by) {
+  const double c = std::cos(pb.yaw0 + yaw_by), s = std::sin(pb.yaw0 + yaw_by);
+  double least = std::numeric_limits<double>::infinity();
+  const size_t n = body.x.size();
+  for (size_t k = 0; k < n; ++k) {
+    const double ct = std::cos(body.theta[k]), st = std::sin(body.theta[k]);
+    for (int j = 0; j < (k + 1 < n ? kWaySamples : 1); ++j) {
+      const double f = static_cast<double>(j) / kWaySamples;
+      const double x = k + 1 < n ? body.x[k] + f * (body.x[k + 1] - body.x[k]) : body.x[k];
+      const double y = k + 1 < n ? body.y[k] + f * (body.y[k + 1] - body.y[k]) : body.y[k];
+      least =
+          std::min(least, footprint_stage(pb.x0, pb.y0, c, s, x, y, body.a[k], body.b[k], ct, st, pb.footprint, 0.0).h);
+    }
+  }
+  return least;
+}
+
+// Whether the robot turning on the spot from pb's start the way `side`
+// (+1 counter-clockwise), from its measured turn rate at the limits
+// (omega_max, alpha) until it has turned by `by` (rad), keeps clear of the
+// mover's predicted body (inflation removed) at every step.
+bool turn_keeps_clear(const Problem& pb, const ObstacleTrack& body, int side, double by) {
+  double yaw = 0.0, omega = std::clamp(pb.omega_prev, -pb.lim.omega_max, pb.lim.omega_max);
+  const double dw = pb.lim.alpha * pb.dt;
+  const size_t n = std::min(body.x.size(), static_cast<size_t>(pb.N) + 1);
+  for (size_t k = 0; k < n; ++k) {
+    ObstacleTrack at_k = body;
+    at_k.x = {body.x[k]}, at_k.y = {body.y[k]}, at_k.a = {body.a[k]}, at_k.b = {body.b[k]};
+    at_k.theta = {body.theta[k]};
+    if (!(least_h_at_rest(pb, at_k, side * yaw) > 0.0)) return false;
+    const double want = side * yaw < by ? side * pb.lim.omega_max : 0.0;
+    omega = std::clamp(want, omega - dw, omega + dw);
+    yaw += side * omega * pb.dt;
+    if (side * yaw > by) yaw = side * by;
+  }
+  return true;
+}
+
+// Whether turning the way `side` (+1 counter-clockwise) is what gets the
+// body out of the mover's way in time: its predicted body meets the robot
+// standing, the robot standing turned by some angle up to a quarter turn
+// that way would not meet it, and the turn there, at the limits, keeps
+// clear of it all the way.
+bool turn_gets_out_of_its_way(const Problem& pb, const ObstacleTrack& body, int side) {
+  if (least_h_at_rest(pb, body, 0.0) > 0.0) return false;
+  const double step = pb.lim.omega_max * pb.dt;
+  for (double by = step; by <= 0.5 * M_PI; by += step)
+    if (least_h_at_rest(pb, body, side * by) > 0.0) return turn_keeps_clear(pb, body, side, by);
+  return false;
+}
+
 }  // namespace
 
 std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem& pb) {
@@ -44,20 +174,32 @@ std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem
   front.footprint.radius = pb.footprint.radius;
   front.d_safe = 0.0;
   const double start[3] = {pb.x0, pb.y0, pb.yaw0};
-  for (const ObstacleTrack& track : pb.obstacles) {
-    if (track.field || track.x.empty()) continue;
-    double speed = std::max(fastest_predicted_speed(track, pb.dt), track.recent_speed_mps);
-    if (track.age_s < p.min_track_age_s)
-      speed = std::max(speed, p.unknown_speed_mps);
-    else if (speed < p.min_mover_speed_mps)
-      continue;
-    MoverBound m{track, pb.lim.v_max, speed};
-    remove_inflation(&m.body);
+  for (Mover& mover : movers(p, pb)) {
+    MoverBound m{std::move(mover.body), pb.lim.v_max, mover.speed_mps};
     double gap = barrier_h_at(front, m.body, 0, start);
-    if (p.measured_position && track.measured) nearer_measured(front, *track.measured, start, &m.body, &gap);
+    if (mover.measured) nearer_measured(front, *mover.measured, start, &m.body, &gap);
     if (!std::isfinite(gap)) continue;
-    m.speed_mps = std::min(pb.lim.v_max, passive_safe_speed(gap, speed, p.reaction_s, pb.lim.decel));
+    m.speed_mps = std::min(pb.lim.v_max, passive_safe_speed(gap, m.mover_speed_mps, p.reaction_s, pb.lim.decel));
     out.push_back(std::move(m));
+  }
+  return out;
+}
+
+TurnBounds passive_turn_bounds(const PassiveSafetyParams& p, const Problem& pb) {
+  TurnBounds out{-pb.lim.omega_max, pb.lim.omega_max};
+  if (!(pb.footprint.length > 0.0) && !(pb.footprint.width > 0.0)) return out;  // a point swings nothing
+  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
+  for (const Mover& m : movers(p, pb)) {
+    const EdgeGap g = nearest_edge_gap(pb.footprint, start, m);
+    const double q = -g.ry * g.dx + g.rx * g.dy;  // the nearest point's swing towards the body per rad/s
+    if (!std::isfinite(g.gap) || !std::isfinite(q) || q == 0.0) continue;
+    const double w = passive_safe_turn_rate(g.gap, m.speed_mps, std::fabs(q), p.reaction_s, pb.lim.alpha);
+    const int side = q > 0.0 ? 1 : -1;
+    if (!(w < pb.lim.omega_max) || turn_gets_out_of_its_way(pb, m.body, side)) continue;
+    if (side > 0)
+      out.hi = std::min(out.hi, w);
+    else
+      out.lo = std::max(out.lo, -w);
   }
   return out;
 }
@@ -151,6 +293,17 @@ bool bound_passively(const PassiveSafetyParams& p, Problem* pb) {
   if (!(bound < pb->lim.v_max)) return false;
   pb->v_cap.resize(static_cast<size_t>(std::max(pb->N, 0)), pb->lim.v_max);
   for (double& cap : pb->v_cap) cap = std::min(cap, bound);
+  return true;
+}
+
+bool bound_turn_passively(const PassiveSafetyParams& p, Problem* pb) {
+  const TurnBounds t = passive_turn_bounds(p, *pb);
+  if (!(t.lo > -pb->lim.omega_max) && !(t.hi < pb->lim.omega_max)) return false;
+  const size_t n = static_cast<size_t>(std::max(pb->N, 1));
+  pb->omega_lo.resize(std::max(pb->omega_lo.size(), n), -pb->lim.omega_max);
+  pb->omega_hi.resize(std::max(pb->omega_hi.size(), n), pb->lim.omega_max);
+  pb->omega_lo[0] = std::max(pb->omega_lo[0], t.lo);
+  pb->omega_hi[0] = std::min(pb->omega_hi[0], t.hi);
   return true;
 }
 

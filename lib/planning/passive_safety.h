@@ -56,6 +56,32 @@
 // the speed bound forbids (it would stand, passive and in the way). Where
 // braking from the measured controls misses a step's bound, that step asks
 // no more than braking gives.
+//
+// With turn_bound, the turn is bounded too: a robot turning on the spot is
+// not at rest. A point of the footprint rectangle at lever arm r from the
+// base centre moves at omega x r, so a long body's ends swing sideways and
+// its front edge's sides move forwards (the Scout's 0.93 x 0.70 m body at
+// 0.5 rad/s: up to 0.29 m/s at a corner), and a walker beside or ahead of
+// it is met, as the metrics count it, at fault (docs/SPEC.md: omega x
+// lever arm). For every mover, with c the rectangle's point nearest its
+// body's centre and d the unit vector from c towards the body, the turn
+// that moves c towards the body (omega q > 0, q = (z x r_c) . d) is
+// bounded to the rate w from which it stops (going on for reaction_s, then
+// slowing at the turn-rate limit alpha) before the mover, at its speed s
+// in any direction, could reach c, c's own swing included:
+//   s (reaction_s + w / alpha) + |q| w (reaction_s + w / (2 alpha)) <= g,
+// g the gap from c to the body (the same bodies, speeds and measured
+// positions as above). The other way is free: it moves c away. One
+// exception: where the mover's predicted body (inflation removed) meets
+// the robot standing where it is within the horizon, and a turn that way
+// at the limits gets the body out of its way in time (turned by at most a
+// quarter turn, the robot standing would not meet it, and the turn there
+// keeps clear of it at every step), that turn is not bound: standing is
+// no refuge, and the turn is what gets the body out of the mover's way
+// (the Scout straightening up in a lane as a walker comes
+// past it). The bound is on the plan's first step (Problem::omega_lo,
+// omega_hi), the command sent before the next cycle bounds again; a turn
+// that cannot slow to it in one step slows as fast as it can.
 #pragma once
 
 #include <vector>
@@ -78,6 +104,7 @@ struct PassiveSafetyParams {
   SlowedRefusal slowed_refused_if = SlowedRefusal::kStructure;  // slow_chosen: what "worse" is (recovery_rank.h)
   double speed_memory_s = 2.0;    // s: a mover is as fast as its tracker said lately (0: the prediction)
   bool measured_position = true;  // a mover is also where its tracker last measured it, if nearer
+  bool turn_bound = false;        // the first step's turn moves no footprint point into a mover's reach (above)
 
   template <class V>
   void fields(V& v) {
@@ -95,12 +122,26 @@ struct PassiveSafetyParams {
                                             {"structure", SlowedRefusal::kStructure}});
     v.field("speed_memory_s", speed_memory_s, config::between(0.0, 30.0));
     v.field("measured_position", measured_position);
+    v.field("turn_bound", turn_bound);
   }
 };
 
 // The largest speed (m/s, at least 0) from which the robot stands before a
 // mover at body gap gap_m going at mover_speed_mps could reach it (above).
 double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_s, double decel_mps2);
+
+// The largest turn rate w (rad/s, at least 0) from which a disc whose
+// swing towards a mover is lever_m w stops turning before the mover at gap
+// gap_m going at mover_speed_mps could reach it (turn_bound, above).
+double passive_safe_turn_rate(double gap_m, double mover_speed_mps, double lever_m, double reaction_s,
+                              double alpha_radps2);
+
+// The first step's turn-rate bounds of turn_bound for pb: lo <= 0 <= hi,
+// -omega_max and omega_max where no mover binds.
+struct TurnBounds {
+  double lo = 0.0, hi = 0.0;
+};
+TurnBounds passive_turn_bounds(const PassiveSafetyParams& p, const Problem& pb);
 
 // One mover of pb: its body now (inflation removed) and its
 // passive_safe_speed (m/s, at most pb.lim.v_max).
@@ -131,5 +172,11 @@ bool project_onto_reach(const Problem& pb, std::vector<double>* u);
 // most passive_speed_bound, v_cap filled with v_max first where empty);
 // pb unchanged when no mover binds. Returns whether it bound.
 bool bound_passively(const PassiveSafetyParams& p, Problem* pb);
+
+// pb's first step's turn within passive_turn_bounds (omega_lo, omega_hi
+// sized N, unbounded past step 0, and any earlier bound kept), whatever
+// p.turn_bound says; pb unchanged when no mover binds. Returns whether it
+// bound.
+bool bound_turn_passively(const PassiveSafetyParams& p, Problem* pb);
 
 }  // namespace evade::planning

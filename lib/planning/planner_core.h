@@ -157,7 +157,8 @@ class PlannerCore : public bus::Core {
   bool relaxed_plan_stands(const Problem& pb, const std::vector<double>& u) const;
   // The passive-safety speed bound (passive_safety.h) put into *pb when
   // planner.passive_safety is on and it binds; counted (HEALTH
-  // passive_speed_bound). Whether it bound.
+  // passive_speed_bound). With turn_bound the first step's turn too
+  // (HEALTH passive_turn_bound). Whether the speed bound bound.
   bool bound_speed_passively(Problem* pb);
   // pb so bound: the problem of every plan the recovery sends once the hard
   // problem has failed (with every_plan, pb itself: make_problem bound the

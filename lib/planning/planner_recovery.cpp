@@ -134,7 +134,9 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
 }
 
 bool PlannerCore::bound_speed_passively(Problem* pb) {
-  if (!p_.passive_safety.enabled || !bound_passively(p_.passive_safety, pb)) return false;
+  if (!p_.passive_safety.enabled) return false;
+  if (p_.passive_safety.turn_bound && bound_turn_passively(p_.passive_safety, pb)) count("passive_turn_bound");
+  if (!bound_passively(p_.passive_safety, pb)) return false;
   count("passive_speed_bound");
   return true;
 }

@@ -94,6 +94,7 @@ double mean_predicted_speed(const ObstacleTrack& o, int N, double dt);
 struct Footprint {
   std::vector<double> offsets{0.0};
   double radius = 0.0;
+  double length = 0.0, width = 0.0;  // the rectangle the discs cover (covering; 0 x 0: a point)
   // n discs covering a length x width rectangle centred on the base: the
   // length cut in n equal slices, each disc the circle round its slice.
   static Footprint covering(double length, double width, int n) {
@@ -102,6 +103,8 @@ struct Footprint {
     const double slice = length / n;
     for (int i = 0; i < n; ++i) f.offsets.push_back(-0.5 * length + slice * (i + 0.5));
     f.radius = std::hypot(0.5 * slice, 0.5 * width);
+    f.length = length;
+    f.width = width;
     return f;
   }
 };
@@ -152,6 +155,10 @@ struct Problem {
   // Optional per-step upper bounds on v_k below lim.v_max (empty = none):
   // mode evade near hidden regions (occlusion_speed.h).
   std::vector<double> v_cap;
+  // Optional per-step bounds on omega_k within [-omega_max, omega_max]
+  // (empty = none; a step past a vector's end is unbounded): mode evade's
+  // passive turn bound (passive_safety.h), omega_lo <= 0 <= omega_hi.
+  std::vector<double> omega_lo, omega_hi;
   // Optional passive-safety bounds, one per mover (ReachBound, above).
   std::vector<ReachBound> reach;
 

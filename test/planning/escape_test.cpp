@@ -116,5 +116,21 @@ TEST(Escape, WithoutAFieldTheTurnIsMadeWholeBesideTheWallToo) {
   EXPECT_GT(structure_intrusion(w.pb, x), 0.01) << "the field would have held it back";
 }
 
+TEST(Escape, TheTurnKeepsTheProblemsTurnBounds) {
+  // passive safety's turn bound (passive_safety.h) on the first two steps:
+  // no left turn at the first, at most 0.1 rad/s at the second
+  BesideAWallsEnd w(2.3, 90);
+  w.pb.omega_hi = {0.0, 0.1};
+  w.pb.omega_lo = {-0.5, -0.5};
+  const std::vector<double> u = turn_on_the_spot(w.pb, 3 * M_PI / 4, w.brake(0.0), 0.0);
+  EXPECT_EQ(u[1], 0.0);
+  EXPECT_NEAR(u[3], 0.1, 1e-12);
+  EXPECT_NEAR(u[5], 0.1 + w.pb.lim.alpha * w.pb.dt, 1e-12) << "unbounded again: at the limits";
+  // a turn already under way when the bound comes slows at the limit
+  w.pb.omega_hi = {0.0};
+  const std::vector<double> going = turn_on_the_spot(w.pb, 3 * M_PI / 4, w.brake(0.0), 0.5);
+  EXPECT_NEAR(going[1], 0.5 - w.pb.lim.alpha * w.pb.dt, 1e-12);
+}
+
 }  // namespace
 }  // namespace evade::planning

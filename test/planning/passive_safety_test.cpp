@@ -328,5 +328,137 @@ TEST(PassiveSafety, ProjectionSlowsAPlanOntoTheReachBounds) {
   EXPECT_EQ(on, once);
 }
 
+// ---- turn_bound: a turn on the spot swings the footprint's end discs ----
+
+constexpr double kAlpha = 3.0;  // testing::default_limits()' turn-rate limit, rad/s^2
+
+TEST(PassiveTurn, FromTheRateTheTurnStopsBeforeTheMoverCanReachTheDisc) {
+  const double tau = 0.15;
+  for (double s : {0.0, 0.5, 1.4, 5.0}) {
+    for (double q : {0.0, 0.1, 0.31}) {
+      for (double gap : {0.05, 0.2, 0.5, 1.0}) {
+        const double w = passive_safe_turn_rate(gap, s, q, tau, kAlpha);
+        if (gap <= s * tau) {
+          EXPECT_EQ(w, 0.0) << "s " << s << " q " << q << " gap " << gap;
+          continue;
+        }
+        if (s == 0.0 && q == 0.0) {
+          EXPECT_TRUE(std::isinf(w));  // nothing comes and nothing swings
+          continue;
+        }
+        ASSERT_GT(w, 0.0);
+        // the mover's way until the turn stops and the disc's swing fill the gap
+        EXPECT_NEAR(s * (tau + w / kAlpha) + q * w * (tau + w / (2 * kAlpha)), gap, 1e-9)
+            << "s " << s << " q " << q << " gap " << gap;
+      }
+    }
+  }
+  // nearer, faster or a longer lever: slower
+  EXPECT_LT(passive_safe_turn_rate(0.3, 1.2, 0.31, tau, kAlpha), passive_safe_turn_rate(0.5, 1.2, 0.31, tau, kAlpha));
+  EXPECT_LT(passive_safe_turn_rate(0.5, 1.6, 0.31, tau, kAlpha), passive_safe_turn_rate(0.5, 1.2, 0.31, tau, kAlpha));
+  EXPECT_LT(passive_safe_turn_rate(0.5, 1.2, 0.31, tau, kAlpha), passive_safe_turn_rate(0.5, 1.2, 0.1, tau, kAlpha));
+}
+
+// The Scout 2.0 (0.93 x 0.70 m, three discs 0.31 m apart) at the origin
+// facing +y, and a walker of radius 0.3 m at (x, y) walking at (vx, vy),
+// tracked 3 s.
+Problem scout_and_walker(double x, double y, double vx, double vy) {
+  Problem pb = straight_problem(0, 0, M_PI / 2, 0.0, 0.5);
+  pb.footprint = Footprint::covering(0.93, 0.70, 3);
+  pb.d_safe = 0.15;
+  ObstacleTrack w = moving_obstacle(3, x, y, vx, vy, 0.3, 0.3, 0.0, 0.9, pb.N, pb.dt);
+  w.age_s = 3.0;
+  pb.obstacles = {w};
+  return pb;
+}
+
+TEST(PassiveTurn, AWalkerBesideTheRearBoundsTheTurnThatSwingsTheRearToIt) {
+  const PassiveSafetyParams p;  // config/robot.yaml's reaction
+  // on the robot's left (-x) beside its rear half, 0.17 m from its side,
+  // walking away to the left at 1.2 m/s: a clockwise turn swings the rear
+  // towards it
+  const Problem pb = scout_and_walker(-0.82, -0.4, -1.2, 0.0);
+  const TurnBounds t = passive_turn_bounds(p, pb);
+  EXPECT_GT(t.lo, -0.05) << "clockwise: the rear swings into its reach";
+  EXPECT_LE(t.lo, 0.0);
+  EXPECT_EQ(t.hi, pb.lim.omega_max) << "counter-clockwise swings the rear away";
+  // the same walker on the right: the other way round
+  const TurnBounds right = passive_turn_bounds(p, scout_and_walker(0.82, -0.4, 1.2, 0.0));
+  EXPECT_LT(right.hi, 0.05);
+  EXPECT_EQ(right.lo, -pb.lim.omega_max);
+  // 2 m away, or standing for seconds: no bound
+  const TurnBounds far = passive_turn_bounds(p, scout_and_walker(-2.5, -0.4, -1.2, 0.0));
+  EXPECT_EQ(far.lo, -pb.lim.omega_max);
+  EXPECT_EQ(far.hi, pb.lim.omega_max);
+  const TurnBounds standing = passive_turn_bounds(p, scout_and_walker(-0.82, -0.4, 0.0, 0.0));
+  EXPECT_EQ(standing.lo, -pb.lim.omega_max);
+  // walking at the rear along its length (into the standing robot): the
+  // turn swings the rear along its way, which gets nothing out of it, so
+  // the bound stays
+  const TurnBounds oncoming = passive_turn_bounds(p, scout_and_walker(-0.82, -0.4, 1.2, 0.0));
+  EXPECT_GT(oncoming.lo, -0.05);
+  // the paper's point robot swings nothing
+  Problem point = scout_and_walker(-0.82, -0.4, -1.2, 0.0);
+  point.footprint = Footprint{};
+  const TurnBounds none = passive_turn_bounds(p, point);
+  EXPECT_EQ(none.lo, -pb.lim.omega_max);
+  EXPECT_EQ(none.hi, pb.lim.omega_max);
+}
+
+// A turn on the spot moves the front edge's sides forwards: a walker ahead
+// of the left side bounds the counter-clockwise turn. But where the
+// walker's way along a lane passes through the robot standing (the robot
+// at -0.3 rad to the lane, its rear corner sticks out into it) and the
+// same turn, made at the limits, straightens the robot out of the lane
+// before the walker gets there, the turn is not bound.
+TEST(PassiveTurn, ATurnThatGetsTheBodyOutOfAWalkersWayInTimeIsNotBound) {
+  const PassiveSafetyParams p;
+  const auto scout_at = [](double vx, double vy) {
+    Problem pb = scout_and_walker(0.3, 0.7, vx, vy);
+    pb.yaw0 = -0.3;
+    pb.obstacles[0] = moving_obstacle(3, 0.3, 0.7, vx, vy, 0.25, 0.25, 0.0, 0.9, pb.N, pb.dt);
+    pb.obstacles[0].age_s = 3.0;
+    return pb;
+  };
+  // walking up and away: it never meets the standing robot; the left
+  // side's forward swing is bound
+  const TurnBounds away = passive_turn_bounds(p, scout_at(0.0, 0.6));
+  EXPECT_LT(away.hi, 0.45);
+  EXPECT_GT(away.hi, 0.0);
+  // coming down the lane past the robot at 0.6 m/s: standing, its rear
+  // corner is met 0.7 s from now; turned 0.1 rad (0.3 s) it is not
+  const TurnBounds lane = passive_turn_bounds(p, scout_at(-0.6, 0.0));
+  EXPECT_EQ(lane.hi, 0.5);
+  // the same at 3 m/s: the turn cannot get there first, the bound stays
+  const TurnBounds fast = passive_turn_bounds(p, scout_at(-3.0, 0.0));
+  EXPECT_LT(fast.hi, 0.45);
+}
+
+TEST(PassiveTurn, TheSolvedPlansFirstTurnKeepsTheBound) {
+  const PassiveSafetyParams p;
+  // the route runs along +x: the robot facing +y wants to turn clockwise
+  Problem pb = scout_and_walker(-0.82, -0.4, -1.2, 0.0);
+  const CeresMpcSolver solver{SolverOptions{}};
+  const SolveResult free = solver.solve(pb, std::vector<double>(pb.num_controls(), 0.0));
+  ASSERT_TRUE(free.finite);
+  ASSERT_LT(free.u[1], -0.2) << "the premise: unbounded, it turns clockwise at once";
+  ASSERT_TRUE(bound_turn_passively(p, &pb));
+  ASSERT_EQ(pb.omega_lo.size(), static_cast<size_t>(pb.N));
+  EXPECT_EQ(pb.omega_lo[1], -pb.lim.omega_max) << "later steps are the next cycles' to bound";
+  const SolveResult bounded = solver.solve(pb, std::vector<double>(pb.num_controls(), 0.0));
+  ASSERT_TRUE(bounded.finite);
+  EXPECT_GE(bounded.u[1], pb.omega_lo[0] - 1e-9);
+  EXPECT_LE(bounded.u[1], pb.omega_hi[0] + 1e-9);
+  // project_controls keeps it too, from a turn already under way
+  pb.omega_prev = -0.5;
+  std::vector<double> u = testing::constant_controls(pb, 0.0, -0.5);
+  project_controls(pb, &u);
+  EXPECT_NEAR(u[1], -0.5 + pb.lim.alpha * pb.dt, 1e-12) << "slowed as fast as the limit allows";
+  // no mover near: nothing bound, pb unchanged
+  Problem clear = scout_and_walker(-3.0, -0.4, -1.2, 0.0);
+  EXPECT_FALSE(bound_turn_passively(p, &clear));
+  EXPECT_TRUE(clear.omega_lo.empty());
+}
+
 }  // namespace
 }  // namespace evade::planning

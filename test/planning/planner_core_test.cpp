@@ -823,6 +823,60 @@ TEST(PlannerCore, AWalkerMeasuredNearerThanPredictedBoundsWhereItIs) {
   EXPECT_GT(c.faster_without, 0) << "the premise: with the predictions alone the planner goes faster";
 }
 
+// The Scout 2.0 facing +y with its route along +x turns clockwise on the
+// spot; a walker beside its rear on its left (0.18 m from the rear disc),
+// walking away to the left at 1.2 m/s, is where that turn swings the rear
+// disc. Its predictions let the planner turn at once; with the turn bound
+// every plan's first turn keeps the bound the walker's true position
+// sets (a new track: 1.6 m/s), so the first does not turn that way.
+TEST(PlannerCore, TheScoutDoesNotSwingItsRearIntoAWalkerBesideIt) {
+  const SimObstacle walker{-0.86, -0.4, -1.2, 0.0, 0.3};
+  PlannerParams p = default_params();
+  p.footprint = Footprint::covering(0.93, 0.70, p.footprint_discs);
+  const auto plans = [&](bool turn_bound, int64_t* counted) {
+    PlannerParams q = p;
+    q.passive_safety.turn_bound = turn_bound;
+    testing::RobotState start;
+    start.yaw = M_PI / 2;
+    testing::DriveHarness loop(q, start);
+    loop.bus().inject("ROUTE", straight_route(0.0, 8.0), testing::DriveHarness::kStartUs);
+    std::vector<evade::plan_t> out;
+    loop.run(
+        0.4,
+        [&](const testing::DriveHarness::Step& st) {
+          if (st.i % 5 != 0) return;
+          loop.bus().inject("OBSTACLES", observed({walker}, st.now, st.t), st.now);
+          loop.bus().inject("OBSTACLE_PREDICTIONS", predictions({walker}, st.now, st.t), st.now);
+        },
+        [&](const evade::plan_t& pl, const testing::DriveHarness::Step&) { out.push_back(pl); });
+    *counted = loop.core().counter("passive_turn_bound");
+    return out;
+  };
+  // the bound at a plan's start against the walker where it truly is
+  const auto bound_at = [&](const evade::plan_t& pl) {
+    const double t = (pl.utime - testing::DriveHarness::kStartUs) * 1e-6;
+    Problem pb = from_plan_start(p, pl);
+    ObstacleTrack w = testing::moving_obstacle(1, walker.x + walker.vx * t, walker.y, walker.vx, 0.0, 0.3, 0.3, 0.0,
+                                               0.0, pb.N, pb.dt);
+    w.age_s = t;
+    pb.obstacles = {w};
+    return passive_turn_bounds(p.passive_safety, pb);
+  };
+  int64_t counted_on = 0, counted_off = 0;
+  const std::vector<evade::plan_t> on = plans(true, &counted_on), off = plans(false, &counted_off);
+  ASSERT_GE(on.size(), 3u);
+  ASSERT_GE(off.size(), 1u);
+  EXPECT_LT(off[0].omega[0], -0.2) << "the premise: unbounded, it turns clockwise at once";
+  EXPECT_GT(bound_at(on[0]).lo, -0.05) << "the premise: the first bound holds the turn";
+  for (const evade::plan_t& pl : on) {
+    const TurnBounds b = bound_at(pl);
+    EXPECT_GE(pl.omega[0], b.lo - 1e-6) << "at " << pl.utime;
+    EXPECT_LE(pl.omega[0], b.hi + 1e-6) << "at " << pl.utime;
+  }
+  EXPECT_GT(counted_on, 0);
+  EXPECT_EQ(counted_off, 0);
+}
+
 TEST(PlannerCore, LogReplayIsDeterministic) {
   // ROUTE, predictions at 10 Hz and odometry at 50 Hz (robot driving
   // straight past an oncoming obstacle, open loop) in a log; two replays
