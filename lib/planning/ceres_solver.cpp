@@ -581,10 +581,8 @@ void control_bounds(const Problem& pb, int i, double* lo, double* hi) {
     *lo = std::max(*lo, prev - (is_v ? pb.lim.decel : pb.lim.alpha) * pb.dt);
     *hi = std::min(*hi, prev + (is_v ? pb.lim.accel : pb.lim.alpha) * pb.dt);
   }
-  const size_t k = size_t(i / 2);
-  if (is_v && k < pb.v_cap.size()) *hi = std::max(*lo, std::min(*hi, pb.v_cap[k]));
-  if (!is_v && k < pb.omega_hi.size()) *hi = std::max(*lo, std::min(*hi, pb.omega_hi[k]));
-  if (!is_v && k < pb.omega_lo.size()) *lo = std::min(*hi, std::max(*lo, pb.omega_lo[k]));
+  if (is_v && size_t(i / 2) < pb.v_cap.size()) *hi = std::max(*lo, std::min(*hi, pb.v_cap[size_t(i / 2)]));
+  if (!is_v) narrow_to_turn_bounds(pb, i / 2, lo, hi);
 }
 
 void set_bounds(const Problem& pb, ceres::Problem* problem, double* u) {
@@ -904,8 +902,7 @@ void project_controls(const Problem& pb, std::vector<double>* u) {
     v = std::clamp(v, v_lo, std::max(v_lo, std::min(v_hi, v_prev + pb.lim.accel * pb.dt)));
     double w_lo = std::max(-pb.lim.omega_max, w_prev - pb.lim.alpha * pb.dt);
     double w_hi = std::min(pb.lim.omega_max, w_prev + pb.lim.alpha * pb.dt);
-    if (size_t(k) < pb.omega_hi.size()) w_hi = std::max(w_lo, std::min(w_hi, pb.omega_hi[size_t(k)]));
-    if (size_t(k) < pb.omega_lo.size()) w_lo = std::min(w_hi, std::max(w_lo, pb.omega_lo[size_t(k)]));
+    narrow_to_turn_bounds(pb, k, &w_lo, &w_hi);
     w = std::clamp(w, w_lo, w_hi);
     v_prev = v;
     w_prev = w;

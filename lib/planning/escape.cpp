@@ -25,16 +25,6 @@ bool turn_stops_clear(const Problem& pb, const ObstacleTrack& field, const doubl
   return true;
 }
 
-// turn within pb's bounds on step k's omega (Problem::omega_lo, omega_hi),
-// as far as a step from omega at the turn-rate limit gets.
-double within_turn_bounds(const Problem& pb, int k, double omega, double turn) {
-  const double dw = pb.lim.alpha * pb.dt;
-  const size_t i = static_cast<size_t>(k);
-  if (i < pb.omega_hi.size()) turn = std::min(turn, std::max(omega - dw, pb.omega_hi[i]));
-  if (i < pb.omega_lo.size()) turn = std::max(turn, std::min(omega + dw, pb.omega_lo[i]));
-  return turn;
-}
-
 }  // namespace
 
 std::vector<double> turn_on_the_spot(const Problem& pb, double yaw_by, const std::vector<double>& brake, double omega0,
@@ -49,7 +39,9 @@ std::vector<double> turn_on_the_spot(const Problem& pb, double yaw_by, const std
     const double v = brake[2 * static_cast<size_t>(k)];
     double turn = towards(omega, std::clamp(yaw_by / pb.dt, -lim.omega_max, lim.omega_max), dw);
     if (field && !turn_stops_clear(pb, *field, state, v, turn, floor)) turn = towards(omega, 0.0, dw);
-    turn = within_turn_bounds(pb, k, omega, turn);
+    double lo = omega - dw, hi = omega + dw;  // a step at alpha from the last
+    narrow_to_turn_bounds(pb, k, &lo, &hi);
+    turn = std::clamp(turn, lo, hi);
     omega = turn;
     u[2 * static_cast<size_t>(k) + 1] = omega;
     yaw_by -= omega * pb.dt;

@@ -106,11 +106,19 @@ EdgeGap nearest_edge_gap(const Footprint& fp, const double* start, const Mover& 
   return g;
 }
 
-// The least barrier (footprint discs, d_safe 0) over the horizon between
-// the robot standing at pb's start turned by yaw_by and the mover's
-// predicted body (inflation removed), its centre followed between the
-// steps at kWaySamples points a step (so that a turn that slides a disc
-// along the mover's way gains nothing from where the steps fall).
+// The barrier (footprint discs, d_safe 0) between the robot standing at
+// pb's start, its heading's cosine c and sine s, and the mover's body of
+// step k (orientation's cosine ct and sine st) centred at (x, y).
+double h_standing(const Problem& pb, const ObstacleTrack& body, size_t k, double x, double y, double c, double s,
+                  double ct, double st) {
+  return footprint_stage(pb.x0, pb.y0, c, s, x, y, body.a[k], body.b[k], ct, st, pb.footprint, 0.0).h;
+}
+
+// The least h_standing over the horizon, the robot turned by yaw_by,
+// against the mover's predicted body (inflation removed), its centre
+// followed between the steps at kWaySamples points a step (so that a turn
+// that slides a disc along the mover's way gains nothing from where the
+// steps fall).
 constexpr int kWaySamples = 8;
 double least_h_at_rest(const Problem& pb, const ObstacleTrack& body, double yaw_by) {
   const double c = std::cos(pb.yaw0 + yaw_by), s = std::sin(pb.yaw0 + yaw_by);
@@ -122,8 +130,7 @@ double least_h_at_rest(const Problem& pb, const ObstacleTrack& body, double yaw_
       const double f = static_cast<double>(j) / kWaySamples;
       const double x = k + 1 < n ? body.x[k] + f * (body.x[k + 1] - body.x[k]) : body.x[k];
       const double y = k + 1 < n ? body.y[k] + f * (body.y[k + 1] - body.y[k]) : body.y[k];
-      least =
-          std::min(least, footprint_stage(pb.x0, pb.y0, c, s, x, y, body.a[k], body.b[k], ct, st, pb.footprint, 0.0).h);
+      least = std::min(least, h_standing(pb, body, k, x, y, c, s, ct, st));
     }
   }
   return least;
@@ -138,10 +145,9 @@ bool turn_keeps_clear(const Problem& pb, const ObstacleTrack& body, int side, do
   const double dw = pb.lim.alpha * pb.dt;
   const size_t n = std::min(body.x.size(), static_cast<size_t>(pb.N) + 1);
   for (size_t k = 0; k < n; ++k) {
-    ObstacleTrack at_k = body;
-    at_k.x = {body.x[k]}, at_k.y = {body.y[k]}, at_k.a = {body.a[k]}, at_k.b = {body.b[k]};
-    at_k.theta = {body.theta[k]};
-    if (!(least_h_at_rest(pb, at_k, side * yaw) > 0.0)) return false;
+    const double c = std::cos(pb.yaw0 + side * yaw), s = std::sin(pb.yaw0 + side * yaw);
+    const double ct = std::cos(body.theta[k]), st = std::sin(body.theta[k]);
+    if (!(h_standing(pb, body, k, body.x[k], body.y[k], c, s, ct, st) > 0.0)) return false;
     const double want = side * yaw < by ? side * pb.lim.omega_max : 0.0;
     omega = std::clamp(want, omega - dw, omega + dw);
     yaw += side * omega * pb.dt;

@@ -130,9 +130,9 @@ struct PassiveSafetyParams {
 // mover at body gap gap_m going at mover_speed_mps could reach it (above).
 double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_s, double decel_mps2);
 
-// The largest turn rate w (rad/s, at least 0) from which a disc whose
-// swing towards a mover is lever_m w stops turning before the mover at gap
-// gap_m going at mover_speed_mps could reach it (turn_bound, above).
+// The largest turn rate w (rad/s, at least 0) from which a footprint point
+// whose swing towards a mover is lever_m w stops turning before the mover
+// at gap gap_m going at mover_speed_mps could reach it (turn_bound, above).
 double passive_safe_turn_rate(double gap_m, double mover_speed_mps, double lever_m, double reaction_s,
                               double alpha_radps2);
 

@@ -170,6 +170,16 @@ struct Problem {
   int num_constraints() const { return 4 * N + num_barrier_constraints() + static_cast<int>(reach.size()) * N; }
 };
 
+// [*lo, *hi], the turn rates step k may take otherwise, narrowed by
+// pb.omega_lo/omega_hi where they bound step k; never crossed (the upper
+// bound first, as v_cap, so a step that cannot slow to it slows as fast
+// as [*lo, *hi] allows).
+inline void narrow_to_turn_bounds(const Problem& pb, int k, double* lo, double* hi) {
+  const size_t i = static_cast<size_t>(k);
+  if (i < pb.omega_hi.size()) *hi = std::max(*lo, std::min(*hi, pb.omega_hi[i]));
+  if (i < pb.omega_lo.size()) *lo = std::min(*hi, std::max(*lo, pb.omega_lo[i]));
+}
+
 inline double wrap_angle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 // ---- the line-ellipse distance and the barrier ----
