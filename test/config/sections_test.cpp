@@ -49,7 +49,9 @@ TEST_P(SectionTest, TheDumpWithSourceLinesReadsBackAsTheYaml) {
   // Every value line names robot.yaml and the line of its key there.
   const YAML::Node first = s.yaml().begin()->second;
   const std::string key = s.yaml().begin()->first.Scalar();
-  if (!first.IsMap()) EXPECT_NE(text.find("  " + key + ": "), std::string::npos);
+  if (!first.IsMap()) {
+    EXPECT_NE(text.find("  " + key + ": "), std::string::npos);
+  }
   EXPECT_EQ(text.find("# default"), std::string::npos) << text;
   EXPECT_NE(text.find("robot.yaml:" + std::to_string(first.Mark().line + 1)), std::string::npos) << text;
 }

@@ -391,7 +391,9 @@ TEST(Reaction, GoldenPaperSimHeadOnMover) {
   const ObstacleTrack* head_on = nullptr;
   for (const auto& o : m.obstacles) {
     if (o.id == 6) head_on = &o;
-    if (!o.dynamic) EXPECT_FALSE(o.t_react_s) << "static obstacle " << o.id;
+    if (!o.dynamic) {
+      EXPECT_FALSE(o.t_react_s) << "static obstacle " << o.id;
+    }
   }
   ASSERT_NE(head_on, nullptr);
   ASSERT_TRUE(head_on->t_enter_s);

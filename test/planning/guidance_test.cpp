@@ -141,7 +141,9 @@ TEST(Guidance, ASolveFromEachWayEndsInItsClass) {
     std::vector<double> states(3 * (pb.N + 1));
     rollout(pb, u.data(), states.data());
     // it heads the path's way (turning at the limits it lags behind it)
-    if (std::fabs(w.y[pb.N]) > 0.2) EXPECT_GT(states[3 * pb.N + 1] * w.y[pb.N], 0.0);
+    if (std::fabs(w.y[pb.N]) > 0.2) {
+      EXPECT_GT(states[3 * pb.N + 1] * w.y[pb.N], 0.0);
+    }
     // and the local solve from it, the path as its reference, ends in the path's class
     SolverOptions o;
     const SolveResult r = CeresMpcSolver(o).solve(along_guidance(pb, w), u);

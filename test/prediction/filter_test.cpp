@@ -337,7 +337,9 @@ TEST(Filter, AFastMoverFirstSeenIsNotHeldStill) {
     Feed s(*p, 5.0, 0.4);
     double x = 5.0;
     for (int k = 0; k < 3; ++k) s.step(x -= 0.18, 0.4);
-    if (p == &with) EXPECT_LT(s.f.stationary_probability(), 0.05);
+    if (p == &with) {
+      EXPECT_LT(s.f.stationary_probability(), 0.05);
+    }
     for (int k = 0; k < 2; ++k) s.step(x -= 0.18, 0.4);
     vx[i++] = s.f.state()(kVx);
   }

@@ -351,7 +351,9 @@ TEST(RsHeliosSim, StandingAndMovingRobotPointsLieOnTheTrueSurfaces) {
     }
     // 2.5 mm distance unit (1.25 mm rounding), float points, 1 us firing-time rounding.
     EXPECT_LT(worst, 0.002) << (moving ? "moving" : "standing");
-    if (moving) EXPECT_GT(worst_if_static, 0.05);
+    if (moving) {
+      EXPECT_GT(worst_if_static, 0.05);
+    }
     EXPECT_GT(on[0], 21 * 1700);  // 22 of the 32 channels look down, about 1880 firings each, some hidden
     EXPECT_GT(on[1], 50);
     EXPECT_GT(on[2], 100);

@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   app.add_option("--channel", channels, "only these channels (repeatable)");
   std::string pcd_dir;
   evade::bus::CommonOptions opts;
-  auto* pcd = app.add_option("--pcd", pcd_dir, "write clouds and elevation maps as PCD files into DIR instead");
+  app.add_option("--pcd", pcd_dir, "write clouds and elevation maps as PCD files into DIR instead");
   evade::bus::add_robot_options(app, opts,
                                 false);  // with --pcd: --config (default: robot.yaml beside the log), --robot
   CLI11_PARSE(app, argc, argv);
