@@ -1,6 +1,7 @@
 #include "planning/passive_safety.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -18,14 +19,17 @@ double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_
 }
 
 double passive_safe_turn_rate(double gap_m, double mover_speed_mps, double lever_m, double reaction_s,
-                              double alpha_radps2) {
+                              double alpha_radps2, double residual_mps) {
   const double s = std::max(0.0, mover_speed_mps), q = std::max(0.0, lever_m);
-  const double c = s * reaction_s - gap_m;  // the condition at w = 0, as c <= 0
-  if (!(c < 0.0) || !(alpha_radps2 > 0.0)) return 0.0;
-  // q / (2 alpha) w^2 + (s / alpha + q reaction_s) w + c <= 0: the positive root
+  if (!(q > 0.0)) return std::numeric_limits<double>::infinity();  // the point does not swing
+  const double slow = std::max(0.0, residual_mps) / q;             // the point comes at most at residual_mps
+  if (!(alpha_radps2 > 0.0)) return slow;
+  // above slow: on for reaction_s, then down to slow at alpha, as the
+  // condition q / (2 alpha) w^2 + (s / alpha + q reaction_s) w + c <= 0
+  const double c = s * reaction_s - gap_m - s * slow / alpha_radps2 - q * slow * slow / (2.0 * alpha_radps2);
+  if (!(c < 0.0)) return slow;
   const double qa = q / (2.0 * alpha_radps2), qb = s / alpha_radps2 + q * reaction_s;
-  const double den = qb + std::sqrt(qb * qb - 4.0 * qa * c);
-  return den > 0.0 ? -2.0 * c / den : std::numeric_limits<double>::infinity();
+  return std::max(slow, -2.0 * c / (qb + std::sqrt(qb * qb - 4.0 * qa * c)));
 }
 
 namespace {
@@ -72,53 +76,132 @@ std::vector<Mover> movers(const PassiveSafetyParams& p, const Problem& pb) {
   return out;
 }
 
-// The footprint rectangle's point nearest the ellipse (x, y, a, b, theta)'s
-// centre from pose `start`: its lever arm (rx, ry) from the base centre
-// (world frame), its gap to the ellipse (the barrier at that point, d_safe
-// 0) and the unit vector from it towards the ellipse (-grad h).
-struct EdgeGap {
-  double rx = 0.0, ry = 0.0, gap = 0.0, dx = 0.0, dy = 0.0;
-};
-EdgeGap edge_gap(const Footprint& fp, const double* start, double x, double y, double a, double b, double theta) {
-  const double c = std::cos(start[2]), s = std::sin(start[2]);
-  const double bx = c * (x - start[0]) + s * (y - start[1]), by = -s * (x - start[0]) + c * (y - start[1]);
-  const double px = std::clamp(bx, -0.5 * fp.length, 0.5 * fp.length);
-  const double py = std::clamp(by, -0.5 * fp.width, 0.5 * fp.width);
-  EdgeGap out;
-  out.rx = c * px - s * py;
-  out.ry = s * px + c * py;
-  const BarrierValue h = barrier(start[0] + out.rx, start[1] + out.ry, x, y, a, b, theta, 0.0);
-  const double norm = std::hypot(h.gx, h.gy);
-  out.gap = h.h;
-  if (norm > 0.0) out.dx = -h.gx / norm, out.dy = -h.gy / norm;
+// The directions (robot frame, unit) a contact at the rectangle's point
+// (px, py) can have, as the metrics take it (between the closest points):
+// an edge's outward normal; at a corner, kCornerDirections between its
+// two edges' normals; none inside the rectangle (half-length hl,
+// half-width hw).
+constexpr int kCornerDirections = 7;
+std::vector<std::array<double, 2>> contact_directions(double px, double py, double hl, double hw) {
+  const double nx = px >= hl ? 1.0 : (px <= -hl ? -1.0 : 0.0);
+  const double ny = py >= hw ? 1.0 : (py <= -hw ? -1.0 : 0.0);
+  if (nx == 0.0 || ny == 0.0) {
+    if (nx == 0.0 && ny == 0.0) return {};
+    return {{nx, ny}};
+  }
+  std::vector<std::array<double, 2>> out;
+  for (int j = 0; j < kCornerDirections; ++j) {
+    const double f = 0.5 * M_PI * j / (kCornerDirections - 1);
+    out.push_back({nx * std::cos(f), ny * std::sin(f)});
+  }
   return out;
 }
 
-// The nearer of the mover's body at step 0 and its measured body.
-EdgeGap nearest_edge_gap(const Footprint& fp, const double* start, const Mover& m) {
-  const ObstacleTrack& o = m.body;
-  EdgeGap g = edge_gap(fp, start, o.x[0], o.y[0], o.a[0], o.b[0], o.theta[0]);
-  if (m.measured) {
-    const ObstacleTrack::Body& b = *m.measured;
-    const EdgeGap mg = edge_gap(fp, start, b.x, b.y, b.a, b.b, b.theta);
-    if (mg.gap < g.gap) g = mg;
-  }
-  return g;
+// The mover's body (centre (ox, oy), robot frame) as seen from the
+// rectangle's point (px, py): its gap there (m) and its extent towards
+// the point (the distance to its centre less the gap).
+struct SeenFrom {
+  double gap = 0.0, ox = 0.0, oy = 0.0, extent = 0.0;
+};
+
+// The rectangle's point (px, py) (robot frame) at pose `start` and the
+// ellipse (x, y, a, b, theta).
+SeenFrom seen_from(const double* start, double px, double py, double x, double y, double a, double b, double theta) {
+  const double c = std::cos(start[2]), s = std::sin(start[2]);
+  SeenFrom out;
+  out.gap = barrier(start[0] + c * px - s * py, start[1] + s * px + c * py, x, y, a, b, theta, 0.0).h;
+  out.ox = c * (x - start[0]) + s * (y - start[1]) - px;
+  out.oy = -s * (x - start[0]) + c * (y - start[1]) - py;
+  out.extent = std::max(0.0, std::hypot(out.ox, out.oy) - out.gap);
+  return out;
 }
 
-// The barrier (footprint discs, d_safe 0) between the robot standing at
-// pb's start, its heading's cosine c and sine s, and the mover's body of
-// step k (orientation's cosine ct and sine st) centred at (x, y).
+// The footprint rectangle's points the turn bound checks against an
+// ellipse centred at (x, y) (robot frame, from pose `start`): the point
+// nearest that centre, the corners, and kEdgeSteps - 1 points evenly
+// between the corners on each edge. A mover passing along a side reaches
+// the far corner before the turn stops, so the nearest point alone is not
+// enough.
+constexpr int kEdgeSteps = 4;
+std::vector<std::array<double, 2>> checked_points(const Footprint& fp, const double* start, double x, double y) {
+  const double c = std::cos(start[2]), s = std::sin(start[2]);
+  const double bx = c * (x - start[0]) + s * (y - start[1]), by = -s * (x - start[0]) + c * (y - start[1]);
+  const double hl = 0.5 * fp.length, hw = 0.5 * fp.width;
+  std::vector<std::array<double, 2>> out{{std::clamp(bx, -hl, hl), std::clamp(by, -hw, hw)}};
+  const double corners[5][2] = {{hl, hw}, {-hl, hw}, {-hl, -hw}, {hl, -hw}, {hl, hw}};
+  for (int e = 0; e < 4; ++e)
+    for (int j = 0; j < kEdgeSteps; ++j) {
+      const double f = static_cast<double>(j) / kEdgeSteps;
+      out.push_back({corners[e][0] + f * (corners[e + 1][0] - corners[e][0]),
+                     corners[e][1] + f * (corners[e + 1][1] - corners[e][1])});
+    }
+  return out;
+}
+
+// The least turn rate of turn_bound each way ([0] clockwise, [1]
+// counter-clockwise; infinity where nothing binds) over the checked points
+// of pb's footprint and their contact directions against the ellipse
+// (x, y, a, b, theta) of a mover going at speed_mps. To touch point c from
+// direction n, the body's centre has to get to c + extent n: from where
+// it is, the gap when n points at it, farther round the corner.
+void bound_each_way(const PassiveSafetyParams& p, const Problem& pb, double speed_mps, double x, double y, double a,
+                    double b, double theta, double* w_each) {
+  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
+  const double hl = 0.5 * pb.footprint.length, hw = 0.5 * pb.footprint.width;
+  const auto bound = [&](int i, double q, double way) {
+    if (q > 0.0)
+      w_each[i] = std::min(w_each[i],
+                           passive_safe_turn_rate(way, speed_mps, q, p.reaction_s, pb.lim.alpha, p.turn_residual_mps));
+  };
+  for (const auto& pt : checked_points(pb.footprint, start, x, y)) {
+    const SeenFrom o = seen_from(start, pt[0], pt[1], x, y, a, b, theta);
+    if (!std::isfinite(o.gap)) continue;
+    const auto dirs = contact_directions(pt[0], pt[1], hl, hw);
+    for (int i = 0; i < 2; ++i) {
+      const double side = i == 0 ? -1.0 : 1.0, vx = -side * pt[1], vy = side * pt[0];  // the swing per rad/s
+      if (dirs.empty()) bound(i, std::hypot(vx, vy), o.gap);                           // inside: any direction
+      for (const auto& n : dirs) {
+        const double way = o.gap > 0.0 ? std::hypot(o.ox - o.extent * n[0], o.oy - o.extent * n[1]) : o.gap;
+        bound(i, vx * n[0] + vy * n[1], way);
+      }
+    }
+  }
+}
+
+// The gap between the footprint rectangle of the robot standing at pb's
+// start, its heading's cosine c and sine s, and the mover's body of step
+// k (orientation's cosine ct and sine st) centred at (x, y): the least
+// barrier (d_safe 0) at the rectangle's point nearest the body's centre
+// and at its corners (exact for a round body; the rectangle, not the
+// covering discs, which stick out at its sides, so a robot a few
+// centimetres clear of a lane is clear here too).
 double h_standing(const Problem& pb, const ObstacleTrack& body, size_t k, double x, double y, double c, double s,
                   double ct, double st) {
-  return footprint_stage(pb.x0, pb.y0, c, s, x, y, body.a[k], body.b[k], ct, st, pb.footprint, 0.0).h;
+  const double hl = 0.5 * pb.footprint.length, hw = 0.5 * pb.footprint.width;
+  const double bx = c * (x - pb.x0) + s * (y - pb.y0), by = -s * (x - pb.x0) + c * (y - pb.y0);
+  const double pts[5][2] = {
+      {std::clamp(bx, -hl, hl), std::clamp(by, -hw, hw)}, {hl, hw}, {-hl, hw}, {-hl, -hw}, {hl, -hw}};
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& pt : pts) {
+    const double px = pb.x0 + c * pt[0] - s * pt[1], py = pb.y0 + s * pt[0] + c * pt[1];
+    least = std::min(least, barrier_cs(px, py, x, y, body.a[k], body.b[k], ct, st, 0.0).h);
+  }
+  return least;
+}
+
+// The mover's body centre a fraction f of the way from step k to k + 1
+// (step k's own at the last step).
+void way_point(const ObstacleTrack& body, size_t k, double f, double* x, double* y) {
+  const bool last = k + 1 >= body.x.size();
+  *x = last ? body.x[k] : body.x[k] + f * (body.x[k + 1] - body.x[k]);
+  *y = last ? body.y[k] : body.y[k] + f * (body.y[k + 1] - body.y[k]);
 }
 
 // The least h_standing over the horizon, the robot turned by yaw_by,
 // against the mover's predicted body (inflation removed), its centre
 // followed between the steps at kWaySamples points a step (so that a turn
-// that slides a disc along the mover's way gains nothing from where the
-// steps fall).
+// that slides the body along the mover's way, or a mover that passes a
+// corner between two steps, gains nothing from where the steps fall).
 constexpr int kWaySamples = 8;
 double least_h_at_rest(const Problem& pb, const ObstacleTrack& body, double yaw_by) {
   const double c = std::cos(pb.yaw0 + yaw_by), s = std::sin(pb.yaw0 + yaw_by);
@@ -127,9 +210,8 @@ double least_h_at_rest(const Problem& pb, const ObstacleTrack& body, double yaw_
   for (size_t k = 0; k < n; ++k) {
     const double ct = std::cos(body.theta[k]), st = std::sin(body.theta[k]);
     for (int j = 0; j < (k + 1 < n ? kWaySamples : 1); ++j) {
-      const double f = static_cast<double>(j) / kWaySamples;
-      const double x = k + 1 < n ? body.x[k] + f * (body.x[k + 1] - body.x[k]) : body.x[k];
-      const double y = k + 1 < n ? body.y[k] + f * (body.y[k + 1] - body.y[k]) : body.y[k];
+      double x = 0.0, y = 0.0;
+      way_point(body, k, static_cast<double>(j) / kWaySamples, &x, &y);
       least = std::min(least, h_standing(pb, body, k, x, y, c, s, ct, st));
     }
   }
@@ -139,19 +221,24 @@ double least_h_at_rest(const Problem& pb, const ObstacleTrack& body, double yaw_
 // Whether the robot turning on the spot from pb's start the way `side`
 // (+1 counter-clockwise), from its measured turn rate at the limits
 // (omega_max, alpha) until it has turned by `by` (rad), keeps clear of the
-// mover's predicted body (inflation removed) at every step.
+// mover's predicted body (inflation removed) all the way (kWaySamples
+// points a step, the turn between them too).
 bool turn_keeps_clear(const Problem& pb, const ObstacleTrack& body, int side, double by) {
-  double yaw = 0.0, omega = std::clamp(pb.omega_prev, -pb.lim.omega_max, pb.lim.omega_max);
+  // yaw and omega: turned and turning that way (negative: the other way)
+  double yaw = 0.0, omega = side * std::clamp(pb.omega_prev, -pb.lim.omega_max, pb.lim.omega_max);
   const double dw = pb.lim.alpha * pb.dt;
   const size_t n = std::min(body.x.size(), static_cast<size_t>(pb.N) + 1);
   for (size_t k = 0; k < n; ++k) {
-    const double c = std::cos(pb.yaw0 + side * yaw), s = std::sin(pb.yaw0 + side * yaw);
+    omega = std::clamp(yaw < by ? pb.lim.omega_max : 0.0, omega - dw, omega + dw);
+    const double next = std::min(by, yaw + omega * pb.dt);
     const double ct = std::cos(body.theta[k]), st = std::sin(body.theta[k]);
-    if (!(h_standing(pb, body, k, body.x[k], body.y[k], c, s, ct, st) > 0.0)) return false;
-    const double want = side * yaw < by ? side * pb.lim.omega_max : 0.0;
-    omega = std::clamp(want, omega - dw, omega + dw);
-    yaw += side * omega * pb.dt;
-    if (side * yaw > by) yaw = side * by;
+    for (int j = 0; j < (k + 1 < n ? kWaySamples : 1); ++j) {
+      const double f = static_cast<double>(j) / kWaySamples, turned = pb.yaw0 + side * (yaw + f * (next - yaw));
+      double x = 0.0, y = 0.0;
+      way_point(body, k, f, &x, &y);
+      if (!(h_standing(pb, body, k, x, y, std::cos(turned), std::sin(turned), ct, st) > 0.0)) return false;
+    }
+    yaw = next;
   }
   return true;
 }
@@ -194,18 +281,17 @@ std::vector<MoverBound> mover_bounds(const PassiveSafetyParams& p, const Problem
 TurnBounds passive_turn_bounds(const PassiveSafetyParams& p, const Problem& pb) {
   TurnBounds out{-pb.lim.omega_max, pb.lim.omega_max};
   if (!(pb.footprint.length > 0.0) && !(pb.footprint.width > 0.0)) return out;  // a point swings nothing
-  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
   for (const Mover& m : movers(p, pb)) {
-    const EdgeGap g = nearest_edge_gap(pb.footprint, start, m);
-    const double q = -g.ry * g.dx + g.rx * g.dy;  // the nearest point's swing towards the body per rad/s
-    if (!std::isfinite(g.gap) || !std::isfinite(q) || q == 0.0) continue;
-    const double w = passive_safe_turn_rate(g.gap, m.speed_mps, std::fabs(q), p.reaction_s, pb.lim.alpha);
-    const int side = q > 0.0 ? 1 : -1;
-    if (!(w < pb.lim.omega_max) || turn_gets_out_of_its_way(pb, m.body, side)) continue;
-    if (side > 0)
-      out.hi = std::min(out.hi, w);
-    else
-      out.lo = std::max(out.lo, -w);
+    const double inf = std::numeric_limits<double>::infinity();
+    double w[2] = {inf, inf};
+    const ObstacleTrack& o = m.body;
+    bound_each_way(p, pb, m.speed_mps, o.x[0], o.y[0], o.a[0], o.b[0], o.theta[0], w);
+    if (m.measured) {
+      const ObstacleTrack::Body& mb = *m.measured;
+      bound_each_way(p, pb, m.speed_mps, mb.x, mb.y, mb.a, mb.b, mb.theta, w);
+    }
+    if (w[0] < pb.lim.omega_max && !turn_gets_out_of_its_way(pb, o, -1)) out.lo = std::max(out.lo, -w[0]);
+    if (w[1] < pb.lim.omega_max && !turn_gets_out_of_its_way(pb, o, 1)) out.hi = std::min(out.hi, w[1]);
   }
   return out;
 }

@@ -63,15 +63,28 @@
 // its front edge's sides move forwards (the Scout's 0.93 x 0.70 m body at
 // 0.5 rad/s: up to 0.29 m/s at a corner), and a walker beside or ahead of
 // it is met, as the metrics count it, at fault (docs/SPEC.md: omega x
-// lever arm). For every mover, with c the rectangle's point nearest its
-// body's centre and d the unit vector from c towards the body, the turn
-// that moves c towards the body (omega q > 0, q = (z x r_c) . d) is
-// bounded to the rate w from which it stops (going on for reaction_s, then
-// slowing at the turn-rate limit alpha) before the mover, at its speed s
-// in any direction, could reach c, c's own swing included:
-//   s (reaction_s + w / alpha) + |q| w (reaction_s + w / (2 alpha)) <= g,
-// g the gap from c to the body (the same bodies, speeds and measured
-// positions as above). The other way is free: it moves c away. One
+// lever arm). For every mover, every point c of the rectangle's edge
+// (checked: the point nearest the body's centre, the corners and three
+// points between the corners on each edge) and every direction n a
+// contact at c can have (an edge's outward normal; at a corner, seven
+// between its edges' normals), the turn that moves c along n (omega q >
+// 0, q = (z x r_c) . n) is bounded to the rate w from which it slows
+// (going on for reaction_s, then slowing at the turn-rate limit alpha) to
+// w_r = turn_residual_mps / q, where c comes at no more than
+// turn_residual_mps, before the mover, at its speed s in any direction,
+// could touch c from n, c's own swing included:
+//   s (reaction_s + (w - w_r) / alpha)
+//     + q (w reaction_s + (w^2 - w_r^2) / (2 alpha)) <= g,
+// g how far the body's centre has to go to touch c from n (the gap from
+// c to the body when n points at it, farther round a corner; the same
+// bodies, speeds and measured positions as above); w_r is never bound.
+// Not the nearest point alone: a dog running past the robot's side
+// reaches the far corner before the turn stops, and a turn that swings
+// that corner out towards it is one the nearest point calls free. And a
+// point that barely swings (q near 0) bounds nothing: without the
+// residual it would bound the turn to the rate that stops before the
+// mover arrives however little it moves. A turn that moves every checked
+// point away from every contact it could have is free. One
 // exception: where the mover's predicted body (inflation removed) meets
 // the robot standing where it is within the horizon, and a turn that way
 // at the limits gets the body out of its way in time (turned by at most a
@@ -102,9 +115,10 @@ struct PassiveSafetyParams {
   bool braking_point = true;         // bound where braking from each step ends (off: one speed in every direction)
   bool slow_chosen = true;  // the recovery's chosen plan slowed onto the reach bounds where it comes to no worse
   SlowedRefusal slowed_refused_if = SlowedRefusal::kStructure;  // slow_chosen: what "worse" is (recovery_rank.h)
-  double speed_memory_s = 2.0;    // s: a mover is as fast as its tracker said lately (0: the prediction)
-  bool measured_position = true;  // a mover is also where its tracker last measured it, if nearer
-  bool turn_bound = false;        // the first step's turn moves no footprint point into a mover's reach (above)
+  double speed_memory_s = 2.0;      // s: a mover is as fast as its tracker said lately (0: the prediction)
+  bool measured_position = true;    // a mover is also where its tracker last measured it, if nearer
+  bool turn_bound = false;          // the first step's turn moves no footprint point into a mover's reach (above)
+  double turn_residual_mps = 0.05;  // turn_bound: a point may still come this fast where a mover could reach it
 
   template <class V>
   void fields(V& v) {
@@ -123,6 +137,7 @@ struct PassiveSafetyParams {
     v.field("speed_memory_s", speed_memory_s, config::between(0.0, 30.0));
     v.field("measured_position", measured_position);
     v.field("turn_bound", turn_bound);
+    v.field("turn_residual_mps", turn_residual_mps, config::between(0.0, 1.0));
   }
 };
 
@@ -131,10 +146,12 @@ struct PassiveSafetyParams {
 double passive_safe_speed(double gap_m, double mover_speed_mps, double reaction_s, double decel_mps2);
 
 // The largest turn rate w (rad/s, at least 0) from which a footprint point
-// whose swing towards a mover is lever_m w stops turning before the mover
-// at gap gap_m going at mover_speed_mps could reach it (turn_bound, above).
+// whose swing towards a mover is lever_m w slows to a swing of
+// residual_mps before the mover at gap gap_m going at mover_speed_mps
+// could reach it (turn_bound, above); infinity for a point that does not
+// swing (lever_m 0).
 double passive_safe_turn_rate(double gap_m, double mover_speed_mps, double lever_m, double reaction_s,
-                              double alpha_radps2);
+                              double alpha_radps2, double residual_mps);
 
 // The first step's turn-rate bounds of turn_bound for pb: lo <= 0 <= hi,
 // -omega_max and omega_max where no mover binds.

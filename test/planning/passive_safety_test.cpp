@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "planning/recent_max.h"
@@ -332,31 +333,37 @@ TEST(PassiveSafety, ProjectionSlowsAPlanOntoTheReachBounds) {
 
 constexpr double kAlpha = 3.0;  // testing::default_limits()' turn-rate limit, rad/s^2
 
-TEST(PassiveTurn, FromTheRateTheTurnStopsBeforeTheMoverCanReachTheDisc) {
+TEST(PassiveTurn, FromTheRateTheTurnSlowsBeforeTheMoverCanReachThePoint) {
   const double tau = 0.15;
-  for (double s : {0.0, 0.5, 1.4, 5.0}) {
-    for (double q : {0.0, 0.1, 0.31}) {
-      for (double gap : {0.05, 0.2, 0.5, 1.0}) {
-        const double w = passive_safe_turn_rate(gap, s, q, tau, kAlpha);
-        if (gap <= s * tau) {
-          EXPECT_EQ(w, 0.0) << "s " << s << " q " << q << " gap " << gap;
-          continue;
+  for (double r : {0.0, 0.05}) {
+    for (double s : {0.0, 0.5, 1.4, 5.0}) {
+      EXPECT_TRUE(std::isinf(passive_safe_turn_rate(0.2, s, 0.0, tau, kAlpha, r))) << "a point that does not swing";
+      for (double q : {0.1, 0.31, 0.6}) {
+        for (double gap : {0.05, 0.2, 0.5, 1.0}) {
+          const double w = passive_safe_turn_rate(gap, s, q, tau, kAlpha, r), wr = r / q;
+          const std::string at = "r " + std::to_string(r) + " s " + std::to_string(s) + " q " + std::to_string(q) +
+                                 " gap " + std::to_string(gap);
+          ASSERT_GE(w, wr) << at << ": the residual swing is never bound";
+          if (w == wr) {  // any faster comes too fast before the mover could be there
+            EXPECT_GE(s * tau + q * wr * tau, gap - 1e-9) << at;
+            continue;
+          }
+          // the mover's way until the turn is down to wr and the point's swing meanwhile fill the gap
+          EXPECT_NEAR(s * (tau + (w - wr) / kAlpha) + q * (w * tau + (w * w - wr * wr) / (2 * kAlpha)), gap, 1e-9)
+              << at;
         }
-        if (s == 0.0 && q == 0.0) {
-          EXPECT_TRUE(std::isinf(w));  // nothing comes and nothing swings
-          continue;
-        }
-        ASSERT_GT(w, 0.0);
-        // the mover's way until the turn stops and the disc's swing fill the gap
-        EXPECT_NEAR(s * (tau + w / kAlpha) + q * w * (tau + w / (2 * kAlpha)), gap, 1e-9)
-            << "s " << s << " q " << q << " gap " << gap;
       }
     }
   }
-  // nearer, faster or a longer lever: slower
-  EXPECT_LT(passive_safe_turn_rate(0.3, 1.2, 0.31, tau, kAlpha), passive_safe_turn_rate(0.5, 1.2, 0.31, tau, kAlpha));
-  EXPECT_LT(passive_safe_turn_rate(0.5, 1.6, 0.31, tau, kAlpha), passive_safe_turn_rate(0.5, 1.2, 0.31, tau, kAlpha));
-  EXPECT_LT(passive_safe_turn_rate(0.5, 1.2, 0.31, tau, kAlpha), passive_safe_turn_rate(0.5, 1.2, 0.1, tau, kAlpha));
+  EXPECT_EQ(passive_safe_turn_rate(0.1, 1.0, 0.31, tau, kAlpha, 0.0), 0.0) << "within its reach before any turn stops";
+  // nearer, faster or a longer lever: slower; a residual: faster
+  const auto rate = [&](double gap, double s, double q, double r) {
+    return passive_safe_turn_rate(gap, s, q, tau, kAlpha, r);
+  };
+  EXPECT_LT(rate(0.3, 1.2, 0.31, 0.0), rate(0.5, 1.2, 0.31, 0.0));
+  EXPECT_LT(rate(0.5, 1.6, 0.31, 0.0), rate(0.5, 1.2, 0.31, 0.0));
+  EXPECT_LT(rate(0.5, 1.2, 0.31, 0.0), rate(0.5, 1.2, 0.1, 0.0));
+  EXPECT_LT(rate(0.5, 1.2, 0.31, 0.0), rate(0.5, 1.2, 0.31, 0.05));
 }
 
 // The Scout 2.0 (0.93 x 0.70 m, three discs 0.31 m apart) at the origin
@@ -379,12 +386,14 @@ TEST(PassiveTurn, AWalkerBesideTheRearBoundsTheTurnThatSwingsTheRearToIt) {
   // towards it
   const Problem pb = scout_and_walker(-0.82, -0.4, -1.2, 0.0);
   const TurnBounds t = passive_turn_bounds(p, pb);
-  EXPECT_GT(t.lo, -0.05) << "clockwise: the rear swings into its reach";
-  EXPECT_LE(t.lo, 0.0);
+  // clockwise: the rear corner, 0.465 m from the base, swings into its
+  // reach; it may still come at the residual
+  const double residual = p.turn_residual_mps / 0.465;
+  EXPECT_NEAR(t.lo, -residual, 1e-9) << "clockwise: the rear swings into its reach";
   EXPECT_EQ(t.hi, pb.lim.omega_max) << "counter-clockwise swings the rear away";
   // the same walker on the right: the other way round
   const TurnBounds right = passive_turn_bounds(p, scout_and_walker(0.82, -0.4, 1.2, 0.0));
-  EXPECT_LT(right.hi, 0.05);
+  EXPECT_NEAR(right.hi, residual, 1e-9);
   EXPECT_EQ(right.lo, -pb.lim.omega_max);
   // 2 m away, or standing for seconds: no bound
   const TurnBounds far = passive_turn_bounds(p, scout_and_walker(-2.5, -0.4, -1.2, 0.0));
@@ -396,13 +405,32 @@ TEST(PassiveTurn, AWalkerBesideTheRearBoundsTheTurnThatSwingsTheRearToIt) {
   // turn swings the rear along its way, which gets nothing out of it, so
   // the bound stays
   const TurnBounds oncoming = passive_turn_bounds(p, scout_and_walker(-0.82, -0.4, 1.2, 0.0));
-  EXPECT_GT(oncoming.lo, -0.05);
+  EXPECT_NEAR(oncoming.lo, -residual, 1e-9);
   // the paper's point robot swings nothing
   Problem point = scout_and_walker(-0.82, -0.4, -1.2, 0.0);
   point.footprint = Footprint{};
   const TurnBounds none = passive_turn_bounds(p, point);
   EXPECT_EQ(none.lo, -pb.lim.omega_max);
   EXPECT_EQ(none.hi, pb.lim.omega_max);
+}
+
+// A dog running back past the middle of the robot's left side: the side's
+// nearest point only slides along itself, whichever way the robot turns,
+// but the dog reaches either corner before a turn at the limit stops, and
+// each turn swings one corner out to the side.
+TEST(PassiveTurn, ADogRunningPastTheSideBoundsTheTurnThatSwingsEitherCornerToIt) {
+  const PassiveSafetyParams p;
+  // the Scout faces +y: its left side is at x = -0.35, the dog's body
+  // 0.25 m from it, running at 2.5 m/s towards -y
+  const TurnBounds dog = passive_turn_bounds(p, scout_and_walker(-0.9, 0.0, 0.0, -2.5));
+  EXPECT_GT(dog.lo, -0.3) << "clockwise swings the rear corner out";
+  EXPECT_LE(dog.lo, 0.0);
+  EXPECT_LT(dog.hi, 0.3) << "counter-clockwise swings the front corner out";
+  EXPECT_GE(dog.hi, 0.0);
+  // a walker there at 1 m/s cannot get round to a corner in time
+  const TurnBounds walker = passive_turn_bounds(p, scout_and_walker(-0.9, 0.0, 0.0, -1.0));
+  EXPECT_EQ(walker.lo, -0.5);
+  EXPECT_EQ(walker.hi, 0.5);
 }
 
 // A turn on the spot moves the front edge's sides forwards: a walker ahead
@@ -420,18 +448,32 @@ TEST(PassiveTurn, ATurnThatGetsTheBodyOutOfAWalkersWayInTimeIsNotBound) {
     pb.obstacles[0].age_s = 3.0;
     return pb;
   };
-  // walking up and away: it never meets the standing robot; the left
-  // side's forward swing is bound
-  const TurnBounds away = passive_turn_bounds(p, scout_at(0.0, 0.6));
+  // walking up and away at 1.2 m/s: it never meets the standing robot;
+  // the left side's forward swing is bound
+  const TurnBounds away = passive_turn_bounds(p, scout_at(0.0, 1.2));
   EXPECT_LT(away.hi, 0.45);
   EXPECT_GT(away.hi, 0.0);
-  // coming down the lane past the robot at 0.6 m/s: standing, its rear
-  // corner is met 0.7 s from now; turned 0.1 rad (0.3 s) it is not
-  const TurnBounds lane = passive_turn_bounds(p, scout_at(-0.6, 0.0));
+  // coming down the lane past the robot at 1.2 m/s: standing, its rear
+  // corner is met; a little turned it is not, and the turn at the limits
+  // gets there first
+  const TurnBounds lane = passive_turn_bounds(p, scout_at(-1.2, 0.0));
   EXPECT_EQ(lane.hi, 0.5);
-  // the same at 3 m/s: the turn cannot get there first, the bound stays
-  const TurnBounds fast = passive_turn_bounds(p, scout_at(-3.0, 0.0));
+  // at 3 m/s cutting into the lane towards the rear corner: the turn
+  // cannot get the corner out of its way first, the bound stays
+  const TurnBounds fast = passive_turn_bounds(p, scout_at(-3.0, -0.3));
   EXPECT_LT(fast.hi, 0.45);
+  // the same mirrored (the robot at +0.3 rad, the walker on its right):
+  // the clockwise turn
+  const auto mirrored = [&](double vx, double vy) {
+    Problem pb = scout_at(vx, -vy);
+    pb.yaw0 = 0.3;
+    pb.obstacles[0] = moving_obstacle(3, 0.3, -0.7, vx, -vy, 0.25, 0.25, 0.0, 0.9, pb.N, pb.dt);
+    pb.obstacles[0].age_s = 3.0;
+    return passive_turn_bounds(p, pb);
+  };
+  EXPECT_NEAR(mirrored(0.0, 1.2).lo, -away.hi, 1e-9);
+  EXPECT_EQ(mirrored(-1.2, 0.0).lo, -0.5);
+  EXPECT_NEAR(mirrored(-3.0, -0.3).lo, -fast.hi, 1e-9);
 }
 
 TEST(PassiveTurn, TheSolvedPlansFirstTurnKeepsTheBound) {

@@ -371,9 +371,10 @@ TEST(PlannerCore, AnOncomingFastMoverIsGotOutOfTheWayOfFromRestOrMetAtRest) {
       EXPECT_EQ(r.nan, 0);
       EXPECT_TRUE(no_contact_at_fault(r))
           << "speed " << speed << " offset " << offset << ": " << r.max_contact_approach_mps << " m/s";
-      if (speed < 2.0 || offset != 0.0)
+      if (speed < 2.0 || offset != 0.0) {
         EXPECT_GE(r.min_h, -default_params().d_safe_m)  // the discs hold the footprint
             << "footprint's discs touched, speed " << speed << " offset " << offset;
+      }
     }
 }
 
@@ -867,7 +868,8 @@ TEST(PlannerCore, TheScoutDoesNotSwingItsRearIntoAWalkerBesideIt) {
   ASSERT_GE(on.size(), 3u);
   ASSERT_GE(off.size(), 1u);
   EXPECT_LT(off[0].omega[0], -0.2) << "the premise: unbounded, it turns clockwise at once";
-  EXPECT_GT(bound_at(on[0]).lo, -0.05) << "the premise: the first bound holds the turn";
+  EXPECT_GT(bound_at(on[0]).lo, -0.15) << "the premise: the first bound holds the turn to about the residual "
+                                          "(0.05 m/s at the 0.465 m rear corner: 0.11 rad/s)";
   for (const evade::plan_t& pl : on) {
     const TurnBounds b = bound_at(pl);
     EXPECT_GE(pl.omega[0], b.lo - 1e-6) << "at " << pl.utime;
@@ -1105,8 +1107,7 @@ TEST(Modes, CurveFitExtrapolatesTheObservedCentres) {
 
 // One planning cycle of a core in `mode` from rest at the origin with the
 // route along x, given OBSTACLES and/or OBSTACLE_PREDICTIONS (t = 0).
-evade::plan_t one_plan(Mode mode, const std::vector<SimObstacle>* obs_msg, const std::vector<SimObstacle>* pred_msg,
-                       PlannerCore** core_out = nullptr) {
+evade::plan_t one_plan(Mode mode, const std::vector<SimObstacle>* obs_msg, const std::vector<SimObstacle>* pred_msg) {
   PlannerParams p = default_params();
   p.mode = mode;
   bus::MemoryBus bus;
