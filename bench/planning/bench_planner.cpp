@@ -64,6 +64,7 @@
 #include "planning/manoeuvres.h"
 #include "planning/outcome.h"
 #include "planning/params.h"
+#include "planning/passive_safety.h"
 #include "planning/planner_core.h"
 #include "planning/reference.h"
 #include "planning/static_field.h"
@@ -401,6 +402,31 @@ void BM_Outcome(benchmark::State& state) {
   state.counters["clear"] = clear;
 }
 
+// passive_turn_bounds (turn_bound, on for the Scout) at k walkers 0.85 m
+// and out from the standing Scout 2.0, at 1.3 m/s: walking at it (every
+// way meets the standing robot, both turns bind, and the exemption
+// searches its angles for every walker: the worst case) or going round
+// it (the bounds alone).
+void BM_TurnBound(benchmark::State& state, bool at_it) {
+  using namespace evade::planning;
+  const int k = static_cast<int>(state.range(0));
+  Problem pb = testing::straight_problem(0, 0, 0.0, 0.0, 0.5);
+  pb.footprint = Footprint::covering(0.93, 0.70, 3);
+  pb.lim.omega_max = 0.5;
+  for (int i = 0; i < k; ++i) {
+    const double a = 2 * M_PI * i / k, r = 0.85 + 0.03 * i, c = std::cos(a), s = std::sin(a);
+    const double vx = at_it ? -1.3 * c : -1.3 * s, vy = at_it ? -1.3 * s : 1.3 * c;
+    ObstacleTrack w = testing::moving_obstacle(i, r * c, r * s, vx, vy, 0.3, 0.3, 0.0, 0.9, pb.N, pb.dt);
+    w.age_s = 3.0;
+    pb.obstacles.push_back(w);
+  }
+  PassiveSafetyParams p;
+  p.turn_bound = true;
+  TurnBounds t{};
+  for (auto _ : state) benchmark::DoNotOptimize(t = passive_turn_bounds(p, pb));
+  state.counters["bound"] = (t.lo > -pb.lim.omega_max || t.hi < pb.lim.omega_max) ? 1 : 0;
+}
+
 void BM_StaticField(benchmark::State& state) {
   using namespace evade::planning;
   const int k = static_cast<int>(state.range(0));
@@ -495,6 +521,20 @@ BENCHMARK(BM_GuidanceCycle)->Name("cycle/guidance")->Arg(0)->Arg(4)->Arg(8)->Arg
 BENCHMARK(BM_Outcome)->Name("outcome")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StaticField)->Name("static_field")->Arg(0)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StaticFieldLog)->Name("static_field_log")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TurnBound, at_it, true)
+    ->Name("turn_bound/at_it")
+    ->Arg(0)
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TurnBound, round_it, false)
+    ->Name("turn_bound/round_it")
+    ->Arg(0)
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Detour)->Name("detour")->Arg(1)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ceres)->Name("solve/ceres")->Arg(0)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CeresWarmMultipliers)
