@@ -116,6 +116,24 @@ SeenFrom seen_from(const double* start, double px, double py, double x, double y
   return out;
 }
 
+// The footprint rectangle of a robot at (x0, y0) whose heading has cosine
+// c and sine s, in the robot's frame (x along the heading).
+struct RectangleFrame {
+  double x0, y0, c, s, hl, hw;
+  RectangleFrame(const Footprint& fp, double x0_, double y0_, double c_, double s_)
+      : x0(x0_), y0(y0_), c(c_), s(s_), hl(0.5 * fp.length), hw(0.5 * fp.width) {}
+  // The rectangle's point nearest the world point (x, y).
+  std::array<double, 2> nearest_to(double x, double y) const {
+    const double bx = c * (x - x0) + s * (y - y0), by = -s * (x - x0) + c * (y - y0);
+    return {std::clamp(bx, -hl, hl), std::clamp(by, -hw, hw)};
+  }
+  // Corner i mod 4, counter-clockwise from front left.
+  std::array<double, 2> corner(int i) const {
+    const int j = i % 4;
+    return {j == 0 || j == 3 ? hl : -hl, j < 2 ? hw : -hw};
+  }
+};
+
 // The footprint rectangle's points the turn bound checks against an
 // ellipse centred at (x, y) (robot frame, from pose `start`): the point
 // nearest that centre, the corners, and kEdgeSteps - 1 points evenly
@@ -124,17 +142,15 @@ SeenFrom seen_from(const double* start, double px, double py, double x, double y
 // enough.
 constexpr int kEdgeSteps = 4;
 std::vector<std::array<double, 2>> checked_points(const Footprint& fp, const double* start, double x, double y) {
-  const double c = std::cos(start[2]), s = std::sin(start[2]);
-  const double bx = c * (x - start[0]) + s * (y - start[1]), by = -s * (x - start[0]) + c * (y - start[1]);
-  const double hl = 0.5 * fp.length, hw = 0.5 * fp.width;
-  std::vector<std::array<double, 2>> out{{std::clamp(bx, -hl, hl), std::clamp(by, -hw, hw)}};
-  const double corners[5][2] = {{hl, hw}, {-hl, hw}, {-hl, -hw}, {hl, -hw}, {hl, hw}};
-  for (int e = 0; e < 4; ++e)
+  const RectangleFrame r(fp, start[0], start[1], std::cos(start[2]), std::sin(start[2]));
+  std::vector<std::array<double, 2>> out{r.nearest_to(x, y)};
+  for (int e = 0; e < 4; ++e) {
+    const std::array<double, 2> from = r.corner(e), to = r.corner(e + 1);
     for (int j = 0; j < kEdgeSteps; ++j) {
       const double f = static_cast<double>(j) / kEdgeSteps;
-      out.push_back({corners[e][0] + f * (corners[e + 1][0] - corners[e][0]),
-                     corners[e][1] + f * (corners[e + 1][1] - corners[e][1])});
+      out.push_back({from[0] + f * (to[0] - from[0]), from[1] + f * (to[1] - from[1])});
     }
+  }
   return out;
 }
 
@@ -177,10 +193,8 @@ void bound_each_way(const PassiveSafetyParams& p, const Problem& pb, double spee
 // centimetres clear of a lane is clear here too).
 double h_standing(const Problem& pb, const ObstacleTrack& body, size_t k, double x, double y, double c, double s,
                   double ct, double st) {
-  const double hl = 0.5 * pb.footprint.length, hw = 0.5 * pb.footprint.width;
-  const double bx = c * (x - pb.x0) + s * (y - pb.y0), by = -s * (x - pb.x0) + c * (y - pb.y0);
-  const double pts[5][2] = {
-      {std::clamp(bx, -hl, hl), std::clamp(by, -hw, hw)}, {hl, hw}, {-hl, hw}, {-hl, -hw}, {hl, -hw}};
+  const RectangleFrame r(pb.footprint, pb.x0, pb.y0, c, s);
+  const std::array<double, 2> pts[5] = {r.nearest_to(x, y), r.corner(0), r.corner(1), r.corner(2), r.corner(3)};
   double least = std::numeric_limits<double>::infinity();
   for (const auto& pt : pts) {
     const double px = pb.x0 + c * pt[0] - s * pt[1], py = pb.y0 + s * pt[0] + c * pt[1];

@@ -380,7 +380,7 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   // the tracker's list of the predictions' frame or a newer one
   if (p_.passive_safety.measured_position && observed_ && predictions_ && observed_->utime >= predictions_->utime)
     attach_measurements(*observed_, &pb.obstacles);
-  if (mode_.evade_layers && p_.passive_safety.every_plan) bound_speed_passively(&pb);
+  if (mode_.evade_layers && p_.passive_safety.every_plan) apply_passive_bounds(&pb);
   if (p_.solver.hold_settled && mode_spec(p_.mode).evade_layers) {
     if (const int held = hold_settled_obstacles(&pb, p_.solver)) count("settled_held", held);
   }

@@ -155,11 +155,11 @@ class PlannerCore : public bus::Core {
   // False when solver.rank_outcome judges the relaxed plan u as meeting a
   // mover's body (plan_outcome): most_clearance decides among the candidates.
   bool relaxed_plan_stands(const Problem& pb, const std::vector<double>& u) const;
-  // The passive-safety speed bound (passive_safety.h) put into *pb when
-  // planner.passive_safety is on and it binds; counted (HEALTH
-  // passive_speed_bound). With turn_bound the first step's turn too
+  // The passive-safety bounds (passive_safety.h) put into *pb when
+  // planner.passive_safety is on and they bind: the speed (HEALTH
+  // passive_speed_bound) and, with turn_bound, the first step's turn
   // (HEALTH passive_turn_bound). Whether the speed bound bound.
-  bool bound_speed_passively(Problem* pb);
+  bool apply_passive_bounds(Problem* pb);
   // pb so bound: the problem of every plan the recovery sends once the hard
   // problem has failed (with every_plan, pb itself: make_problem bound the
   // cycle's problem, once).

@@ -133,7 +133,7 @@ int8_t PlannerCore::recover_chain(const Problem& pb, const std::vector<double>& 
   return most_clearance(bounded, candidates, odom, v0, w0, u);
 }
 
-bool PlannerCore::bound_speed_passively(Problem* pb) {
+bool PlannerCore::apply_passive_bounds(Problem* pb) {
   if (!p_.passive_safety.enabled) return false;
   if (p_.passive_safety.turn_bound && bound_turn_passively(p_.passive_safety, pb)) count("passive_turn_bound");
   if (!bound_passively(p_.passive_safety, pb)) return false;
@@ -144,7 +144,7 @@ bool PlannerCore::bound_speed_passively(Problem* pb) {
 Problem PlannerCore::passively_bounded(const Problem& pb) {
   Problem bounded = pb;
   // with every_plan the cycle's problem was bound already (make_problem)
-  if (!p_.passive_safety.every_plan) bound_speed_passively(&bounded);
+  if (!p_.passive_safety.every_plan) apply_passive_bounds(&bounded);
   return bounded;
 }
 
