@@ -97,35 +97,25 @@ std::vector<std::array<double, 2>> contact_directions(double px, double py, doub
   return out;
 }
 
-// The mover's body (centre (ox, oy), robot frame) as seen from the
-// rectangle's point (px, py): its gap there (m) and its extent towards
-// the point (the distance to its centre less the gap).
-struct SeenFrom {
-  double gap = 0.0, ox = 0.0, oy = 0.0, extent = 0.0;
-};
-
-// The rectangle's point (px, py) (robot frame) at pose `start` and the
-// ellipse (x, y, a, b, theta).
-SeenFrom seen_from(const double* start, double px, double py, double x, double y, double a, double b, double theta) {
-  const double c = std::cos(start[2]), s = std::sin(start[2]);
-  SeenFrom out;
-  out.gap = barrier(start[0] + c * px - s * py, start[1] + s * px + c * py, x, y, a, b, theta, 0.0).h;
-  out.ox = c * (x - start[0]) + s * (y - start[1]) - px;
-  out.oy = -s * (x - start[0]) + c * (y - start[1]) - py;
-  out.extent = std::max(0.0, std::hypot(out.ox, out.oy) - out.gap);
-  return out;
-}
-
 // The footprint rectangle of a robot at (x0, y0) whose heading has cosine
-// c and sine s, in the robot's frame (x along the heading).
+// c and sine s, and the change between the world and the robot's frame
+// (x along the heading).
 struct RectangleFrame {
   double x0, y0, c, s, hl, hw;
   RectangleFrame(const Footprint& fp, double x0_, double y0_, double c_, double s_)
       : x0(x0_), y0(y0_), c(c_), s(s_), hl(0.5 * fp.length), hw(0.5 * fp.width) {}
+  // The world point (x, y) in the robot's frame.
+  std::array<double, 2> to_robot(double x, double y) const {
+    return {c * (x - x0) + s * (y - y0), -s * (x - x0) + c * (y - y0)};
+  }
+  // The robot-frame point pt in the world.
+  std::array<double, 2> to_world(const std::array<double, 2>& pt) const {
+    return {x0 + c * pt[0] - s * pt[1], y0 + s * pt[0] + c * pt[1]};
+  }
   // The rectangle's point nearest the world point (x, y).
   std::array<double, 2> nearest_to(double x, double y) const {
-    const double bx = c * (x - x0) + s * (y - y0), by = -s * (x - x0) + c * (y - y0);
-    return {std::clamp(bx, -hl, hl), std::clamp(by, -hw, hw)};
+    const std::array<double, 2> b = to_robot(x, y);
+    return {std::clamp(b[0], -hl, hl), std::clamp(b[1], -hw, hw)};
   }
   // Corner i mod 4, counter-clockwise from front left.
   std::array<double, 2> corner(int i) const {
@@ -134,15 +124,34 @@ struct RectangleFrame {
   }
 };
 
+// The mover's body (centre (ox, oy), robot frame, from the point) as seen
+// from a point of the rectangle: its gap there (m) and its extent towards
+// the point (the distance to its centre less the gap).
+struct SeenFrom {
+  double gap = 0.0, ox = 0.0, oy = 0.0, extent = 0.0;
+};
+
+// The rectangle r's point pt (robot frame) and the ellipse (x, y, a, b,
+// theta).
+SeenFrom seen_from(const RectangleFrame& r, const std::array<double, 2>& pt, double x, double y, double a, double b,
+                   double theta) {
+  const std::array<double, 2> at = r.to_world(pt), centre = r.to_robot(x, y);
+  SeenFrom out;
+  out.gap = barrier(at[0], at[1], x, y, a, b, theta, 0.0).h;
+  out.ox = centre[0] - pt[0];
+  out.oy = centre[1] - pt[1];
+  out.extent = std::max(0.0, std::hypot(out.ox, out.oy) - out.gap);
+  return out;
+}
+
 // The footprint rectangle's points the turn bound checks against an
-// ellipse centred at (x, y) (robot frame, from pose `start`): the point
-// nearest that centre, the corners, and kEdgeSteps - 1 points evenly
+// ellipse centred at the world point (x, y): the point nearest that
+// centre, the corners, and kEdgeSteps - 1 points evenly
 // between the corners on each edge. A mover passing along a side reaches
 // the far corner before the turn stops, so the nearest point alone is not
 // enough.
 constexpr int kEdgeSteps = 4;
-std::vector<std::array<double, 2>> checked_points(const Footprint& fp, const double* start, double x, double y) {
-  const RectangleFrame r(fp, start[0], start[1], std::cos(start[2]), std::sin(start[2]));
+std::vector<std::array<double, 2>> checked_points(const RectangleFrame& r, double x, double y) {
   std::vector<std::array<double, 2>> out{r.nearest_to(x, y)};
   for (int e = 0; e < 4; ++e) {
     const std::array<double, 2> from = r.corner(e), to = r.corner(e + 1);
@@ -162,17 +171,16 @@ std::vector<std::array<double, 2>> checked_points(const Footprint& fp, const dou
 // it is, the gap when n points at it, farther round the corner.
 void bound_each_way(const PassiveSafetyParams& p, const Problem& pb, double speed_mps, double x, double y, double a,
                     double b, double theta, double* w_each) {
-  const double start[3] = {pb.x0, pb.y0, pb.yaw0};
-  const double hl = 0.5 * pb.footprint.length, hw = 0.5 * pb.footprint.width;
+  const RectangleFrame r(pb.footprint, pb.x0, pb.y0, std::cos(pb.yaw0), std::sin(pb.yaw0));
   const auto bound = [&](int i, double q, double way) {
     if (q > 0.0)
       w_each[i] = std::min(w_each[i],
                            passive_safe_turn_rate(way, speed_mps, q, p.reaction_s, pb.lim.alpha, p.turn_residual_mps));
   };
-  for (const auto& pt : checked_points(pb.footprint, start, x, y)) {
-    const SeenFrom o = seen_from(start, pt[0], pt[1], x, y, a, b, theta);
+  for (const auto& pt : checked_points(r, x, y)) {
+    const SeenFrom o = seen_from(r, pt, x, y, a, b, theta);
     if (!std::isfinite(o.gap)) continue;
-    const auto dirs = contact_directions(pt[0], pt[1], hl, hw);
+    const auto dirs = contact_directions(pt[0], pt[1], r.hl, r.hw);
     for (int i = 0; i < 2; ++i) {
       const double side = i == 0 ? -1.0 : 1.0, vx = -side * pt[1], vy = side * pt[0];  // the swing per rad/s
       if (dirs.empty()) bound(i, std::hypot(vx, vy), o.gap);                           // inside: any direction
@@ -197,8 +205,8 @@ double h_standing(const Problem& pb, const ObstacleTrack& body, size_t k, double
   const std::array<double, 2> pts[5] = {r.nearest_to(x, y), r.corner(0), r.corner(1), r.corner(2), r.corner(3)};
   double least = std::numeric_limits<double>::infinity();
   for (const auto& pt : pts) {
-    const double px = pb.x0 + c * pt[0] - s * pt[1], py = pb.y0 + s * pt[0] + c * pt[1];
-    least = std::min(least, barrier_cs(px, py, x, y, body.a[k], body.b[k], ct, st, 0.0).h);
+    const std::array<double, 2> at = r.to_world(pt);
+    least = std::min(least, barrier_cs(at[0], at[1], x, y, body.a[k], body.b[k], ct, st, 0.0).h);
   }
   return least;
 }
