@@ -427,10 +427,12 @@ TEST(PassiveTurn, ADogRunningPastTheSideBoundsTheTurnThatSwingsEitherCornerToIt)
   EXPECT_LE(dog.lo, 0.0);
   EXPECT_LT(dog.hi, 0.3) << "counter-clockwise swings the front corner out";
   EXPECT_GE(dog.hi, 0.0);
-  // a walker there at 1 m/s cannot get round to a corner in time
-  const TurnBounds walker = passive_turn_bounds(p, scout_and_walker(-0.9, 0.0, 0.0, -1.0));
-  EXPECT_EQ(walker.lo, -0.5);
-  EXPECT_EQ(walker.hi, 0.5);
+  // a walker there at 1 m/s cannot get round to a corner in time: the
+  // turn is free both ways (the limit)
+  const Problem walking = scout_and_walker(-0.9, 0.0, 0.0, -1.0);
+  const TurnBounds walker = passive_turn_bounds(p, walking);
+  EXPECT_EQ(walker.lo, -walking.lim.omega_max);
+  EXPECT_EQ(walker.hi, walking.lim.omega_max);
 }
 
 // A turn on the spot moves the front edge's sides forwards: a walker ahead
@@ -456,8 +458,9 @@ TEST(PassiveTurn, ATurnThatGetsTheBodyOutOfAWalkersWayInTimeIsNotBound) {
   // coming down the lane past the robot at 1.2 m/s: standing, its rear
   // corner is met; a little turned it is not, and the turn at the limits
   // gets there first
-  const TurnBounds lane = passive_turn_bounds(p, scout_at(-1.2, 0.0));
-  EXPECT_EQ(lane.hi, 0.5);
+  const Problem lane_pb = scout_at(-1.2, 0.0);
+  const TurnBounds lane = passive_turn_bounds(p, lane_pb);
+  EXPECT_EQ(lane.hi, lane_pb.lim.omega_max);
   // at 3 m/s cutting into the lane towards the rear corner: the turn
   // cannot get the corner out of its way first, the bound stays
   const TurnBounds fast = passive_turn_bounds(p, scout_at(-3.0, -0.3));
@@ -472,7 +475,7 @@ TEST(PassiveTurn, ATurnThatGetsTheBodyOutOfAWalkersWayInTimeIsNotBound) {
     return passive_turn_bounds(p, pb);
   };
   EXPECT_NEAR(mirrored(0.0, 1.2).lo, -away.hi, 1e-9);
-  EXPECT_EQ(mirrored(-1.2, 0.0).lo, -0.5);
+  EXPECT_EQ(mirrored(-1.2, 0.0).lo, -lane_pb.lim.omega_max);
   EXPECT_NEAR(mirrored(-3.0, -0.3).lo, -fast.hi, 1e-9);
 }
 
