@@ -19,8 +19,17 @@ status=0
 timeout 100 "$SRC/tools/run_scenario" "$SRC/config/scenarios/paper_sim.yaml" --out "$OUT" --split --no-reaction --quiet \
   > "$OUT.log" 2>&1 || status=$?
 cat "$OUT/metrics.json" 2> /dev/null || true
-[ $status = 0 ] || fail "run_scenario --split exit $status: $(tail -20 "$OUT.log")"
-grep -q '"reached_goal": true' "$OUT/metrics.json" || fail "goal not reached"
+# Where the robot was and what the planner said, every 2 s of the scene
+# (a failed run can be read from the test's output alone).
+timeline() {
+  "$BIN/lcmlog-export" "$OUT/run.lcmlog" --channel SIM_TRUTH --channel PLAN 2> /dev/null | awk '
+    function num(key,   m) { return match($0, "\"" key "\":-?[0-9.e+-]+") ? substr($0, RSTART + length(key) + 3, RLENGTH - length(key) - 3) : "?" }
+    /"channel":"PLAN"/ { status = num("status"); v0 = $0; sub(/.*"v":\[/, "", v0); sub(/[],].*/, "", v0); next }
+    /"channel":"SIM_TRUTH"/ { t = num("utime"); if (t0 == "") t0 = t
+      if ((t - t0) / 1e6 >= next_s) { printf "t %5.1f s  robot x %6.2f y %5.2f yaw %5.2f v %4.2f  plan status %s v0 %.2f\n", (t - t0) / 1e6, num("x"), num("y"), num("yaw"), num("v"), status, v0 + 0; next_s += 2 } }'
+}
+[ $status = 0 ] || { timeline; fail "run_scenario --split exit $status: $(tail -20 "$OUT.log")"; }
+grep -q '"reached_goal": true' "$OUT/metrics.json" || { timeline; fail "goal not reached"; }
 grep -q '"at_fault": false' "$OUT/metrics.json" || fail "a collision at fault"
 
 # What ran where.
