@@ -113,6 +113,10 @@ struct PlannerParams {
   double predictions_max_age_s = 0.25;  // modes reading OBSTACLE_PREDICTIONS
   double obstacles_max_age_s = 0.25;    // modes reading OBSTACLES
   bool require_obstacles = true;        // no message yet from the mode's obstacle input counts as stale
+  // Mode evade: a plan whose second step brakes at the deceleration limit
+  // sends that step's speed, not its first (commanded_speed,
+  // planner_core.cpp).
+  bool brake_ahead = true;
   CurvefitParams curvefit;
   Weights weights;
   Limits limits;  // robot: (config/robot_params.h), not in the field list
@@ -169,6 +173,7 @@ void PlannerParams::fields(V& v) {
   v.field("predictions_max_age_s", predictions_max_age_s, config::positive());
   v.field("obstacles_max_age_s", obstacles_max_age_s, config::positive());
   v.field("require_obstacles", require_obstacles);
+  v.field("brake_ahead", brake_ahead);
   v.section("weights", weights);
   v.section("curvefit", curvefit);
   v.section("escape", escape);

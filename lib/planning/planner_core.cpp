@@ -525,7 +525,7 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
 
   evade::cmd_vel_t cmd{};
   cmd.utime = odom.utime;
-  cmd.v = u[0];
+  cmd.v = commanded_speed(u);
   cmd.omega = u[1];
   if (status == evade::plan_t::STATUS_STALE_INPUT) {
     // Lost perception or odometry: ask for a stop at once. The PLAN shows
@@ -538,6 +538,23 @@ void PlannerCore::publish_plan(const evade::odometry_t& odom, int8_t status, con
   last_cmd_v_ = cmd.v;
   last_cmd_omega_ = cmd.omega;
   last_cmd_now_ = now();
+}
+
+double PlannerCore::commanded_speed(const std::vector<double>& u) const {
+  // A plan's speeds are where the robot should be at the ends of its
+  // steps, from a start as old as the odometry and the solve; the base
+  // ramps to a command at its limits and then holds it. A plan braking at
+  // the limit, sent as its first speed, has the robot reach that speed
+  // early and hold it for the rest of the cycle: in lockstep crowd 213 it
+  // braked at 1.24 m/s^2, not 1.5. Where the plan's second step brakes at
+  // the limit too, its speed is sent instead: the base brakes until the
+  // next command comes, as the plan does. Gentler slowing (most slowing
+  // plans, a few cm/s a step) and speeding up send the first: sending
+  // their second cost crowd successes (docs/experiments/2026-12-02-brake-ahead.md).
+  if (!mode_.evade_layers || !p_.brake_ahead || u.size() < 4) return u[0];
+  const double full_step = p_.limits.decel * p_.dt_s - p_.solver.constraint_tolerance;
+  const bool braking = u[2] * u[0] >= 0.0 && std::fabs(u[0]) - std::fabs(u[2]) >= full_step;
+  return braking ? u[2] : u[0];
 }
 
 evade::plan_t PlannerCore::plan_message(const evade::odometry_t& odom, int8_t status, const Problem& pb,

@@ -203,6 +203,10 @@ class PlannerCore : public bus::Core {
                              int iterations) const;
   void publish_plan(const evade::odometry_t& odom, int8_t status, const Problem* pb, const std::vector<double>& u,
                     double solve_us, int iterations, int num_obstacles);
+  // CMD_VEL's speed for controls u: the first step's, or with brake_ahead
+  // in mode evade the second step's where that step brakes at the
+  // deceleration limit (same direction).
+  double commanded_speed(const std::vector<double>& u) const;
 
   // ---- static structure (planner_static.cpp, static_structure.h) ----
   // Mode evade with static_field.enabled: ELEVATION_MAP is kept (the last

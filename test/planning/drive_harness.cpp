@@ -8,7 +8,21 @@
 
 namespace evade::planning::testing {
 
-DriveHarness::DriveHarness(const PlannerParams& p, RobotState start) : core_(p), robot_(start) { bus_.add(core_); }
+namespace {
+
+// The harness's base reaches each command at once, so the plan's first
+// speed is the one it should get: planner.brake_ahead leads a base that
+// ramps to its commands, and would brake this one two steps in one.
+PlannerParams for_an_ideal_base(PlannerParams p) {
+  p.brake_ahead = false;
+  return p;
+}
+
+}  // namespace
+
+DriveHarness::DriveHarness(const PlannerParams& p, RobotState start) : core_(for_an_ideal_base(p)), robot_(start) {
+  bus_.add(core_);
+}
 
 void DriveHarness::run(double duration_s, const std::function<void(const Step&)>& inputs,
                        const std::function<void(const evade::plan_t&, const Step&)>& on_plan,

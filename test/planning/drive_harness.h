@@ -39,7 +39,8 @@ class DriveHarness {
   //   1. inputs(step): the test injects what arrives at step.now;
   //   2. ODOMETRY of the robot at step.now (its pose and current command);
   //   3. every PLAN published goes to on_plan(plan, step), every CMD_VEL
-  //      becomes the robot's command;
+  //      becomes the robot's command, reached at once (so the core runs
+  //      with planner.brake_ahead off: that leads a base that ramps);
   //   4. observe(step): the robot where it is at step.t, with its new command;
   //   5. the robot moves for kPeriodS.
   // Empty functions are skipped; robot() is the robot's state throughout.

@@ -519,6 +519,61 @@ TEST(PlannerCore, NoRouteMeansZeroVelocity) {
   EXPECT_EQ(plans[0].status, int8_t{evade::plan_t::STATUS_NO_ROUTE});
 }
 
+// planner.brake_ahead: a plan whose second step brakes at the limit goes
+// to the base as that step's speed in mode evade (a base ramps to it and
+// brakes until the next command, as the plan does), as its first in the
+// paper's modes and with the key off; a plan that slows gently or speeds
+// up goes as its first.
+TEST(PlannerCore, APlanBrakingAtTheLimitSendsItsSecondSpeedInModeEvade) {
+  const auto command = [](Mode mode, bool brake_ahead, double x, double v) {
+    PlannerParams p = default_params();
+    p.mode = mode;
+    p.brake_ahead = brake_ahead;
+    bus::MemoryBus bus;
+    PlannerCore core(p);
+    bus.add(core);
+    bus.inject("ROUTE", straight_route(0, 10), 1'000'000);
+    bus.inject("OBSTACLE_PREDICTIONS", predictions({}, 1'000'000, 0), 1'000'000);
+    bus.inject("OBSTACLES", observed({}, 1'000'000, 0), 1'000'000);
+    evade::odometry_t o{};
+    o.utime = 1'000'000;
+    o.x = x;
+    o.v = v;
+    bus.inject("ODOMETRY", o, o.utime);
+    const auto plans = bus.decoded<evade::plan_t>("PLAN");
+    const auto cmds = bus.decoded<evade::cmd_vel_t>("CMD_VEL");
+    EXPECT_EQ(plans.size(), 1u);
+    EXPECT_EQ(cmds.size(), 1u);
+    return std::make_pair(plans.at(0), cmds.at(0));
+  };
+  const PlannerParams d = default_params();
+  ASSERT_TRUE(d.brake_ahead);
+  // at the goal at 0.8 m/s: the plan brakes at the limit
+  const auto [goal, goal_cmd] = command(Mode::kEvade, true, 10.0, 0.8);
+  EXPECT_EQ(goal.status, int8_t{evade::plan_t::STATUS_GOAL});
+  EXPECT_NEAR(goal.v[0], 0.8 - d.limits.decel * d.dt_s, 1e-9);
+  EXPECT_NEAR(goal.v[1], 0.8 - 2 * d.limits.decel * d.dt_s, 1e-9);
+  EXPECT_EQ(goal_cmd.v, goal.v[1]);
+  for (auto [mode, on] : {std::pair{Mode::kDcbf, true}, std::pair{Mode::kEvade, false}}) {
+    const auto [plan, cmd] = command(mode, on, 10.0, 0.8);
+    EXPECT_EQ(cmd.v, plan.v[0]) << mode_name(mode) << (on ? " brake_ahead" : "");
+    EXPECT_LT(plan.v[1], plan.v[0]);
+  }
+  // 0.7 m before the route's end at 0.8 m/s: the reference slows at
+  // route_end_decel_mps2, and so does the plan, gently
+  const auto [ending, ending_cmd] = command(Mode::kEvade, true, 9.3, 0.8);
+  EXPECT_EQ(ending.status, int8_t{evade::plan_t::STATUS_OK});
+  EXPECT_LT(ending.v[1], ending.v[0]);
+  EXPECT_LT(ending.v[0] - ending.v[1], 0.5 * d.limits.decel * d.dt_s);
+  EXPECT_EQ(ending_cmd.v, ending.v[0]);
+  // at the start at 0.2 m/s: the plan speeds up towards the reference
+  const auto [start, start_cmd] = command(Mode::kEvade, true, 0.0, 0.2);
+  EXPECT_EQ(start.status, int8_t{evade::plan_t::STATUS_OK});
+  EXPECT_GT(start.v[1], start.v[0]);
+  EXPECT_GT(start.v[0], 0.2);
+  EXPECT_EQ(start_cmd.v, start.v[0]);
+}
+
 TEST(PlannerCore, StalePredictionsBrakeAtTheDecelerationLimit) {
   PlannerParams p = default_params();
   bus::MemoryBus bus;
