@@ -549,8 +549,8 @@ double PlannerCore::commanded_speed(const std::vector<double>& u) const {
   // braked at 1.24 m/s^2, not 1.5. Where the plan's second step brakes at
   // the limit too, its speed is sent instead: the base brakes until the
   // next command comes, as the plan does. Gentler slowing (most slowing
-  // plans, a few cm/s a step) and speeding up send the first: sending
-  // their second cost crowd successes (docs/experiments/2026-12-02-brake-ahead.md).
+  // plans, a few cm/s a step) and speeding up send the first, the speed
+  // the plan holds over its first step (lib/planning/README.md, item 9).
   if (!mode_.evade_layers || !p_.brake_ahead || u.size() < 4) return u[0];
   const double full_step = p_.limits.decel * p_.dt_s - p_.solver.constraint_tolerance;
   const bool braking = u[2] * u[0] >= 0.0 && std::fabs(u[0]) - std::fabs(u[2]) >= full_step;
