@@ -89,11 +89,19 @@ std::vector<std::array<double, 2>> contact_directions(double px, double py, doub
     if (nx == 0.0 && ny == 0.0) return {};
     return {{nx, ny}};
   }
+  // cosine and sine of the kCornerDirections angles over a quarter turn,
+  // computed once
+  static const std::array<std::array<double, 2>, kCornerDirections> quarter = [] {
+    std::array<std::array<double, 2>, kCornerDirections> q{};
+    for (int j = 0; j < kCornerDirections; ++j) {
+      const double f = 0.5 * M_PI * j / (kCornerDirections - 1);
+      q[static_cast<size_t>(j)] = {std::cos(f), std::sin(f)};
+    }
+    return q;
+  }();
   std::vector<std::array<double, 2>> out;
-  for (int j = 0; j < kCornerDirections; ++j) {
-    const double f = 0.5 * M_PI * j / (kCornerDirections - 1);
-    out.push_back({nx * std::cos(f), ny * std::sin(f)});
-  }
+  out.reserve(kCornerDirections);
+  for (const auto& cs : quarter) out.push_back({nx * cs[0], ny * cs[1]});
   return out;
 }
 
