@@ -14,6 +14,7 @@
 #include "config/fields.h"
 #include "planning/ceres_solver.h"
 #include "planning/detour.h"
+#include "planning/goal_approach.h"
 #include "planning/guidance.h"
 #include "planning/modes.h"
 #include "planning/occlusion_speed.h"
@@ -130,6 +131,8 @@ struct PlannerParams {
   GuidanceParams guidance;
   // Mode evade: the speed bound near hidden regions (occlusion_speed.h).
   OcclusionSpeedParams occlusion;
+  // Mode evade: the speed bound near the route's end (goal_approach.h).
+  GoalApproachParams goal_approach;
   // Mode evade, no plan certified: the recovery's speed bound (passive_safety.h).
   PassiveSafetyParams passive_safety;
   EscapeParams escape;  // mode evade: the turn on the spot out of d_safe
@@ -181,6 +184,7 @@ void PlannerParams::fields(V& v) {
   v.section("static_field", static_field);
   v.section("guidance", guidance);
   v.section("occlusion", occlusion);
+  v.section("goal_approach", goal_approach);
   v.section("passive_safety", passive_safety);
   v.section("solver", solver);
 }

@@ -6,6 +6,7 @@
 
 #include "evade/cmd_vel_t.hpp"
 #include "evade/path_t.hpp"
+#include "planning/goal_approach.h"
 #include "planning/input_checks.h"
 
 namespace evade::planning {
@@ -367,6 +368,12 @@ Problem PlannerCore::make_problem(const evade::odometry_t& odom, double v0, doub
   if (occlusions_ && age_us(now(), occlusions_->utime) <= std::llround(p_.occlusion.max_age_s * 1e6)) {
     pb.v_cap = occlusion_speed_caps(p_.occlusion, *occlusions_, pb);
     if (!pb.v_cap.empty()) count("occlusion_speed_bound");
+  }
+  if (mode_.evade_layers) {
+    const std::vector<double> goal_caps =
+        goal_approach_caps(p_.goal_approach, pb, route_.end_x(), route_.end_y(), route_.length() - route_.progress());
+    if (!goal_caps.empty()) count("goal_approach_bound");
+    tighten_caps(goal_caps, &pb.v_cap);
   }
   int invalid = 0;
   const ObstacleInputs in{predictions_ ? &*predictions_ : nullptr, observed_ ? &*observed_ : nullptr, &history_};

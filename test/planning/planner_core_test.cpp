@@ -25,6 +25,7 @@
 #include "evade/plan_t.hpp"
 #include "evade/prediction_list_t.hpp"
 #include "metrics/run_metrics.h"
+#include "planning/goal_approach.h"
 #include "planning/obstacles.h"
 #include "planning/params.h"
 #include "planning/passive_safety.h"
@@ -500,6 +501,39 @@ TEST(PlannerCore, ReachesTheGoalFromPastOrBesideTheRouteEnd) {
     EXPECT_EQ(r.plan_log.back().status, int8_t{evade::plan_t::STATUS_GOAL}) << "start " << x0 << ", " << y0;
     EXPECT_LE(std::hypot(r.final_x - 5.0, r.final_y), p.goal_tolerance_m + 0.05) << "start " << x0 << ", " << y0;
     EXPECT_EQ(r.nan, 0);
+  }
+}
+
+// planner.goal_approach: coming up beside the route's end at 0.8 m/s
+// (an avoidance left it 0.5 m off the route), the robot is too fast to
+// turn onto a goal 0.6-1.1 m away (its tightest circle at 0.5 rad/s is 1.6
+// m across). With the bound every plan starts no faster than the speed
+// from which the goal can be turned onto (or braking allows), and the
+// robot stops at the goal; without it the plans go faster (the premise).
+TEST(PlannerCore, ARobotBesideTheGoalAtSpeedPlansNoFasterThanItCanTurnOntoIt) {
+  const auto run_from = [](bool on, double x0, double y0, int* too_fast) {
+    PlannerParams p = default_params();
+    p.goal_approach.enabled = on;
+    const RunResult r = run(p, {}, 12.0, 5.0, x0, y0, 0.8);
+    EXPECT_EQ(r.nan, 0);
+    *too_fast = 0;
+    for (size_t i = 0; i < r.plan_log.size(); ++i) {
+      const evade::plan_t& pl = r.plan_log[i];
+      if (pl.status == evade::plan_t::STATUS_GOAL) continue;
+      const double capture = goal_capture_speed(pl.x[0], pl.y[0], pl.yaw[0], 5.0, 0.0, p.limits.omega_max);
+      const double braked = r.robot_v[i] - p.limits.decel * p.dt_s;
+      if (pl.v[0] > std::max({capture, p.goal_approach.min_speed_mps, braked}) + 1e-6) ++*too_fast;
+    }
+    return r;
+  };
+  for (const auto& [x0, y0] : {std::pair{4.3, 0.5}, std::pair{4.5, -0.6}, std::pair{4.0, 0.7}}) {
+    int too_fast_on = 0, too_fast_off = 0;
+    const RunResult on = run_from(true, x0, y0, &too_fast_on);
+    run_from(false, x0, y0, &too_fast_off);
+    ASSERT_FALSE(on.plan_log.empty());
+    EXPECT_EQ(on.plan_log.back().status, int8_t{evade::plan_t::STATUS_GOAL}) << "start " << x0 << ", " << y0;
+    EXPECT_EQ(too_fast_on, 0) << "start " << x0 << ", " << y0;
+    EXPECT_GT(too_fast_off, 0) << "start " << x0 << ", " << y0;
   }
 }
 
