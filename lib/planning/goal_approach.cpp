@@ -25,8 +25,7 @@ std::vector<double> goal_approach_caps(const GoalApproachParams& p, const Proble
   const double bound = std::clamp(capture, std::min(p.min_speed_mps, pb.lim.v_max), pb.lim.v_max);
   if (!(bound < pb.lim.v_max)) return caps;
   caps.resize(size_t(pb.N));
-  for (int k = 0; k < pb.N; ++k)  // braking from the measured speed cannot go below this yet
-    caps[size_t(k)] = std::max(bound, std::min(pb.lim.v_max, pb.v_prev - pb.lim.decel * pb.dt * (k + 1)));
+  for (int k = 0; k < pb.N; ++k) caps[size_t(k)] = cap_braking_can_meet(pb, k, bound);
   return caps;
 }
 

@@ -90,8 +90,7 @@ std::vector<double> occlusion_speed_caps(const OcclusionSpeedParams& p, const ev
     for (const auto& r : regions.regions) d = std::min(d, distance_to_exit_ahead(r, x, y, yaw));
     double cap = std::isfinite(d) ? stopping_safe_speed(p, pb.lim.decel, d - reach) : pb.lim.v_max;
     cap = std::clamp(cap, floor, pb.lim.v_max);
-    // braking from the measured speed cannot go below this yet
-    cap = std::max(cap, std::min(pb.lim.v_max, pb.v_prev - pb.lim.decel * pb.dt * (k + 1)));
+    cap = cap_braking_can_meet(pb, k, cap);
     binds = binds || cap < pb.lim.v_max;
     caps[size_t(k)] = cap;
     s += cap * pb.dt;

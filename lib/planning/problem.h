@@ -19,6 +19,7 @@
 // heading as well as the position.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -178,6 +179,13 @@ inline void narrow_to_turn_bounds(const Problem& pb, int k, double* lo, double* 
   const size_t i = static_cast<size_t>(k);
   if (i < pb.omega_hi.size()) *hi = std::max(*lo, std::min(*hi, pb.omega_hi[i]));
   if (i < pb.omega_lo.size()) *lo = std::min(*hi, std::max(*lo, pb.omega_lo[i]));
+}
+
+// A bound on v_k (pb.v_cap) raised to what braking from the measured speed
+// at the deceleration limit can reach by step k (never above v_max): a step
+// cannot slow to a bound below that yet.
+inline double cap_braking_can_meet(const Problem& pb, int k, double cap) {
+  return std::max(cap, std::min(pb.lim.v_max, pb.v_prev - pb.lim.decel * pb.dt * (k + 1)));
 }
 
 inline double wrap_angle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
